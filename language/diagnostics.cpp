@@ -1,0 +1,156 @@
+#include "language/diagnostics.hpp"
+
+#include <algorithm>
+#include <limits>
+#include <ostream>
+
+namespace snell::lang {
+namespace {
+
+struct KindInfo {
+  std::string_view name;
+  Severity severity;
+  std::string_view summary;
+};
+
+constexpr KindInfo kKinds[] = {
+#define SNELL_DIAG(name, severity, summary) {#name, Severity::severity, summary},
+#include "language/diagnostics.def"
+#undef SNELL_DIAG
+};
+
+constexpr std::size_t kDropped = std::numeric_limits<std::size_t>::max();
+
+}  // namespace
+
+std::string_view diag_name(DiagKind kind) { return kKinds[static_cast<int>(kind)].name; }
+std::string_view diag_summary(DiagKind kind) { return kKinds[static_cast<int>(kind)].summary; }
+Severity diag_severity(DiagKind kind) { return kKinds[static_cast<int>(kind)].severity; }
+
+std::vector<DiagKind> all_diag_kinds() {
+  std::vector<DiagKind> out;
+  for (std::size_t i = 0; i < std::size(kKinds); ++i) out.push_back(static_cast<DiagKind>(i));
+  return out;
+}
+
+DiagBuilder& DiagBuilder::note(std::string message) {
+  if (index_ != kDropped) engine_->diags_[index_].notes.push_back({std::nullopt, std::move(message)});
+  return *this;
+}
+
+DiagBuilder& DiagBuilder::note(Span span, std::string message) {
+  if (index_ != kDropped) engine_->diags_[index_].notes.push_back({span, std::move(message)});
+  return *this;
+}
+
+DiagBuilder DiagnosticEngine::report(DiagKind kind, Span span, std::string message) {
+  Severity sev = diag_severity(kind);
+  if (sev == Severity::Error) {
+    if (limit_reached()) {
+      ++dropped_;
+      ++errors_;
+      return DiagBuilder(this, kDropped);
+    }
+    ++errors_;
+  } else {
+    ++warnings_;
+  }
+  diags_.push_back({kind, sev, span, std::move(message), {}});
+  return DiagBuilder(this, diags_.size() - 1);
+}
+
+void DiagnosticEngine::snippet(std::string& out, Span span, bool color) const {
+  if (span.file >= sources_.size()) return;
+  const SourceFile& f = sources_.file(span.file);
+  if (f.text().empty() && span.begin == 0) return;
+  LineCol lc = f.line_col(span.begin);
+  std::string_view line = f.line_text(lc.line);
+  // Very long lines (minified or generated input) are cut around the caret.
+  constexpr std::size_t kMaxShown = 200;
+  std::size_t start = 0;
+  std::size_t col0 = lc.col - 1;
+  if (line.size() > kMaxShown && col0 > kMaxShown / 2) start = col0 - kMaxShown / 2;
+  std::string_view shown = line.substr(std::min(start, line.size()), kMaxShown);
+  std::string num = std::to_string(lc.line);
+  std::string pad(num.size(), ' ');
+  out += " " + num + " | ";
+  for (char c : shown) out += (static_cast<unsigned char>(c) < 0x20 && c != '\t') ? ' ' : c;
+  out += "\n " + pad + " | ";
+  for (std::size_t i = start; i < col0 && i < line.size(); ++i) out += line[i] == '\t' ? '\t' : ' ';
+  std::size_t len = span.end > span.begin ? span.end - span.begin : 1;
+  std::size_t room = col0 < line.size() ? line.size() - col0 : 1;
+  len = std::max<std::size_t>(1, std::min({len, room, kMaxShown}));
+  if (color) out += "\x1b[1;32m";
+  out += '^';
+  out += std::string(len - 1, '~');
+  if (color) out += "\x1b[0m";
+  out += '\n';
+}
+
+std::string DiagnosticEngine::format(const Diagnostic& d, bool color) const {
+  std::string out;
+  auto header = [&](Span span, std::string_view label, std::string_view label_color,
+                    const std::string& msg) {
+    if (span.file < sources_.size()) {
+      if (color) out += "\x1b[1m";
+      out += sources_.location(span) + ": ";
+    }
+    if (color) out += label_color;
+    out += label;
+    if (color) out += "\x1b[0m\x1b[1m";
+    out += ": " + msg;
+    if (color) out += "\x1b[0m";
+  };
+  bool err = d.severity == Severity::Error;
+  header(d.span, err ? "error" : "warning", err ? "\x1b[1;31m" : "\x1b[1;35m", d.message);
+  out += " [" + std::string(diag_name(d.kind)) + "]\n";
+  snippet(out, d.span, color);
+  for (const DiagNote& n : d.notes) {
+    if (n.span) {
+      header(*n.span, "note", "\x1b[1;36m", n.message);
+      out += '\n';
+      snippet(out, *n.span, color);
+    } else {
+      out += color ? "\x1b[1;36mnote\x1b[0m: " : "note: ";
+      out += n.message + '\n';
+    }
+  }
+  return out;
+}
+
+void DiagnosticEngine::print(std::ostream& out, bool color) const {
+  for (const Diagnostic& d : diags_) out << format(d, color);
+  if (dropped_ > 0)
+    out << "error: too many errors (" << errors_ << " in all, " << dropped_
+        << " not shown); raise --max-errors to see more [TooManyErrors]\n";
+}
+
+std::string closest_match(std::string_view word, const std::vector<std::string_view>& candidates) {
+  std::string best;
+  std::size_t best_d = std::numeric_limits<std::size_t>::max();
+  std::vector<std::size_t> prev, cur;
+  for (std::string_view c : candidates) {
+    // Plain Levenshtein distance; candidate lists are short (property tables).
+    prev.resize(c.size() + 1);
+    cur.resize(c.size() + 1);
+    for (std::size_t j = 0; j <= c.size(); ++j) prev[j] = j;
+    for (std::size_t i = 1; i <= word.size(); ++i) {
+      cur[0] = i;
+      for (std::size_t j = 1; j <= c.size(); ++j) {
+        std::size_t sub = prev[j - 1] + (word[i - 1] == c[j - 1] ? 0 : 1);
+        cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, sub});
+      }
+      std::swap(prev, cur);
+    }
+    std::size_t dist = prev[c.size()];
+    if (dist < best_d) {
+      best_d = dist;
+      best = std::string(c);
+    }
+  }
+  std::size_t allowed = std::max<std::size_t>(1, word.size() / 3);
+  if (best_d == 0 || best_d > allowed) return {};
+  return best;
+}
+
+}  // namespace snell::lang

@@ -1,0 +1,145 @@
+// Double-precision vectors and affine transforms for the IR (the runtime keeps its
+// own float types for the hot path). Header-only, no dependencies.
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <string>
+
+namespace snell::ir {
+
+struct Vec3 {
+  double x = 0, y = 0, z = 0;
+  constexpr Vec3() = default;
+  constexpr Vec3(double a, double b, double c) : x(a), y(b), z(c) {}
+  constexpr explicit Vec3(double s) : x(s), y(s), z(s) {}
+  constexpr double operator[](int i) const { return i == 0 ? x : i == 1 ? y : z; }
+  constexpr double& operator[](int i) { return i == 0 ? x : i == 1 ? y : z; }
+  constexpr bool operator==(const Vec3&) const = default;
+};
+
+constexpr Vec3 operator+(Vec3 a, Vec3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+constexpr Vec3 operator-(Vec3 a, Vec3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+constexpr Vec3 operator-(Vec3 a) { return {-a.x, -a.y, -a.z}; }
+constexpr Vec3 operator*(Vec3 a, Vec3 b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
+constexpr Vec3 operator*(Vec3 a, double s) { return {a.x * s, a.y * s, a.z * s}; }
+constexpr Vec3 operator*(double s, Vec3 a) { return a * s; }
+constexpr Vec3 operator/(Vec3 a, double s) { return {a.x / s, a.y / s, a.z / s}; }
+constexpr double dot(Vec3 a, Vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+constexpr Vec3 cross(Vec3 a, Vec3 b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+inline double length(Vec3 a) { return std::sqrt(dot(a, a)); }
+inline Vec3 normalize(Vec3 a) { return a / length(a); }
+inline double max_component(Vec3 a) { return std::fmax(a.x, std::fmax(a.y, a.z)); }
+inline bool is_finite(Vec3 a) {
+  return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z);
+}
+
+// Row-major 4x4 matrix of an affine transform; the last row is (0, 0, 0, 1).
+struct Mat4 {
+  std::array<double, 16> m{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  constexpr double operator()(int r, int c) const { return m[r * 4 + c]; }
+  constexpr double& operator()(int r, int c) { return m[r * 4 + c]; }
+  constexpr bool operator==(const Mat4&) const = default;
+};
+
+constexpr Mat4 operator*(const Mat4& a, const Mat4& b) {
+  Mat4 r;
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) {
+      double s = 0;
+      for (int k = 0; k < 4; ++k) s += a(i, k) * b(k, j);
+      r(i, j) = s;
+    }
+  return r;
+}
+
+// An affine transform with its inverse. Named by the spaces it joins, as pbrt does:
+// `world_from_object` maps object-space points to world space.
+struct Transform {
+  Mat4 m;
+  Mat4 inv;
+
+  static Transform translate(Vec3 t);
+  static Transform scale(Vec3 s);
+  static Transform rotate_x(double degrees);
+  static Transform rotate_y(double degrees);
+  static Transform rotate_z(double degrees);
+  // x, then y, then z (§8 `rotate V`).
+  static Transform rotate_xyz(Vec3 degrees);
+
+  bool is_identity() const { return m == Mat4{}; }
+  Transform inverse() const { return {inv, m}; }
+  Vec3 point(Vec3 p) const {
+    return {m(0, 0) * p.x + m(0, 1) * p.y + m(0, 2) * p.z + m(0, 3),
+            m(1, 0) * p.x + m(1, 1) * p.y + m(1, 2) * p.z + m(1, 3),
+            m(2, 0) * p.x + m(2, 1) * p.y + m(2, 2) * p.z + m(2, 3)};
+  }
+  Vec3 vector(Vec3 v) const {
+    return {m(0, 0) * v.x + m(0, 1) * v.y + m(0, 2) * v.z,
+            m(1, 0) * v.x + m(1, 1) * v.y + m(1, 2) * v.z,
+            m(2, 0) * v.x + m(2, 1) * v.y + m(2, 2) * v.z};
+  }
+  // Normals transform by the inverse transpose.
+  Vec3 normal(Vec3 n) const {
+    return {inv(0, 0) * n.x + inv(1, 0) * n.y + inv(2, 0) * n.z,
+            inv(0, 1) * n.x + inv(1, 1) * n.y + inv(2, 1) * n.z,
+            inv(0, 2) * n.x + inv(1, 2) * n.y + inv(2, 2) * n.z};
+  }
+};
+
+// a * b applies b first, then a.
+inline Transform operator*(const Transform& a, const Transform& b) {
+  return {a.m * b.m, b.inv * a.inv};
+}
+
+inline Transform Transform::translate(Vec3 t) {
+  Transform r;
+  r.m(0, 3) = t.x, r.m(1, 3) = t.y, r.m(2, 3) = t.z;
+  r.inv(0, 3) = -t.x, r.inv(1, 3) = -t.y, r.inv(2, 3) = -t.z;
+  return r;
+}
+
+inline Transform Transform::scale(Vec3 s) {
+  Transform r;
+  r.m(0, 0) = s.x, r.m(1, 1) = s.y, r.m(2, 2) = s.z;
+  r.inv(0, 0) = 1 / s.x, r.inv(1, 1) = 1 / s.y, r.inv(2, 2) = 1 / s.z;
+  return r;
+}
+
+namespace detail {
+// Exact sin/cos at multiples of 90 degrees so `rotate <0, 90, 0>` gives exact zeros.
+inline void sincos_degrees(double deg, double& s, double& c) {
+  double q = std::fmod(deg, 360.0);
+  if (q < 0) q += 360.0;
+  if (q == 0) { s = 0; c = 1; return; }
+  if (q == 90) { s = 1; c = 0; return; }
+  if (q == 180) { s = 0; c = -1; return; }
+  if (q == 270) { s = -1; c = 0; return; }
+  double r = deg * (3.14159265358979323846 / 180.0);
+  s = std::sin(r);
+  c = std::cos(r);
+}
+inline Transform rotation(int axis, double deg) {
+  double s, c;
+  sincos_degrees(deg, s, c);
+  int a = (axis + 1) % 3, b = (axis + 2) % 3;
+  Transform r;
+  r.m(a, a) = c, r.m(a, b) = -s, r.m(b, a) = s, r.m(b, b) = c;
+  r.inv(a, a) = c, r.inv(a, b) = s, r.inv(b, a) = -s, r.inv(b, b) = c;
+  return r;
+}
+}  // namespace detail
+
+inline Transform Transform::rotate_x(double d) { return detail::rotation(0, d); }
+inline Transform Transform::rotate_y(double d) { return detail::rotation(1, d); }
+inline Transform Transform::rotate_z(double d) { return detail::rotation(2, d); }
+inline Transform Transform::rotate_xyz(Vec3 d) {
+  return rotate_z(d.z) * rotate_y(d.y) * rotate_x(d.x);
+}
+
+std::string to_string(Vec3 v);
+std::string to_string(const Transform& t);
+
+}  // namespace snell::ir

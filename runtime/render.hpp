@@ -1,0 +1,72 @@
+// The runtime's public face: render an ir::Scene into an image, write images.
+// The CLI, tests and benchmarks use only this header (and ir/).
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "runtime/ir/ir.hpp"
+
+namespace snell::rt {
+
+// Linear scene-referred RGB radiance, row-major, pixel (0, 0) top-left.
+struct Image {
+  std::uint32_t width = 0, height = 0;
+  std::vector<float> rgb;  // 3 floats per pixel
+  float* at(std::uint32_t x, std::uint32_t y) { return &rgb[3 * (std::size_t(y) * width + x)]; }
+  const float* at(std::uint32_t x, std::uint32_t y) const {
+    return &rgb[3 * (std::size_t(y) * width + x)];
+  }
+};
+
+struct RenderOptions {
+  int threads = 0;              // 0: every core
+  bool general_kernel = false;  // --features=all: ignore ir::Features
+  // Called from the render loop with the fraction done (0..1); may be empty.
+  std::function<void(double)> progress;
+  // --pixel X,Y: print that pixel's ray tree to `trace_out` (stderr in the CLI).
+  std::optional<std::pair<std::uint32_t, std::uint32_t>> trace_pixel;
+};
+
+// Counters for --stats; summed over threads after the render.
+struct RenderStats {
+  std::uint64_t camera_rays = 0, shadow_rays = 0, reflection_rays = 0, refraction_rays = 0;
+  std::uint64_t glossy_rays = 0;
+  std::uint64_t pruned_by_depth = 0, pruned_by_weight = 0, tir_events = 0;
+  std::uint64_t nonfinite_samples = 0;  // dropped, never written to the film
+  double build_seconds = 0, render_seconds = 0;
+  std::string to_string() const;
+};
+
+struct RenderResult {
+  Image image;
+  RenderStats stats;
+  std::string trace;  // the --pixel ray tree, when asked for
+};
+
+RenderResult render(const ir::Scene& scene, const RenderOptions& options);
+
+struct OutputInfo {
+  std::string scene_path;
+  std::uint32_t samples = 0;
+  std::uint64_t seed = 0;
+  double render_seconds = 0;
+};
+
+// Writes `image` to `path`; the format follows the extension: .exr holds linear
+// float32 radiance, .png/.jpg/.jpeg/.tif/.tiff display-referred sRGB made through
+// the OCIO config at `ocio_config` (a path; empty: $OCIO, else the shipped one).
+// The file is written to a temporary name beside the target and renamed into
+// place, so an existing file is never left half-written. Returns an error message,
+// or an empty string on success.
+std::string write_image(const std::string& path, const Image& image, const OutputInfo& info,
+                        const std::string& ocio_config);
+
+// True when `path`'s extension is one write_image knows.
+bool is_supported_image_extension(const std::string& path);
+
+}  // namespace snell::rt
