@@ -8,6 +8,7 @@
 // you mean" notes from the property tables, not parse errors).
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -65,6 +66,7 @@ struct Expr {
   TokenKind op = TokenKind::Error;
   std::vector<ExprPtr> args;
   BlockPtr block;
+  mutable std::int32_t symbol = -1;  // Name: the compiler's interned id (a cache)
 };
 
 enum class StmtKind {
@@ -95,6 +97,7 @@ struct Stmt {
   std::vector<StmtPtr> else_body;
   bool has_else = false;
   BlockPtr block;
+  mutable std::int32_t symbol = -1;  // Let/Fn/For: the compiler's interned id (a cache)
 };
 
 struct Program {
