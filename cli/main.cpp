@@ -1,0 +1,256 @@
+// snell: the command line. Wires the passes together:
+//   read → lex/parse → evaluate → lower → ir::Scene → render → write images.
+// Exit status (spec §10): 0 success; 1 errors in the scene; 2 wrong usage;
+// 3 a file could not be read or written.
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <optional>
+
+#include "cli/progress.hpp"
+#include "compiler/compile.hpp"
+#include "language/parser.hpp"
+#include "runtime/render.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace snell;
+
+constexpr int kExitOk = 0, kExitScene = 1, kExitUsage = 2, kExitIo = 3;
+
+struct Options {
+  std::string scene;
+  std::vector<std::string> outputs;
+  std::optional<int> spp;
+  std::string res;
+  int threads = 0;
+  std::optional<std::int64_t> seed;
+  std::vector<std::string> sets;
+  std::vector<std::string> include_dirs;
+  bool stats = false;
+  bool quiet = false;
+  std::size_t max_errors = 20;
+  std::uint64_t max_steps = compile::kDefaultStepBudget;
+  bool dump_ast = false;
+  bool dump_ir = false;
+  std::string pixel;
+  std::string features = "auto";
+  std::string ocio_config;
+};
+
+bool color_stderr() { return isatty(STDERR_FILENO) && !std::getenv("NO_COLOR"); }
+
+int usage_error(const std::string& message) {
+  std::cerr << "snell: error: " << message << "\n";
+  return kExitUsage;
+}
+
+// Turns the shorthand flags into settings overrides, in the order a user expects:
+// --set first, then the dedicated flags (which are more specific).
+bool build_compile_options(const Options& o, compile::CompileOptions& c, std::string& error) {
+  c.include_dirs = o.include_dirs;
+  c.max_errors = o.max_errors;
+  c.step_budget = o.max_steps;
+  for (const std::string& kv : o.sets) {
+    auto eq = kv.find('=');
+    if (eq == std::string::npos || eq == 0) {
+      error = "--set takes KEY=VALUE, got '" + kv + "'";
+      return false;
+    }
+    c.overrides.push_back({kv.substr(0, eq), kv.substr(eq + 1)});
+  }
+  if (o.spp) c.overrides.push_back({"samples", std::to_string(*o.spp)});
+  if (!o.res.empty()) {
+    unsigned w = 0, h = 0;
+    char x = 0, extra = 0;
+    if (std::sscanf(o.res.c_str(), "%u%c%u%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X')) {
+      error = "--res takes WIDTHxHEIGHT (e.g. 640x480), got '" + o.res + "'";
+      return false;
+    }
+    c.overrides.push_back({"resolution", "<" + std::to_string(w) + ", " + std::to_string(h) + ">"});
+  }
+  if (o.seed) c.overrides.push_back({"seed", std::to_string(*o.seed)});
+  return true;
+}
+
+// Compiles and prints diagnostics; returns an exit code, or -1 to go on.
+int compile_scene(const Options& o, std::unique_ptr<compile::Compilation>& out) {
+  compile::CompileOptions copts;
+  std::string error;
+  if (!build_compile_options(o, copts, error)) return usage_error(error);
+  out = compile::compile_file(o.scene, copts);
+  out->diags.print(std::cerr, color_stderr());
+  switch (out->status) {
+    case compile::CompileStatus::Ok: break;
+    case compile::CompileStatus::SceneErrors: {
+      std::size_t n = out->diags.error_count();
+      std::cerr << n << " error" << (n == 1 ? "" : "s") << " in " << o.scene << "\n";
+      return kExitScene;
+    }
+    case compile::CompileStatus::UsageError: return usage_error(out->message);
+    case compile::CompileStatus::IoError:
+      std::cerr << "snell: error: " << out->message << "\n";
+      return kExitIo;
+  }
+  std::vector<std::string> problems = ir::validate(out->scene);
+  if (!problems.empty()) {
+    for (const std::string& p : problems) std::cerr << p << ": error: invalid scene\n";
+    return kExitScene;
+  }
+  return -1;
+}
+
+int dump_ast(const std::string& path) {
+  std::string text, message;
+  if (!compile::read_file(path, text, message)) {
+    std::cerr << "snell: error: " << message << "\n";
+    return kExitIo;
+  }
+  lang::SourceManager sources;
+  lang::DiagnosticEngine diags(sources);
+  int code = kExitOk;
+  compile::run_with_large_stack([&] {
+    lang::Program p = lang::parse(sources, sources.add(path, text), diags);
+    std::cout << lang::dump_ast(p);
+    diags.print(std::cerr, color_stderr());
+    if (diags.has_errors()) code = kExitScene;
+  });
+  return code;
+}
+
+int run_check(const Options& o) {
+  std::unique_ptr<compile::Compilation> c;
+  if (int code = compile_scene(o, c); code >= 0) return code;
+  const ir::Scene& s = c->scene;
+  std::cout << o.scene << ": ok: " << s.shapes.size() << " object(s), " << s.materials.size()
+            << " material(s), " << s.point_lights.size() << " point light(s), "
+            << s.area_lights.size() << " area light(s); " << s.settings.width << "x"
+            << s.settings.height << " at " << s.settings.samples << " spp\n";
+  std::cout << "effects:\n";
+  ir::Features f = ir::analyze_features(s);
+  if (f.reasons.empty()) std::cout << "  (none beyond diffuse shading)\n";
+  for (const auto& [effect, why] : f.reasons) std::cout << "  " << effect << ": " << why << "\n";
+  return kExitOk;
+}
+
+int run_render(const Options& o) {
+  if (o.dump_ast) return dump_ast(o.scene);
+  std::vector<std::string> outputs = o.outputs;
+  if (outputs.empty()) outputs.push_back(fs::path(o.scene).stem().string() + ".png");
+  for (const std::string& out : outputs)
+    if (!rt::is_supported_image_extension(out))
+      return usage_error("cannot tell the image format of '" + out +
+                         "': use .exr, .png, .jpg, .jpeg, .tif or .tiff");
+  if (o.features != "auto" && o.features != "all")
+    return usage_error("--features takes 'auto' or 'all', not '" + o.features + "'");
+  rt::RenderOptions ropts;
+  ropts.threads = o.threads;
+  ropts.general_kernel = o.features == "all";
+  if (!o.pixel.empty()) {
+    unsigned x = 0, y = 0;
+    char comma = 0, extra = 0;
+    if (std::sscanf(o.pixel.c_str(), "%u%c%u%c", &x, &comma, &y, &extra) != 3 || comma != ',')
+      return usage_error("--pixel takes X,Y (e.g. 320,240), got '" + o.pixel + "'");
+    ropts.trace_pixel = {{x, y}};
+  }
+
+  std::unique_ptr<compile::Compilation> c;
+  if (int code = compile_scene(o, c); code >= 0) return code;
+  const ir::Scene& scene = c->scene;
+  if (o.dump_ir) {
+    std::cout << ir::to_string(scene);
+    std::cout << "features:\n" << ir::to_string(ir::analyze_features(scene));
+    return kExitOk;
+  }
+  if (ropts.trace_pixel &&
+      (ropts.trace_pixel->first >= scene.settings.width ||
+       ropts.trace_pixel->second >= scene.settings.height))
+    return usage_error("--pixel " + o.pixel + " is outside the " +
+                       std::to_string(scene.settings.width) + "x" +
+                       std::to_string(scene.settings.height) + " image");
+
+  cli::Progress progress(!o.quiet, isatty(STDERR_FILENO));
+  ropts.progress = [&](double f) { progress.update(f); };
+  rt::RenderResult result = rt::render(scene, ropts);
+  progress.finish();
+  if (!result.trace.empty()) std::cerr << result.trace;
+
+  rt::OutputInfo info;
+  info.scene_path = o.scene;
+  info.samples = scene.settings.samples;
+  info.seed = scene.settings.seed;
+  info.render_seconds = result.stats.render_seconds;
+  int code = kExitOk;
+  for (const std::string& out : outputs) {
+    std::string err = rt::write_image(out, result.image, info, o.ocio_config);
+    if (!err.empty()) {
+      std::cerr << "snell: error: " << err << "\n";
+      code = kExitIo;
+    } else if (!o.quiet) {
+      std::cerr << "wrote " << out << "\n";
+    }
+  }
+  if (o.stats) std::cerr << result.stats.to_string();
+  if (result.stats.nonfinite_samples > 0)
+    std::cerr << "snell: warning: " << result.stats.nonfinite_samples
+              << " non-finite sample(s) were dropped\n";
+  return code;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"snell: a scene language and ray tracer", "snell"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "snell 0.1.0");
+  Options o;
+
+  CLI::App* render = app.add_subcommand("render", "render a scene to images");
+  render->add_option("scene", o.scene, "the .scn file")->required();
+  render->add_option("-o,--output", o.outputs,
+                     "output image (repeatable); .exr is linear float, .png/.jpg/.tif are sRGB");
+  render->add_option("--spp", o.spp, "camera rays per pixel (overrides settings.samples)")
+      ->check(CLI::Range(1, 1 << 20));
+  render->add_option("--res", o.res, "resolution WIDTHxHEIGHT (overrides settings.resolution)");
+  render->add_option("--threads", o.threads, "worker threads; 0 = every core")
+      ->check(CLI::Range(0, 1024));
+  render->add_option("--seed", o.seed, "random seed (overrides settings.seed)")
+      ->check(CLI::Range(std::int64_t(0), std::int64_t(4294967295LL)));
+  render->add_option("--set", o.sets, "override a settings property: KEY=VALUE (repeatable)");
+  render->add_option("-I", o.include_dirs, "folder searched by import (repeatable)");
+  render->add_flag("--stats", o.stats, "print ray counts and timings");
+  render->add_flag("-q,--quiet", o.quiet, "no progress output");
+  render->add_option("--max-errors", o.max_errors, "errors shown at most (0 = all)");
+  render->add_option("--max-steps", o.max_steps, "evaluation step budget");
+  render->add_flag("--dump-ast", o.dump_ast, "print the syntax tree and stop");
+  render->add_flag("--dump-ir", o.dump_ir, "print the scene IR and its effects, and stop");
+  render->add_option("--pixel", o.pixel, "print the ray tree of pixel X,Y");
+  render->add_option("--features", o.features,
+                     "auto: simulate only the effects the scene uses; all: the general kernel");
+  render->add_option("--ocio-config", o.ocio_config, "OpenColorIO config for display outputs");
+
+  CLI::App* check = app.add_subcommand("check", "report diagnostics and the effects a scene uses");
+  check->add_option("scene", o.scene, "the .scn file")->required();
+  check->add_option("-I", o.include_dirs, "folder searched by import (repeatable)");
+  check->add_option("--set", o.sets, "override a settings property: KEY=VALUE (repeatable)");
+  check->add_option("--max-errors", o.max_errors, "errors shown at most (0 = all)");
+  check->add_option("--max-steps", o.max_steps, "evaluation step budget");
+
+  CLI::App* dump = app.add_subcommand("dump-ast", "print the syntax tree of a .scn file");
+  dump->add_option("scene", o.scene, "the .scn file")->required();
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    int code = app.exit(e);
+    return code == 0 ? kExitOk : kExitUsage;
+  }
+  if (render->parsed()) return run_render(o);
+  if (check->parsed()) return run_check(o);
+  if (dump->parsed()) return dump_ast(o.scene);
+  return kExitUsage;
+}

@@ -1,0 +1,35 @@
+// Built-in functions of §3, from builtins.def.
+#pragma once
+
+#include <string>
+#include <string_view>
+
+#include "compiler/value.hpp"
+
+namespace snell::compile {
+
+struct BuiltinInfo {
+  std::string_view name;
+  int arity;
+  std::string_view signature;
+};
+
+int find_builtin(std::string_view name);  // -1 when `name` is no builtin
+const BuiltinInfo& builtin_info(int id);
+int builtin_count();
+
+struct BuiltinError {
+  int arg = -1;  // the offending argument, or -1 for the call as a whole
+  std::string message;
+};
+
+// Applies builtin `id` to `args` (arity already checked). On a type error returns
+// Value::error() and fills `err`. Results may be non-finite; the caller checks.
+Value call_builtin(int id, const Value* args, BuiltinError& err);
+
+// random(n): the IEEE-754 bits of n (−0 taken as +0) through the SplitMix64
+// finaliser, top 53 bits scaled by 2^−53. Pure integer arithmetic: the same value
+// on every machine and compiler.
+double random_hash(double n);
+
+}  // namespace snell::compile

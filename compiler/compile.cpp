@@ -1,0 +1,233 @@
+#include "compiler/compile.hpp"
+
+#include <pthread.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
+#include <functional>
+#include <filesystem>
+#include <fstream>
+#include <unordered_map>
+
+#include "compiler/properties.hpp"
+#include "language/lexer.hpp"
+#include "language/parser.hpp"
+
+namespace snell::compile {
+
+namespace fs = std::filesystem;
+using lang::DiagKind;
+
+bool read_file(const std::string& path, std::string& text, std::string& message) {
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) {
+    message = "'" + path + "' is a directory";
+    return false;
+  }
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    message = "cannot read '" + path + "': " + std::strerror(errno);
+    return false;
+  }
+  // Read at most one byte past the lexer's limit: the lexer reports the size.
+  text.clear();
+  char buf[1 << 16];
+  while (in && text.size() <= lang::kMaxSourceBytes) {
+    in.read(buf, sizeof buf);
+    text.append(buf, static_cast<std::size_t>(in.gcount()));
+  }
+  if (in.bad()) {
+    message = "error while reading '" + path + "'";
+    return false;
+  }
+  return true;
+}
+
+void run_with_large_stack(const std::function<void()>& fn) {
+  constexpr std::size_t kStack = std::size_t(1) << 30;  // reserved, touched only as used
+  pthread_attr_t attr;
+  pthread_attr_init(&attr);
+  pthread_attr_setstacksize(&attr, kStack);
+  pthread_t thread;
+  auto trampoline = [](void* arg) -> void* {
+    (*static_cast<const std::function<void()>*>(arg))();
+    return nullptr;
+  };
+  if (pthread_create(&thread, &attr, trampoline, const_cast<std::function<void()>*>(&fn)) != 0) {
+    pthread_attr_destroy(&attr);
+    fn();  // no thread available: run here
+    return;
+  }
+  pthread_attr_destroy(&attr);
+  pthread_join(thread, nullptr);
+}
+
+std::string stdlib_dir(const CompileOptions& options) {
+  if (!options.stdlib_dir.empty()) return options.stdlib_dir;
+  if (const char* env = std::getenv("SNELL_STDLIB"); env && *env) return env;
+  std::error_code ec;
+  // Installed layout: <prefix>/bin/snell and <prefix>/share/snell/stdlib.
+  fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    fs::path p = exe.parent_path().parent_path() / "share" / "snell" / "stdlib";
+    if (fs::is_directory(p, ec)) return p.string();
+  }
+  if (fs::is_directory(SNELL_STDLIB_INSTALL_DIR, ec)) return SNELL_STDLIB_INSTALL_DIR;
+  return SNELL_STDLIB_BUILD_DIR;
+}
+
+std::vector<std::string_view> setting_keys() {
+  std::vector<std::string_view> keys;
+  for (const PropInfo* p : find_block("settings")->props) keys.push_back(p->name);
+  return keys;
+}
+
+namespace {
+
+class Driver {
+ public:
+  Driver(Compilation& c, const CompileOptions& o) : c_(c), opts_(o) {}
+
+  const lang::Program* parse_file(const std::string& path, const std::string& text) {
+    lang::FileId id = c_.sources.add(path, text);
+    c_.programs.push_back(std::make_unique<lang::Program>(lang::parse(c_.sources, id, c_.diags)));
+    return c_.programs.back().get();
+  }
+
+  const ImportedFile* load_import(const std::string& name, lang::Span span) {
+    std::vector<fs::path> dirs;
+    if (span.file < c_.sources.size())
+      dirs.push_back(fs::path(c_.sources.file(span.file).path()).parent_path());
+    for (const std::string& d : opts_.include_dirs) dirs.push_back(d);
+    dirs.push_back(stdlib_dir(opts_));
+    std::error_code ec;
+    fs::path found;
+    if (fs::path(name).is_absolute()) {
+      if (fs::is_regular_file(name, ec)) found = name;
+    } else {
+      for (const fs::path& d : dirs) {
+        fs::path p = d / name;
+        if (fs::is_regular_file(p, ec)) {
+          found = p;
+          break;
+        }
+      }
+    }
+    if (found.empty()) {
+      auto d = c_.diags.report(DiagKind::ImportNotFound, span, "cannot find '" + name + "'");
+      std::string where;
+      for (const fs::path& dir : dirs) where += (where.empty() ? "" : ", ") + dir.string();
+      d.note("searched: " + where);
+      return nullptr;
+    }
+    std::string key = fs::weakly_canonical(found, ec).string();
+    if (ec) key = found.lexically_normal().string();
+    if (auto it = cache_.find(key); it != cache_.end()) return it->second.program ? &it->second : nullptr;
+    std::string text, message;
+    if (!read_file(found.string(), text, message)) {
+      c_.diags.report(DiagKind::FileUnreadable, span, message);
+      cache_[key] = {0, nullptr};
+      return nullptr;
+    }
+    std::size_t before = c_.diags.error_count();
+    const lang::Program* program = parse_file(found.lexically_normal().string(), text);
+    // A file with syntax errors is not run: its errors are already reported.
+    bool ok = c_.diags.error_count() == before;
+    cache_[key] = {program->file, ok ? program : nullptr};
+    return ok ? &cache_[key] : nullptr;
+  }
+
+  // --set KEY=VALUE: false (status UsageError) when the key or value is bad.
+  bool apply_overrides(SceneBuilder& builder, Evaluator& eval) {
+    const BlockInfo* settings = find_block("settings");
+    for (const auto& [key, text] : opts_.overrides) {
+      const PropInfo* prop = find_prop(*settings, key);
+      if (!prop) {
+        std::string guess = lang::closest_match(key, setting_keys());
+        std::string keys;
+        for (std::string_view k : setting_keys()) keys += (keys.empty() ? "" : ", ") + std::string(k);
+        fail("--set: unknown settings key '" + key + "'" +
+             (guess.empty() ? "" : " (did you mean '" + guess + "'?)") + "; keys are " + keys);
+        return false;
+      }
+      std::string expr = text;
+      bool word = (prop->type == PropType::Sampler || prop->type == PropType::Fresnel) &&
+                  !expr.empty() && expr.front() != '"';
+      if (word) expr = "\"" + expr + "\"";
+      // Parsed and evaluated as a .scn expression in a file of its own.
+      lang::SourceManager src;
+      lang::DiagnosticEngine diags(src);
+      lang::FileId id = src.add("--set " + key, "let value = " + expr + ";");
+      lang::Program p = lang::parse(src, id, diags);
+      Value v = Value::error();
+      if (!diags.has_errors() && p.statements.size() == 1 &&
+          p.statements[0]->kind == lang::StmtKind::Let) {
+        lang::DiagnosticEngine eval_diags(src);
+        SceneBuilder scratch(src, eval_diags);
+        Evaluator e(src, eval_diags, scratch, [](const std::string&, lang::Span) {
+          return static_cast<const ImportedFile*>(nullptr);
+        });
+        (void)eval;
+        v = e.eval_standalone(*p.statements[0]->exprs[0]);
+        if (eval_diags.has_errors()) v = Value::error();
+      }
+      if (v.is_error()) {
+        fail("--set " + key + "=" + text + ": cannot read '" + text + "' as a value; " +
+             std::string(key) + " takes " + describe(*prop));
+        return false;
+      }
+      std::string msg = check_value(*prop, v);
+      if (!msg.empty()) {
+        fail("--set " + key + "=" + text + ": " + msg);
+        return false;
+      }
+      builder.override_setting(*prop, v);
+    }
+    return true;
+  }
+
+  void fail(std::string message) {
+    c_.status = CompileStatus::UsageError;
+    c_.message = std::move(message);
+  }
+
+ private:
+  Compilation& c_;
+  const CompileOptions& opts_;
+  std::unordered_map<std::string, ImportedFile> cache_;
+};
+
+}  // namespace
+
+std::unique_ptr<Compilation> compile_file(const std::string& path, const CompileOptions& options) {
+  auto c = std::make_unique<Compilation>();
+  c->diags.set_max_errors(options.max_errors);
+  std::string text, message;
+  if (!read_file(path, text, message)) {
+    c->status = CompileStatus::IoError;
+    c->message = message;
+    return c;
+  }
+  run_with_large_stack([&] {
+    Driver driver(*c, options);
+    const lang::Program* program = driver.parse_file(path, text);
+    if (c->diags.has_errors()) return;  // syntax errors stop before evaluation
+    SceneBuilder builder(c->sources, c->diags);
+    Evaluator eval(c->sources, c->diags, builder,
+                   [&](const std::string& name, lang::Span span) {
+                     return driver.load_import(name, span);
+                   },
+                   options.step_budget);
+    // The main file counts as imported: importing it again is a cycle.
+    eval.run_file(*program);
+    if (c->diags.has_errors()) return;
+    if (!driver.apply_overrides(builder, eval)) return;
+    c->scene = builder.finish();
+  });
+  if (c->status == CompileStatus::Ok && c->diags.has_errors()) c->status = CompileStatus::SceneErrors;
+  return c;
+}
+
+}  // namespace snell::compile

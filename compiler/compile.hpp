@@ -1,0 +1,60 @@
+// The compiler's entry point: read a scene file, parse it, run it (with its
+// imports) and lower it into an ir::Scene, reporting every independent error.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "compiler/evaluator.hpp"
+#include "language/ast.hpp"
+#include "language/diagnostics.hpp"
+#include "runtime/ir/ir.hpp"
+
+namespace snell::compile {
+
+struct CompileOptions {
+  std::vector<std::string> include_dirs;  // -I, searched after the importing file's folder
+  // --set KEY=VALUE (and --spp/--res/--seed, turned into these): VALUE is a .scn
+  // expression; for sampler and fresnel a bare word is taken as the string.
+  std::vector<std::pair<std::string, std::string>> overrides;
+  std::size_t max_errors = 20;
+  std::uint64_t step_budget = kDefaultStepBudget;
+  std::string stdlib_dir;  // empty: $SNELL_STDLIB, else the installed/build stdlib
+};
+
+enum class CompileStatus {
+  Ok,
+  SceneErrors,  // exit 1
+  UsageError,   // exit 2: a bad --set
+  IoError,      // exit 3: the scene file could not be read
+};
+
+// Everything one compilation owns; diagnostics point into `sources`.
+struct Compilation {
+  lang::SourceManager sources;
+  lang::DiagnosticEngine diags{sources};
+  std::vector<std::unique_ptr<lang::Program>> programs;
+  CompileStatus status = CompileStatus::Ok;
+  std::string message;  // for UsageError / IoError
+  ir::Scene scene;
+};
+
+std::unique_ptr<Compilation> compile_file(const std::string& path, const CompileOptions& options);
+
+// Settings keys that --set accepts (for usage messages).
+std::vector<std::string_view> setting_keys();
+
+// The folder of the standard library that imports fall back to.
+std::string stdlib_dir(const CompileOptions& options);
+
+// Reads a whole file; false when it cannot be read (message set).
+bool read_file(const std::string& path, std::string& text, std::string& message);
+
+// Runs `fn` on a thread with a large stack (deeply nested programs and deep
+// recursion in the interpreter must never overflow the native stack).
+void run_with_large_stack(const std::function<void()>& fn);
+
+}  // namespace snell::compile

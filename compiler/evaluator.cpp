@@ -1,0 +1,379 @@
+#include "compiler/evaluator.hpp"
+
+#include <cmath>
+
+#include "compiler/builtins.hpp"
+#include "compiler/properties.hpp"
+
+namespace snell::compile {
+
+using lang::DiagKind;
+using lang::Expr;
+using lang::ExprKind;
+using lang::Span;
+using lang::Stmt;
+using lang::StmtKind;
+using lang::TokenKind;
+
+Evaluator::Evaluator(const lang::SourceManager& sources, lang::DiagnosticEngine& diags,
+                     SceneBuilder& builder, ImportLoader loader, std::uint64_t step_budget)
+    : sources_(sources),
+      diags_(diags),
+      builder_(builder),
+      loader_(std::move(loader)),
+      step_budget_(step_budget) {}
+
+std::int32_t Evaluator::intern(const std::string& name) {
+  auto [it, inserted] = symbol_ids_.try_emplace(name, static_cast<std::int32_t>(symbol_names_.size()));
+  if (inserted) {
+    symbol_names_.push_back(name);
+    symbol_builtin_.push_back(find_builtin(name));
+  }
+  return it->second;
+}
+
+lang::DiagBuilder Evaluator::error(DiagKind kind, Span span, std::string message) {
+  return diags_.report(kind, span, std::move(message));
+}
+
+bool Evaluator::step(Span at) {
+  if (aborted_) return false;
+  if (++steps_ > step_budget_) {
+    error(DiagKind::StepBudget, at,
+          "evaluation stopped here after " + std::to_string(step_budget_) +
+              " steps; the program runs too long (an endless or very large loop?)")
+        .note("raise the budget with --max-steps N if the scene really needs it");
+    aborted_ = true;
+    return false;
+  }
+  return true;
+}
+
+void Evaluator::define(const std::shared_ptr<Env>& env, std::int32_t symbol, Value v, Span span) {
+  if (const Binding* old = env->find_local(symbol)) {
+    error(DiagKind::Redefinition, span,
+          "'" + symbol_names_[symbol] + "' is already defined in this scope")
+        .note(old->span, "first defined here");
+    return;
+  }
+  env->vars.push_back({symbol, std::move(v), span, false});
+}
+
+Value Evaluator::finite_or_error(Value v, const Expr& e) {
+  if (v.is_error() || v.finite()) return v;
+  error(DiagKind::NonFiniteValue, e.span,
+        "this expression evaluates to " + to_string(v) + " (not a finite number)");
+  return Value::error();
+}
+
+// ---------------------------------------------------------------------------
+// Statements
+
+std::shared_ptr<Env> Evaluator::run_file(const lang::Program& program) {
+  auto env = std::make_shared<Env>();
+  Frame frame;
+  running_.push_back(program.file);
+  exec_block(program.statements, env, frame);
+  running_.pop_back();
+  return env;
+}
+
+Evaluator::Flow Evaluator::exec_block(const std::vector<lang::StmtPtr>& stmts,
+                                      const std::shared_ptr<Env>& env, Frame& frame) {
+  for (const lang::StmtPtr& s : stmts) {
+    if (aborted_) return Flow::Return;
+    if (exec(*s, env, frame) == Flow::Return) return Flow::Return;
+  }
+  return Flow::Normal;
+}
+
+Evaluator::Flow Evaluator::exec(const Stmt& s, const std::shared_ptr<Env>& env, Frame& frame) {
+  if (!step(s.span)) return Flow::Return;
+  switch (s.kind) {
+    case StmtKind::Let: exec_let(s, env); return Flow::Normal;
+    case StmtKind::Fn: exec_fn(s, env); return Flow::Normal;
+    case StmtKind::Return:
+      if (!frame.in_function) {
+        error(DiagKind::ReturnOutsideFunction, s.span, "'return' outside a function body");
+        return Flow::Normal;
+      }
+      frame.result = s.exprs.empty() ? Value::none() : eval(*s.exprs[0], env);
+      return Flow::Return;
+    case StmtKind::For: return exec_for(s, env, frame);
+    case StmtKind::If: return exec_if(s, env, frame);
+    case StmtKind::Import: exec_import(s, env); return Flow::Normal;
+    case StmtKind::ExprStmt: {
+      const Expr& e = *s.exprs[0];
+      if (e.kind == ExprKind::Call) {
+        eval_call(e, env, /*as_statement=*/true);
+      } else if (e.kind != ExprKind::Error) {
+        Value v = eval(e, env);
+        if (!v.is_error())
+          error(DiagKind::ValueAsStatement, e.span,
+                "this " + std::string(type_name(v.type)) +
+                    " is computed and thrown away; only a call can stand as a statement");
+      }
+      return Flow::Normal;
+    }
+    case StmtKind::Item: exec_item(s, env); return Flow::Normal;
+    case StmtKind::Background: {
+      Value v = eval(*s.exprs[0], env);
+      if (v.is_error()) return Flow::Normal;
+      PropInfo color{"background", "background", PropType::Color, Check::NonNegative, 0, {}};
+      std::string msg = check_value(color, v);
+      if (!msg.empty()) {
+        error(DiagKind::InvalidValue, s.exprs[0]->span, msg);
+        return Flow::Normal;
+      }
+      builder_.set_background(v, s.name_span.end > s.name_span.begin ? s.name_span : s.span);
+      return Flow::Normal;
+    }
+    case StmtKind::Error: return Flow::Normal;
+  }
+  return Flow::Normal;
+}
+
+void Evaluator::exec_let(const Stmt& s, const std::shared_ptr<Env>& env) {
+  Value v = eval(*s.exprs[0], env);
+  if (v.type == Type::None) {
+    error(DiagKind::MissingReturn, s.exprs[0]->span, "this call returns nothing to bind to '" +
+                                                         s.name + "'");
+    v = Value::error();
+  }
+  define(env, symbol_of(s), std::move(v), s.name_span);
+}
+
+void Evaluator::exec_fn(const Stmt& s, const std::shared_ptr<Env>& env) {
+  auto closure = std::make_shared<Closure>();
+  closure->def = &s;
+  closure->env = env;  // lexical scope; the function sees itself through it
+  closure->name = s.name;
+  for (std::size_t i = 0; i < s.params.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      if (s.params[i] == s.params[j])
+        error(DiagKind::Redefinition, s.param_spans[i],
+              "parameter '" + s.params[i] + "' is named twice")
+            .note(s.param_spans[j], "first named here");
+  define(env, symbol_of(s), Value::of_function(std::move(closure)), s.name_span);
+}
+
+Evaluator::Flow Evaluator::exec_for(const Stmt& s, const std::shared_ptr<Env>& env, Frame& frame) {
+  Value from = eval(*s.exprs[0], env);
+  Value to = eval(*s.exprs[1], env);
+  Value by = s.exprs.size() > 2 ? eval(*s.exprs[2], env) : Value::number(1);
+  bool ok = true;
+  for (std::size_t i = 0; i < 3 && i < s.exprs.size(); ++i) {
+    const Value& v = i == 0 ? from : i == 1 ? to : by;
+    if (v.is_error()) {
+      ok = false;
+    } else if (v.type != Type::Number) {
+      error(DiagKind::TypeMismatch, s.exprs[i]->span,
+            std::string(i == 2 ? "the step" : "a loop bound") + " must be a number, not a " +
+                std::string(type_name(v.type)));
+      ok = false;
+    }
+  }
+  if (!ok) return Flow::Normal;
+  if (by.n == 0) {
+    error(DiagKind::ZeroStep, s.exprs[2]->span, "a for loop's step must not be 0");
+    return Flow::Normal;
+  }
+  std::int32_t sym = symbol_of(s);
+  // NAME = from + k·step, computed afresh each time so no rounding accumulates.
+  for (std::uint64_t k = 0;; ++k) {
+    double x = from.n + static_cast<double>(k) * by.n;
+    if (by.n > 0 ? !(x < to.n) : !(x > to.n)) break;
+    if (!step(s.span)) return Flow::Return;
+    auto scope = std::make_shared<Env>();
+    scope->parent = env;
+    scope->vars.push_back({sym, Value::number(x), s.name_span, false});
+    if (exec_block(s.body, scope, frame) == Flow::Return) return Flow::Return;
+  }
+  return Flow::Normal;
+}
+
+Evaluator::Flow Evaluator::exec_if(const Stmt& s, const std::shared_ptr<Env>& env, Frame& frame) {
+  for (std::size_t i = 0; i < s.branches.size(); ++i) {
+    Value c = eval(*s.exprs[i], env);
+    if (c.is_error()) return Flow::Normal;
+    if (c.type != Type::Bool) {
+      error(DiagKind::TypeMismatch, s.exprs[i]->span,
+            "a condition must be a bool, not a " + std::string(type_name(c.type)))
+          .note("there is no truthiness: write a comparison such as 'x != 0'");
+      return Flow::Normal;
+    }
+    if (c.truth()) {
+      auto scope = std::make_shared<Env>();
+      scope->parent = env;
+      return exec_block(s.branches[i], scope, frame);
+    }
+  }
+  if (s.has_else) {
+    auto scope = std::make_shared<Env>();
+    scope->parent = env;
+    return exec_block(s.else_body, scope, frame);
+  }
+  return Flow::Normal;
+}
+
+void Evaluator::exec_import(const Stmt& s, const std::shared_ptr<Env>& env) {
+  const ImportedFile* f = loader_(s.name, s.name_span.end > s.name_span.begin ? s.name_span : s.span);
+  if (!f) return;
+  for (std::size_t i = 0; i < running_.size(); ++i) {
+    if (running_[i] != f->file) continue;
+    std::string chain;
+    for (std::size_t j = i; j < running_.size(); ++j)
+      chain += sources_.file(running_[j]).path() + " -> ";
+    chain += sources_.file(f->file).path();
+    error(DiagKind::ImportCycle, s.span, "import cycle: " + chain);
+    return;
+  }
+  std::shared_ptr<Env> exported;
+  if (auto it = imported_.find(f->file); it != imported_.end()) {
+    exported = it->second;
+  } else {
+    exported = run_file(*f->program);
+    imported_[f->file] = exported;
+  }
+  for (const Binding& b : exported->vars) {
+    if (b.imported) continue;
+    if (const Binding* old = env->find_local(b.symbol)) {
+      if (old->span.file == b.span.file && old->span.begin == b.span.begin) continue;
+      error(DiagKind::Redefinition, s.span,
+            "import of '" + s.name + "' defines '" + symbol_names_[b.symbol] +
+                "', which is already defined in this scope")
+          .note(old->span, "already defined here")
+          .note(b.span, "defined by the import here");
+      continue;
+    }
+    env->vars.push_back({b.symbol, b.value, b.span, true});
+  }
+}
+
+void Evaluator::exec_item(const Stmt& s, const std::shared_ptr<Env>& env) {
+  const BlockInfo* block = find_block(s.name);
+  if (!block || block->kind != BlockKind::Item) {
+    auto names = block_names(BlockKind::Item);
+    names.push_back("background");
+    auto d = error(DiagKind::UnknownBlock, s.name_span, "'" + s.name + "' is not a scene item");
+    std::string guess = lang::closest_match(s.name, names);
+    if (!guess.empty()) d.note("did you mean '" + guess + "'?");
+    else if (block && block->kind == BlockKind::Constructor)
+      d.note("'" + s.name + "' makes a material or pattern; use it as a property value");
+    return;
+  }
+  if (builder_.too_many_objects()) {
+    error(DiagKind::StepBudget, s.name_span,
+          "the scene has more than " + std::to_string(kMaxSceneObjects) + " objects");
+    aborted_ = true;
+    return;
+  }
+  bool ok = true;
+  std::vector<EvaluatedProp> props = eval_props(*block, *s.block, s.name_span, env, ok);
+  if (ok) builder_.add_item(*block, s.name_span, props);
+}
+
+// ---------------------------------------------------------------------------
+// Blocks and properties
+
+bool Evaluator::eval_prop_value(const PropInfo& info, const Expr& expr,
+                                const std::shared_ptr<Env>& env, Value& out) {
+  out = eval(expr, env);
+  if (out.is_error()) return false;
+  std::string msg = check_value(info, out);
+  if (!msg.empty()) {
+    error(DiagKind::InvalidValue, expr.span, msg);
+    return false;
+  }
+  return true;
+}
+
+std::vector<EvaluatedProp> Evaluator::eval_props(const BlockInfo& block, const lang::Block& body,
+                                                 Span keyword_span,
+                                                 const std::shared_ptr<Env>& env, bool& ok) {
+  std::vector<EvaluatedProp> out;
+  out.reserve(body.properties.size());
+  for (const lang::Property& p : body.properties) {
+    const PropInfo* info = find_prop(block, p.name);
+    if (!info) {
+      auto d = error(DiagKind::UnknownProperty, p.name_span,
+                     "'" + std::string(block.name) + "' has no property '" + p.name + "'");
+      std::string guess = lang::closest_match(p.name, prop_names(block));
+      if (!guess.empty()) d.note("did you mean '" + guess + "'?");
+      ok = false;
+      continue;
+    }
+    if (!info->repeats()) {
+      bool dup = false;
+      for (const EvaluatedProp& q : out)
+        if (q.info == info) {
+          error(DiagKind::DuplicateProperty, p.name_span,
+                "'" + p.name + "' is given twice in '" + std::string(block.name) + "'")
+              .note(q.name_span, "first given here");
+          dup = true;
+          break;
+        }
+      if (dup) {
+        ok = false;
+        continue;
+      }
+    }
+    EvaluatedProp ep;
+    ep.info = info;
+    ep.name_span = p.name_span;
+    if (info->type == PropType::Block) {
+      if (!p.block) {
+        error(DiagKind::InvalidValue, p.value ? p.value->span : p.name_span,
+              "'" + p.name + "' takes a block: " + p.name + " { ... }");
+        ok = false;
+        continue;
+      }
+      ep.value_span = p.block->span;
+      const BlockInfo* nested = find_block(info->name);
+      ep.nested = eval_props(*nested, *p.block, p.name_span, env, ok);
+    } else {
+      if (p.block) {
+        error(DiagKind::InvalidValue, p.block->span,
+              "'" + p.name + "' takes " + describe(*info) + ", not a block");
+        ok = false;
+        continue;
+      }
+      if (!p.value) continue;  // a syntax error, already reported
+      ep.value_span = p.value->span;
+      if (!eval_prop_value(*info, *p.value, env, ep.value)) {
+        ok = false;
+        continue;
+      }
+    }
+    out.push_back(std::move(ep));
+  }
+  const BlockInfo* object = block.is_object ? find_block("object") : nullptr;
+  for (const BlockInfo* b : {&block, object}) {
+    if (!b) continue;
+    for (const PropInfo* info : b->props) {
+      bool given = false;
+      for (const EvaluatedProp& q : out) given |= q.info == info;
+      if (given) continue;
+      if (info->required()) {
+        // A property that failed its own check counts as given: no second error.
+        bool attempted = false;
+        for (const lang::Property& p : body.properties) attempted |= p.name == info->name;
+        if (!attempted)
+          error(DiagKind::MissingProperty, keyword_span,
+                "'" + std::string(block.name) + "' needs '" + std::string(info->name) + "' (" +
+                    describe(*info) + ")");
+        ok = false;
+      } else if (info->default_value.type != Type::None) {
+        EvaluatedProp d;
+        d.info = info;
+        d.name_span = keyword_span;
+        d.value_span = keyword_span;
+        d.value = info->default_value;
+        out.push_back(std::move(d));
+      }
+    }
+  }
+  return out;
+}
+
+}  // namespace snell::compile

@@ -1,0 +1,130 @@
+// The interpreter (§3-§4, §9): runs a parsed program top to bottom with lexical
+// scopes, closures, loops and conditionals; evaluates property values and hands
+// each scene item to the SceneBuilder (lower.hpp). Errors are reported through
+// the DiagnosticEngine and evaluation goes on with the next statement, so every
+// independent error is reported; only the recursion limit and the step budget
+// stop evaluation outright.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "compiler/lower.hpp"
+#include "compiler/value.hpp"
+#include "language/ast.hpp"
+#include "language/diagnostics.hpp"
+
+namespace snell::compile {
+
+struct Binding {
+  std::int32_t symbol;
+  Value value;
+  lang::Span span;  // where it was defined (for "first defined here" notes)
+  bool imported = false;  // bound by an import: not exported again
+};
+
+struct Env {
+  std::shared_ptr<Env> parent;
+  std::vector<Binding> vars;
+  const Binding* find_local(std::int32_t symbol) const {
+    for (const Binding& b : vars)
+      if (b.symbol == symbol) return &b;
+    return nullptr;
+  }
+};
+
+inline constexpr int kMaxCallDepth = 10000;
+inline constexpr std::uint64_t kDefaultStepBudget = 400'000'000;
+
+// Resolves and loads `import "path";` (compile.cpp implements it): returns the
+// program to run, or null after reporting the error at `span`.
+struct ImportedFile {
+  lang::FileId file;
+  const lang::Program* program;
+};
+using ImportLoader = std::function<const ImportedFile*(const std::string& path, lang::Span span)>;
+
+class Evaluator {
+ public:
+  Evaluator(const lang::SourceManager& sources, lang::DiagnosticEngine& diags,
+            SceneBuilder& builder, ImportLoader loader,
+            std::uint64_t step_budget = kDefaultStepBudget);
+
+  // Runs a file's statements in a fresh top-level scope, returns that scope.
+  std::shared_ptr<Env> run_file(const lang::Program& program);
+
+  // Evaluates a lone expression in an empty scope (for --set KEY=VALUE).
+  Value eval_standalone(const lang::Expr& expr);
+
+  std::uint64_t steps() const { return steps_; }
+
+ private:
+  enum class Flow { Normal, Return };
+  struct Frame {
+    Value result;
+    bool in_function = false;
+  };
+
+  Flow exec_block(const std::vector<lang::StmtPtr>& stmts, const std::shared_ptr<Env>& env,
+                  Frame& frame);
+  Flow exec(const lang::Stmt& s, const std::shared_ptr<Env>& env, Frame& frame);
+  void exec_let(const lang::Stmt& s, const std::shared_ptr<Env>& env);
+  void exec_fn(const lang::Stmt& s, const std::shared_ptr<Env>& env);
+  Flow exec_for(const lang::Stmt& s, const std::shared_ptr<Env>& env, Frame& frame);
+  Flow exec_if(const lang::Stmt& s, const std::shared_ptr<Env>& env, Frame& frame);
+  void exec_import(const lang::Stmt& s, const std::shared_ptr<Env>& env);
+  void exec_item(const lang::Stmt& s, const std::shared_ptr<Env>& env);
+
+  Value eval(const lang::Expr& e, const std::shared_ptr<Env>& env);
+  Value eval_name(const lang::Expr& e, const std::shared_ptr<Env>& env);
+  Value eval_vector(const lang::Expr& e, const std::shared_ptr<Env>& env);
+  Value eval_unary(const lang::Expr& e, const std::shared_ptr<Env>& env);
+  Value eval_binary(const lang::Expr& e, const std::shared_ptr<Env>& env);
+  Value eval_call(const lang::Expr& e, const std::shared_ptr<Env>& env, bool as_statement);
+  Value eval_component(const lang::Expr& e, const std::shared_ptr<Env>& env);
+  Value eval_constructor(const lang::Expr& e, const std::shared_ptr<Env>& env);
+  Value call_user(const Closure& fn, std::vector<Value>& args, const lang::Expr& call);
+
+  // Evaluates a block's properties against `block`'s table: unknown, duplicate,
+  // missing and invalid properties are reported; `ok` is false after any error.
+  std::vector<EvaluatedProp> eval_props(const BlockInfo& block, const lang::Block& body,
+                                        lang::Span keyword_span, const std::shared_ptr<Env>& env,
+                                        bool& ok);
+  bool eval_prop_value(const PropInfo& info, const lang::Expr& expr,
+                       const std::shared_ptr<Env>& env, Value& out);
+
+  std::int32_t intern(const std::string& name);
+  std::int32_t symbol_of(const lang::Expr& e) {
+    if (e.symbol < 0) e.symbol = intern(e.text);
+    return e.symbol;
+  }
+  std::int32_t symbol_of(const lang::Stmt& s) {
+    if (s.symbol < 0) s.symbol = intern(s.name);
+    return s.symbol;
+  }
+  void define(const std::shared_ptr<Env>& env, std::int32_t symbol, Value v, lang::Span span);
+  bool step(lang::Span at);
+  Value finite_or_error(Value v, const lang::Expr& e);
+  lang::DiagBuilder error(lang::DiagKind kind, lang::Span span, std::string message);
+
+  const lang::SourceManager& sources_;
+  lang::DiagnosticEngine& diags_;
+  SceneBuilder& builder_;
+  ImportLoader loader_;
+  std::uint64_t step_budget_;
+  std::uint64_t steps_ = 0;
+  int depth_ = 0;
+  bool aborted_ = false;  // recursion limit or step budget: stop everything
+  std::unordered_map<std::string, std::int32_t> symbol_ids_;
+  std::vector<std::string> symbol_names_;
+  std::vector<int> symbol_builtin_;  // builtin id per symbol, or -1
+  // Files already run (import runs each once) with their exported names.
+  std::unordered_map<lang::FileId, std::shared_ptr<Env>> imported_;
+  std::vector<lang::FileId> running_;  // the import chain, for cycle errors
+};
+
+}  // namespace snell::compile

@@ -1,0 +1,364 @@
+// Expression evaluation: operators, calls, vectors, components, constructors.
+#include <cmath>
+
+#include "compiler/builtins.hpp"
+#include "compiler/evaluator.hpp"
+#include "compiler/properties.hpp"
+
+namespace snell::compile {
+
+using lang::DiagKind;
+using lang::Expr;
+using lang::ExprKind;
+using lang::Span;
+using lang::TokenKind;
+
+Value Evaluator::eval_standalone(const Expr& expr) { return eval(expr, std::make_shared<Env>()); }
+
+Value Evaluator::eval(const Expr& e, const std::shared_ptr<Env>& env) {
+  if (!step(e.span)) return Value::error();
+  switch (e.kind) {
+    case ExprKind::Number: return Value::number(e.number);
+    case ExprKind::Bool: return Value::boolean(e.boolean);
+    case ExprKind::String: return Value::string(e.text);
+    case ExprKind::Name: return eval_name(e, env);
+    case ExprKind::Vector: return eval_vector(e, env);
+    case ExprKind::Unary: return eval_unary(e, env);
+    case ExprKind::Binary: return eval_binary(e, env);
+    case ExprKind::Call: {
+      Value v = eval_call(e, env, false);
+      if (v.type == Type::None) {
+        error(DiagKind::MissingReturn, e.span, "this call returns no value")
+            .note("a block-form function returns a value only through 'return EXPR;'");
+        return Value::error();
+      }
+      return v;
+    }
+    case ExprKind::Component: return eval_component(e, env);
+    case ExprKind::Constructor: return eval_constructor(e, env);
+    case ExprKind::Error: return Value::error();
+  }
+  return Value::error();
+}
+
+Value Evaluator::eval_name(const Expr& e, const std::shared_ptr<Env>& env) {
+  std::int32_t sym = symbol_of(e);
+  for (const Env* s = env.get(); s; s = s->parent.get())
+    if (const Binding* b = s->find_local(sym)) return b->value;
+  if (int id = symbol_builtin_[sym]; id >= 0) {
+    auto c = std::make_shared<Closure>();
+    c->builtin = id;
+    c->name = e.text;
+    return Value::of_function(std::move(c));
+  }
+  std::vector<std::string_view> visible;
+  for (const Env* s = env.get(); s; s = s->parent.get())
+    for (const Binding& b : s->vars) visible.push_back(symbol_names_[b.symbol]);
+  for (int i = 0; i < builtin_count(); ++i) visible.push_back(builtin_info(i).name);
+  auto d = error(DiagKind::UndefinedName, e.span, "'" + e.text + "' is not defined");
+  std::string guess = lang::closest_match(e.text, visible);
+  if (!guess.empty()) d.note("did you mean '" + guess + "'?");
+  else if (find_block(e.text))
+    d.note("'" + e.text + "' is a block keyword; write '" + e.text + " { ... }'");
+  return Value::error();
+}
+
+Value Evaluator::eval_vector(const Expr& e, const std::shared_ptr<Env>& env) {
+  double c[3] = {0, 0, 0};
+  bool bad = false;
+  for (std::size_t i = 0; i < e.args.size(); ++i) {
+    Value v = eval(*e.args[i], env);
+    if (v.is_error()) {
+      bad = true;
+    } else if (v.type != Type::Number) {
+      error(DiagKind::TypeMismatch, e.args[i]->span,
+            "a vector's components must be numbers, not a " + std::string(type_name(v.type)));
+      bad = true;
+    } else if (i < 3) {
+      c[i] = v.n;
+    }
+  }
+  if (e.args.size() < 2 || e.args.size() > 3) {
+    error(DiagKind::BadVectorArity, e.span,
+          "a vector has 2 or 3 components, not " + std::to_string(e.args.size()));
+    return Value::error();
+  }
+  if (bad) return Value::error();
+  return e.args.size() == 2 ? Value::vec2(c[0], c[1]) : Value::vec3({c[0], c[1], c[2]});
+}
+
+Value Evaluator::eval_unary(const Expr& e, const std::shared_ptr<Env>& env) {
+  Value v = eval(*e.args[0], env);
+  if (v.is_error()) return v;
+  if (e.op == TokenKind::Bang) {
+    if (v.type != Type::Bool) {
+      error(DiagKind::TypeMismatch, e.args[0]->span,
+            "'!' needs a bool, not a " + std::string(type_name(v.type)));
+      return Value::error();
+    }
+    return Value::boolean(!v.truth());
+  }
+  if (v.type == Type::Number) return Value::number(-v.n);
+  if (v.is_vector()) {
+    v.v = -v.v;
+    return v;
+  }
+  error(DiagKind::TypeMismatch, e.args[0]->span,
+        "'-' needs a number or a vector, not a " + std::string(type_name(v.type)));
+  return Value::error();
+}
+
+namespace {
+
+double arith(TokenKind op, double a, double b) {
+  switch (op) {
+    case TokenKind::Plus: return a + b;
+    case TokenKind::Minus: return a - b;
+    case TokenKind::Star: return a * b;
+    case TokenKind::Slash: return a / b;
+    case TokenKind::Percent: return a - b * std::floor(a / b);  // floored modulo
+    default: return 0;
+  }
+}
+
+bool is_arith(TokenKind op) {
+  return op == TokenKind::Plus || op == TokenKind::Minus || op == TokenKind::Star ||
+         op == TokenKind::Slash || op == TokenKind::Percent;
+}
+
+}  // namespace
+
+Value Evaluator::eval_binary(const Expr& e, const std::shared_ptr<Env>& env) {
+  TokenKind op = e.op;
+  std::string spelling(lang::token_spelling(op));
+  if (op == TokenKind::AmpAmp || op == TokenKind::PipePipe) {
+    Value a = eval(*e.args[0], env);
+    if (a.is_error()) return a;
+    if (a.type != Type::Bool) {
+      error(DiagKind::TypeMismatch, e.args[0]->span,
+            "'" + spelling + "' needs bools, not a " + std::string(type_name(a.type)));
+      return Value::error();
+    }
+    if ((op == TokenKind::AmpAmp) != a.truth()) return a;  // short circuit
+    Value b = eval(*e.args[1], env);
+    if (b.is_error()) return b;
+    if (b.type != Type::Bool) {
+      error(DiagKind::TypeMismatch, e.args[1]->span,
+            "'" + spelling + "' needs bools, not a " + std::string(type_name(b.type)));
+      return Value::error();
+    }
+    return b;
+  }
+  Value a = eval(*e.args[0], env);
+  Value b = eval(*e.args[1], env);
+  if (a.is_error() || b.is_error()) return Value::error();
+  auto mismatch = [&](const char* what) {
+    error(DiagKind::TypeMismatch, e.span,
+          "'" + spelling + "' " + what + ", not a " + std::string(type_name(a.type)) + " and a " +
+              std::string(type_name(b.type)))
+        .note(e.args[0]->span, "left operand: " + std::string(type_name(a.type)))
+        .note(e.args[1]->span, "right operand: " + std::string(type_name(b.type)));
+    return Value::error();
+  };
+  if (is_arith(op)) {
+    if (a.type == Type::String && b.type == Type::String && op == TokenKind::Plus)
+      return Value::string(*a.s + *b.s);  // extension: string concatenation
+    bool an = a.type == Type::Number, bn = b.type == Type::Number;
+    if ((!an && !a.is_vector()) || (!bn && !b.is_vector())) return mismatch("needs numbers or vectors");
+    if (an && bn) return finite_or_error(Value::number(arith(op, a.n, b.n)), e);
+    if (a.is_vector() && b.is_vector() && a.type != b.type)
+      return mismatch("needs vectors of one size");
+    Value r = a.is_vector() ? a : b;
+    for (int i = 0; i < r.dims(); ++i) {
+      double x = an ? a.n : a.v[i];
+      double y = bn ? b.n : b.v[i];
+      r.v[i] = arith(op, x, y);
+    }
+    return finite_or_error(r, e);
+  }
+  switch (op) {
+    case TokenKind::Less:
+    case TokenKind::LessEqual:
+    case TokenKind::Greater:
+    case TokenKind::GreaterEqual:
+      if (a.type != Type::Number || b.type != Type::Number) return mismatch("compares numbers");
+      if (op == TokenKind::Less) return Value::boolean(a.n < b.n);
+      if (op == TokenKind::LessEqual) return Value::boolean(a.n <= b.n);
+      if (op == TokenKind::Greater) return Value::boolean(a.n > b.n);
+      return Value::boolean(a.n >= b.n);
+    case TokenKind::EqualEqual:
+    case TokenKind::BangEqual: {
+      bool eq;
+      if (a.type == Type::Number && b.type == Type::Number) eq = a.n == b.n;
+      else if (a.type == Type::Bool && b.type == Type::Bool) eq = a.n == b.n;
+      else if (a.type == Type::String && b.type == Type::String) eq = *a.s == *b.s;
+      else if (a.is_vector() && a.type == b.type) eq = a.v == b.v;
+      else return mismatch("compares two numbers, bools, strings or vectors of one size");
+      return Value::boolean(op == TokenKind::EqualEqual ? eq : !eq);
+    }
+    default: break;
+  }
+  return Value::error();
+}
+
+Value Evaluator::eval_component(const Expr& e, const std::shared_ptr<Env>& env) {
+  Value v = eval(*e.args[0], env);
+  if (v.is_error()) return v;
+  int idx = e.text == "x" ? 0 : e.text == "y" ? 1 : e.text == "z" ? 2 : -1;
+  if (!v.is_vector()) {
+    error(DiagKind::TypeMismatch, e.args[0]->span,
+          "'." + e.text + "' needs a vector, not a " + std::string(type_name(v.type)));
+    return Value::error();
+  }
+  if (idx < 0 || idx >= v.dims()) {
+    error(DiagKind::BadComponent, e.span,
+          "a " + std::string(type_name(v.type)) + " has no component '" + e.text + "'")
+        .note(v.dims() == 2 ? "its components are .x and .y" : "its components are .x, .y and .z");
+    return Value::error();
+  }
+  return Value::number(v.v[idx]);
+}
+
+Value Evaluator::eval_call(const Expr& e, const std::shared_ptr<Env>& env, bool as_statement) {
+  Value callee = eval(*e.args[0], env);
+  std::vector<Value> args;
+  args.reserve(e.args.size() - 1);
+  bool bad = callee.is_error();
+  for (std::size_t i = 1; i < e.args.size(); ++i) {
+    args.push_back(eval(*e.args[i], env));
+    if (args.back().is_error()) bad = true;
+    if (args.back().type == Type::None) {
+      error(DiagKind::MissingReturn, e.args[i]->span, "this argument has no value");
+      bad = true;
+    }
+  }
+  if (callee.is_error()) return callee;
+  if (callee.type != Type::Function) {
+    error(DiagKind::NotCallable, e.args[0]->span,
+          "a " + std::string(type_name(callee.type)) + " cannot be called");
+    return Value::error();
+  }
+  const Closure& fn = *callee.fn;
+  int arity = fn.builtin >= 0 ? builtin_info(fn.builtin).arity
+                              : static_cast<int>(fn.def->params.size());
+  if (static_cast<int>(args.size()) != arity) {
+    auto d = error(DiagKind::WrongArgumentCount, e.span,
+                   "'" + fn.name + "' takes " + std::to_string(arity) + " argument" +
+                       (arity == 1 ? "" : "s") + ", not " + std::to_string(args.size()));
+    if (fn.builtin >= 0) d.note(std::string(builtin_info(fn.builtin).signature));
+    else d.note(fn.def->name_span, "defined here");
+    return Value::error();
+  }
+  if (bad) return Value::error();
+  if (fn.builtin >= 0) {
+    BuiltinError err;
+    Value r = call_builtin(fn.builtin, args.data(), err);
+    if (r.is_error()) {
+      Span at = err.arg >= 0 ? e.args[err.arg + 1]->span : e.span;
+      error(DiagKind::TypeMismatch, at, "'" + fn.name + "' " + err.message)
+          .note(std::string(builtin_info(fn.builtin).signature));
+      return r;
+    }
+    return finite_or_error(r, e);
+  }
+  Value r = call_user(fn, args, e);
+  if (as_statement) return r;
+  return r;
+}
+
+Value Evaluator::call_user(const Closure& fn, std::vector<Value>& args, const Expr& call) {
+  if (depth_ >= kMaxCallDepth) {
+    error(DiagKind::RecursionLimit, call.span,
+          "calls are nested more than " + std::to_string(kMaxCallDepth) +
+              " deep here (endless recursion?)")
+        .note(fn.def->name_span, "'" + fn.name + "' is defined here");
+    aborted_ = true;
+    return Value::error();
+  }
+  const lang::Stmt& def = *fn.def;
+  auto scope = std::make_shared<Env>();
+  scope->parent = fn.env;
+  scope->vars.reserve(args.size());
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    std::int32_t sym = intern(def.params[i]);
+    scope->vars.push_back({sym, std::move(args[i]), def.param_spans[i], false});
+  }
+  ++depth_;
+  Value result;
+  if (!def.exprs.empty()) {
+    result = eval(*def.exprs[0], scope);
+  } else {
+    Frame frame;
+    frame.in_function = true;
+    exec_block(def.body, scope, frame);
+    result = std::move(frame.result);
+  }
+  --depth_;
+  if (aborted_) return Value::error();
+  return result;
+}
+
+Value Evaluator::eval_constructor(const Expr& e, const std::shared_ptr<Env>& env) {
+  const BlockInfo* block = find_block(e.text);
+  if (!block || block->kind != BlockKind::Constructor) {
+    error(DiagKind::UnknownConstructor, e.span, "'" + e.text + "' is not a constructor");
+    return Value::error();
+  }
+  bool ok = true;
+  std::vector<EvaluatedProp> props;
+  if (e.block) {
+    props = eval_props(*block, *e.block, e.span, env, ok);
+  } else if (!e.args.empty()) {
+    // Positional form. Several parameters come as a vector literal of exactly that
+    // many elements (`dielectric <1.5, <0.1, 0.2, 0.3>>`); any other argument is
+    // the first parameter (`dielectric 1.5`, `glossy <1, 0.9, 0.8>`), or a 2-vector
+    // value split over two parameters (`let g = <1.5, 0.1>; dielectric g`).
+    const Expr& arg = *e.args[0];
+    std::size_t n = block->props.size();
+    auto take = [&](std::size_t i, const Expr& ex, Value v, bool evaluated) {
+      EvaluatedProp p;
+      p.info = block->props[i];
+      p.name_span = ex.span;
+      p.value_span = ex.span;
+      if (!evaluated) {
+        if (!eval_prop_value(*p.info, ex, env, p.value)) return false;
+      } else {
+        p.value = std::move(v);
+        std::string msg = check_value(*p.info, p.value);
+        if (!msg.empty()) {
+          error(DiagKind::InvalidValue, ex.span, "'" + e.text + "': " + msg);
+          return false;
+        }
+      }
+      props.push_back(std::move(p));
+      return true;
+    };
+    if (n > 1 && arg.kind == ExprKind::Vector && arg.args.size() == n) {
+      for (std::size_t i = 0; i < n; ++i) ok &= take(i, *arg.args[i], {}, false);
+    } else {
+      Value v = eval(arg, env);
+      if (v.is_error()) return v;
+      if (n == 2 && v.type == Type::Vec2) {
+        ok &= take(0, arg, Value::number(v.v.x), true);
+        ok &= take(1, arg, Value::number(v.v.y), true);
+      } else {
+        ok &= take(0, arg, std::move(v), true);
+      }
+    }
+    if (ok)
+      for (const PropInfo* info : block->props) {
+        bool given = false;
+        for (const EvaluatedProp& p : props) given |= p.info == info;
+        if (!given) {
+          EvaluatedProp d;
+          d.info = info;
+          d.value = info->default_value;
+          props.push_back(std::move(d));
+        }
+      }
+  }
+  if (!ok) return Value::error();
+  return make_constructor_value(*block, props);
+}
+
+}  // namespace snell::compile

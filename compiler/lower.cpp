@@ -1,0 +1,366 @@
+#include "compiler/lower.hpp"
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <tiny_obj_loader.h>
+
+namespace snell::compile {
+
+using lang::DiagKind;
+using lang::Span;
+
+namespace {
+
+const EvaluatedProp* get(const std::vector<EvaluatedProp>& props, std::string_view name) {
+  for (const EvaluatedProp& p : props)
+    if (p.info->name == name) return &p;
+  return nullptr;
+}
+
+ir::Vec3 vec(const std::vector<EvaluatedProp>& props, std::string_view name) {
+  return get(props, name)->value.v;
+}
+
+double num(const std::vector<EvaluatedProp>& props, std::string_view name) {
+  return get(props, name)->value.n;
+}
+
+ir::Texture texture_of(const Value& v) {
+  if (v.type == Type::Pattern) return *v.pattern;
+  ir::Texture t;
+  t.color = v.v;
+  return t;
+}
+
+// Appends the transform ops of `props` (translate/rotate/scale, in the order
+// written) to `t`: each later op applies after the earlier ones.
+ir::Transform transforms(const std::vector<EvaluatedProp>& props) {
+  ir::Transform t;
+  for (const EvaluatedProp& p : props) {
+    switch (p.info->type) {
+      case PropType::Translate: t = ir::Transform::translate(p.value.v) * t; break;
+      case PropType::Rotate: t = ir::Transform::rotate_xyz(p.value.v) * t; break;
+      case PropType::Scale: t = ir::Transform::scale(p.value.v) * t; break;
+      default: break;
+    }
+  }
+  return t;
+}
+
+// A byte key of a material's value, for deduplication.
+std::string material_key(const ir::Material& m) {
+  std::string k(1, static_cast<char>(m.kind));
+  auto put = [&](double d) { k.append(reinterpret_cast<const char*>(&d), sizeof d); };
+  k += static_cast<char>(m.color.kind);
+  put(m.color.color.x), put(m.color.color.y), put(m.color.color.z);
+  if (m.color.kind == ir::Texture::Kind::Checker) {
+    put(m.color.color2.x), put(m.color.color2.y), put(m.color.color2.z), put(m.color.size);
+  }
+  put(m.blur), put(m.ior), put(m.absorb.x), put(m.absorb.y), put(m.absorb.z);
+  return k;
+}
+
+}  // namespace
+
+Value make_constructor_value(const BlockInfo& block, const std::vector<EvaluatedProp>& props) {
+  std::string_view n = block.name;
+  if (n == "checker") {
+    ir::Texture t;
+    t.kind = ir::Texture::Kind::Checker;
+    t.color = vec(props, "color1");
+    t.color2 = vec(props, "color2");
+    t.size = num(props, "size");
+    return Value::of_pattern(t);
+  }
+  ir::Material m;
+  if (n == "diffuse") {
+    m.kind = ir::MaterialKind::Diffuse;
+    m.color = texture_of(get(props, "color")->value);
+  } else if (n == "mirror") {
+    m.kind = ir::MaterialKind::Mirror;
+    m.color = texture_of(get(props, "color")->value);
+  } else if (n == "glossy") {
+    m.kind = ir::MaterialKind::Glossy;
+    m.color = texture_of(get(props, "color")->value);
+    m.blur = num(props, "blur");
+  } else if (n == "dielectric") {
+    m.kind = ir::MaterialKind::Dielectric;
+    m.color.color = {1, 1, 1};
+    m.ior = num(props, "ior");
+    m.absorb = vec(props, "absorb");
+  } else if (n == "glazed") {
+    m.kind = ir::MaterialKind::Glazed;
+    m.color = texture_of(get(props, "color")->value);
+    m.ior = num(props, "ior");
+  }
+  return Value::of_material(std::move(m));
+}
+
+SceneBuilder::SceneBuilder(const lang::SourceManager& sources, lang::DiagnosticEngine& diags)
+    : sources_(sources), diags_(diags) {}
+
+ir::SourceRef SceneBuilder::ref(Span span) const {
+  if (span.file >= sources_.size()) return {};
+  lang::LineCol lc = sources_.file(span.file).line_col(span.begin);
+  return {span.file, lc.line, lc.col};
+}
+
+bool SceneBuilder::first_of_kind(std::string_view kind, Span span) {
+  auto [it, inserted] = singletons_.try_emplace(std::string(kind), span);
+  if (inserted) return true;
+  diags_.report(DiagKind::DuplicateSceneItem, span,
+                "a scene has at most one '" + std::string(kind) + "'")
+      .note(it->second, "the first one is here");
+  return false;
+}
+
+std::uint32_t SceneBuilder::material_index(const ir::Material& m) {
+  auto [it, inserted] = material_ids_.try_emplace(material_key(m),
+                                                  static_cast<std::uint32_t>(scene_.materials.size()));
+  if (inserted) scene_.materials.push_back(m);
+  return it->second;
+}
+
+void SceneBuilder::set_background(const Value& color, Span span) {
+  if (!first_of_kind("background", span)) return;
+  scene_.background = color.v;
+}
+
+void SceneBuilder::add_item(const BlockInfo& block, Span kw,
+                            const std::vector<EvaluatedProp>& props) {
+  std::string_view n = block.name;
+  if (n == "settings") {
+    if (!first_of_kind(n, kw)) return;
+    scene_.settings.src = ref(kw);
+    apply_settings(props);
+  } else if (n == "camera") {
+    if (!first_of_kind(n, kw)) return;
+    scene_.camera.src = ref(kw);
+    apply_camera(props);
+  } else if (n == "point_light") {
+    ir::PointLight l;
+    l.position = vec(props, "position");
+    l.intensity = vec(props, "intensity");
+    l.src = ref(kw);
+    scene_.point_lights.push_back(l);
+  } else if (n == "area_light") {
+    ir::AreaLight l;
+    l.corner = vec(props, "corner");
+    l.edge1 = vec(props, "edge1");
+    l.edge2 = vec(props, "edge2");
+    l.radiance = vec(props, "radiance");
+    ir::Vec3 s = vec(props, "samples");
+    l.samples_u = static_cast<std::uint32_t>(s.x);
+    l.samples_v = static_cast<std::uint32_t>(s.y);
+    l.two_sided = get(props, "two_sided")->value.truth();
+    l.src = ref(kw);
+    if (ir::length(ir::cross(l.edge1, l.edge2)) == 0) {
+      diags_.report(DiagKind::InvalidValue, get(props, "edge2")->value_span,
+                    "'edge1' and 'edge2' of an area light must span a non-zero area")
+          .note(get(props, "edge1")->value_span, "edge1 is " + ir::to_string(l.edge1));
+      return;
+    }
+    if (std::uint64_t(l.samples_u) * l.samples_v > 65536) {
+      diags_.report(DiagKind::InvalidValue, get(props, "samples")->value_span,
+                    "an area light takes at most 65536 shadow samples per point");
+      return;
+    }
+    scene_.area_lights.push_back(l);
+  } else {
+    add_object(block, kw, props);
+  }
+}
+
+void SceneBuilder::apply_settings(const std::vector<EvaluatedProp>& props) {
+  for (const EvaluatedProp& p : props) override_setting(*p.info, p.value);
+}
+
+void SceneBuilder::override_setting(const PropInfo& prop, const Value& v) {
+  ir::Settings& s = scene_.settings;
+  std::string_view n = prop.name;
+  if (n == "resolution") {
+    s.width = static_cast<std::uint32_t>(v.v.x);
+    s.height = static_cast<std::uint32_t>(v.v.y);
+  } else if (n == "samples") {
+    s.samples = static_cast<std::uint32_t>(v.n);
+  } else if (n == "sampler") {
+    s.sampler = *v.s == "independent" ? ir::SamplerKind::Independent
+                : *v.s == "sobol"     ? ir::SamplerKind::Sobol
+                                      : ir::SamplerKind::Stratified;
+  } else if (n == "max_depth") {
+    s.max_depth = static_cast<std::uint32_t>(v.n);
+  } else if (n == "min_weight") {
+    s.min_weight = v.n;
+  } else if (n == "fresnel") {
+    s.fresnel = *v.s == "schlick" ? ir::FresnelMode::Schlick : ir::FresnelMode::Exact;
+  } else if (n == "seed") {
+    s.seed = static_cast<std::uint64_t>(v.n);
+  }
+}
+
+void SceneBuilder::apply_camera(const std::vector<EvaluatedProp>& props) {
+  ir::Camera& c = scene_.camera;
+  c.location = vec(props, "location");
+  c.look_at = vec(props, "look_at");
+  c.up = vec(props, "up");
+  c.fov = num(props, "fov");
+  c.aperture = num(props, "aperture");
+  ir::Vec3 shutter = vec(props, "shutter");
+  c.shutter_open = shutter.x;
+  c.shutter_close = shutter.y;
+  if (const EvaluatedProp* fd = get(props, "focal_distance")) {
+    c.focal_distance = fd->value.n;
+    focal_distance_set_ = true;
+  }
+  ir::Vec3 fwd = c.look_at - c.location;
+  const EvaluatedProp* at = get(props, "look_at");
+  if (ir::length(fwd) == 0) {
+    diags_.report(DiagKind::InvalidValue, at->value_span,
+                  "the camera's 'look_at' equals its 'location': no view direction");
+  } else if (ir::length(ir::cross(fwd, c.up)) == 0) {
+    diags_.report(DiagKind::InvalidValue, get(props, "up")->value_span,
+                  "the camera's 'up' is parallel to its view direction")
+        .note(at->value_span, "view direction is " + ir::to_string(ir::normalize(fwd)));
+  }
+}
+
+void SceneBuilder::add_object(const BlockInfo& block, Span kw,
+                              const std::vector<EvaluatedProp>& props) {
+  ir::Shape s;
+  s.src = ref(kw);
+  std::string_view n = block.name;
+  if (n == "sphere") {
+    s.kind = ir::ShapeKind::Sphere;
+    s.center = vec(props, "center");
+    s.radius = num(props, "radius");
+  } else if (n == "plane") {
+    s.kind = ir::ShapeKind::Plane;
+    ir::Vec3 nrm = vec(props, "normal");
+    double len = ir::length(nrm);
+    // dot(p, n) = d with n normalised: the plane is the same set of points.
+    s.normal = nrm / len;
+    s.distance = num(props, "distance") / len;
+  } else if (n == "box") {
+    s.kind = ir::ShapeKind::Box;
+    s.min = vec(props, "min");
+    s.max = vec(props, "max");
+    if (!(s.min.x <= s.max.x && s.min.y <= s.max.y && s.min.z <= s.max.z)) {
+      diags_.report(DiagKind::InvalidValue, get(props, "max")->value_span,
+                    "a box's 'max' must be >= its 'min' in every component")
+          .note(get(props, "min")->value_span, "min is " + ir::to_string(s.min));
+      return;
+    }
+  } else if (n == "triangle") {
+    s.kind = ir::ShapeKind::Triangle;
+    s.a = vec(props, "a");
+    s.b = vec(props, "b");
+    s.c = vec(props, "c");
+    if (ir::length(ir::cross(s.b - s.a, s.c - s.a)) == 0) {
+      diags_.report(DiagKind::DegenerateGeometry, kw,
+                    "this triangle has no area (its corners are collinear); it is left out");
+      return;
+    }
+  } else if (n == "mesh") {
+    s.kind = ir::ShapeKind::Mesh;
+    const EvaluatedProp* f = get(props, "file");
+    if (!load_mesh(*f->value.s, f->value_span, s.mesh)) return;
+  }
+  const EvaluatedProp* mat = get(props, "material");
+  if (mat) {
+    s.material = material_index(*mat->value.material);
+    scene_.materials[s.material].src = scene_.materials[s.material].src.line
+                                           ? scene_.materials[s.material].src
+                                           : ref(mat->value_span);
+  } else {
+    if (default_material_ < 0) default_material_ = material_index(ir::Material{});
+    s.material = static_cast<std::uint32_t>(default_material_);
+  }
+  s.world_from_object = transforms(props);
+  if (const EvaluatedProp* m = get(props, "motion")) {
+    for (const EvaluatedProp& op : m->nested) {
+      ir::TransformOp t;
+      t.kind = op.info->type == PropType::Translate ? ir::TransformOp::Kind::Translate
+               : op.info->type == PropType::Rotate  ? ir::TransformOp::Kind::Rotate
+                                                    : ir::TransformOp::Kind::Scale;
+      t.value = op.value.v;
+      s.motion.ops.push_back(t);
+    }
+  }
+  scene_.shapes.push_back(std::move(s));
+}
+
+bool SceneBuilder::load_mesh(const std::string& file, Span span, std::uint32_t& index) {
+  namespace fs = std::filesystem;
+  fs::path p(file);
+  if (p.is_relative() && span.file < sources_.size())
+    p = fs::path(sources_.file(span.file).path()).parent_path() / p;
+  std::string key = p.lexically_normal().string();
+  if (auto it = mesh_ids_.find(key); it != mesh_ids_.end()) {
+    index = it->second;
+    return true;
+  }
+  std::error_code ec;
+  if (!fs::is_regular_file(p, ec)) {
+    diags_.report(DiagKind::FileUnreadable, span, "mesh file '" + key + "' does not exist");
+    return false;
+  }
+  tinyobj::ObjReaderConfig cfg;
+  cfg.triangulate = true;
+  cfg.vertex_color = false;
+  cfg.mtl_search_path = "";
+  tinyobj::ObjReader reader;
+  if (!reader.ParseFromFile(key, cfg)) {
+    diags_.report(DiagKind::FileUnreadable, span,
+                  "cannot read mesh '" + key + "': " + reader.Error());
+    return false;
+  }
+  ir::Mesh mesh;
+  mesh.path = key;
+  const auto& verts = reader.GetAttrib().vertices;
+  for (std::size_t i = 0; i + 2 < verts.size(); i += 3)
+    mesh.positions.push_back({verts[i], verts[i + 1], verts[i + 2]});
+  std::size_t dropped = 0;
+  for (const tinyobj::shape_t& sh : reader.GetShapes()) {
+    const auto& idx = sh.mesh.indices;
+    for (std::size_t i = 0; i + 2 < idx.size(); i += 3) {
+      int a = idx[i].vertex_index, b = idx[i + 1].vertex_index, c = idx[i + 2].vertex_index;
+      auto valid = [&](int k) { return k >= 0 && static_cast<std::size_t>(k) < mesh.positions.size(); };
+      if (!valid(a) || !valid(b) || !valid(c)) {
+        ++dropped;
+        continue;
+      }
+      ir::Vec3 pa = mesh.positions[a], pb = mesh.positions[b], pc = mesh.positions[c];
+      if (!ir::is_finite(pa) || !ir::is_finite(pb) || !ir::is_finite(pc) ||
+          ir::length(ir::cross(pb - pa, pc - pa)) == 0) {
+        ++dropped;
+        continue;
+      }
+      mesh.indices.insert(mesh.indices.end(), {std::uint32_t(a), std::uint32_t(b), std::uint32_t(c)});
+    }
+  }
+  if (dropped > 0)
+    diags_.report(DiagKind::DegenerateGeometry, span,
+                  std::to_string(dropped) + " degenerate or invalid triangle(s) of '" + key +
+                      "' are left out");
+  if (mesh.indices.empty()) {
+    diags_.report(DiagKind::FileUnreadable, span, "mesh '" + key + "' has no usable triangles");
+    return false;
+  }
+  index = static_cast<std::uint32_t>(scene_.meshes.size());
+  mesh_ids_[key] = index;
+  scene_.meshes.push_back(std::move(mesh));
+  return true;
+}
+
+ir::Scene SceneBuilder::finish() {
+  if (!focal_distance_set_)
+    scene_.camera.focal_distance = ir::length(scene_.camera.look_at - scene_.camera.location);
+  if (!(scene_.camera.focal_distance > 0)) scene_.camera.focal_distance = 1;
+  scene_.files.clear();
+  for (std::size_t i = 0; i < sources_.size(); ++i)
+    scene_.files.push_back(sources_.file(static_cast<lang::FileId>(i)).path());
+  return std::move(scene_);
+}
+
+}  // namespace snell::compile

@@ -1,0 +1,200 @@
+#include "compiler/properties.hpp"
+
+#include <cmath>
+#include <deque>
+#include <memory>
+
+namespace snell::compile {
+namespace {
+
+struct Registry {
+  std::deque<PropInfo> props;
+  std::deque<BlockInfo> blocks;
+
+  Registry() {
+#define SNELL_BLOCK(name, kind) blocks.push_back({#name, BlockKind::kind, {}, false});
+#define SNELL_PROP(block, name, type, check, flags, def)                                   \
+  props.push_back({#block, #name, PropType::type, Check::check, static_cast<unsigned>(flags), \
+                   def});
+#include "compiler/properties.def"
+    for (const PropInfo& p : props)
+      for (BlockInfo& b : blocks)
+        if (b.name == p.block) b.props.push_back(&p);
+    for (BlockInfo& b : blocks)
+      b.is_object = b.name == "sphere" || b.name == "plane" || b.name == "box" ||
+                    b.name == "triangle" || b.name == "mesh";
+  }
+};
+
+const Registry& registry() {
+  static const Registry r;
+  return r;
+}
+
+const BlockInfo& object_block() {
+  static const BlockInfo* b = find_block("object");
+  return *b;
+}
+
+bool is_integer(double x) { return std::isfinite(x) && std::floor(x) == x; }
+
+std::string check_range(Check c, double x) {
+  switch (c) {
+    case Check::Any:
+    case Check::Shutter:
+    case Check::NonZero: return {};
+    case Check::Positive: return x > 0 ? "" : "must be > 0";
+    case Check::NonNegative: return x >= 0 ? "" : "must be >= 0";
+    case Check::AtLeast1: return x >= 1 ? "" : "must be >= 1";
+    case Check::Fov: return x > 0 && x < 180 ? "" : "must be in (0, 180) degrees";
+    case Check::Ior: return x > 0 ? "" : "must be > 0";
+  }
+  return {};
+}
+
+std::string range_words(Check c) {
+  switch (c) {
+    case Check::Positive: return " > 0";
+    case Check::NonNegative: return " >= 0";
+    case Check::AtLeast1: return " >= 1";
+    case Check::Fov: return " in (0, 180)";
+    case Check::Ior: return " > 0";
+    case Check::NonZero: return ", not zero";
+    case Check::Shutter: return " <open, close> with open <= close";
+    case Check::Any: return "";
+  }
+  return "";
+}
+
+}  // namespace
+
+const BlockInfo* find_block(std::string_view name) {
+  for (const BlockInfo& b : registry().blocks)
+    if (b.name == name) return &b;
+  return nullptr;
+}
+
+const PropInfo* find_prop(const BlockInfo& block, std::string_view name) {
+  for (const PropInfo* p : block.props)
+    if (p->name == name) return p;
+  if (block.is_object) return find_prop(object_block(), name);
+  return nullptr;
+}
+
+std::vector<std::string_view> prop_names(const BlockInfo& block) {
+  std::vector<std::string_view> out;
+  for (const PropInfo* p : block.props) out.push_back(p->name);
+  if (block.is_object)
+    for (const PropInfo* p : object_block().props) out.push_back(p->name);
+  return out;
+}
+
+std::vector<std::string_view> block_names(BlockKind kind) {
+  std::vector<std::string_view> out;
+  for (const BlockInfo& b : registry().blocks)
+    if (b.kind == kind) out.push_back(b.name);
+  return out;
+}
+
+std::string describe(const PropInfo& p) {
+  std::string r = range_words(p.check);
+  switch (p.type) {
+    case PropType::Number: return "a number" + r;
+    case PropType::Integer: return "an integer" + r;
+    case PropType::Vec2: return "a 2-vector" + r;
+    case PropType::IntVec2: return "a 2-vector of integers" + r;
+    case PropType::Vec3: return "a 3-vector (or a number for all components)" + r;
+    case PropType::Bool: return "true or false";
+    case PropType::String: return "a string";
+    case PropType::Sampler: return "\"independent\", \"stratified\" or \"sobol\"";
+    case PropType::Fresnel: return "\"exact\" or \"schlick\"";
+    case PropType::Material: return "a material (diffuse, mirror, glossy, dielectric, glazed)";
+    case PropType::Color: return "a colour (a 3-vector or a number)" + r;
+    case PropType::ColorOrPattern: return "a colour (a 3-vector or a number) or a pattern" + r;
+    case PropType::Translate:
+    case PropType::Rotate: return "a 3-vector (or a number for all components)";
+    case PropType::Scale: return "a number or a 3-vector, with no zero component";
+    case PropType::Block: return "a block { ... }";
+  }
+  return "?";
+}
+
+std::string check_value(const PropInfo& p, Value& v) {
+  auto wrong = [&]() {
+    return "'" + std::string(p.name) + "' takes " + describe(p) + ", not a " +
+           std::string(type_name(v.type));
+  };
+  auto check_components = [&](int dims) -> std::string {
+    for (int i = 0; i < dims; ++i) {
+      std::string e = check_range(p.check, v.v[i]);
+      if (!e.empty()) return "'" + std::string(p.name) + "' " + e + " in every component";
+    }
+    return {};
+  };
+  switch (p.type) {
+    case PropType::Number:
+    case PropType::Integer: {
+      if (v.type != Type::Number) return wrong();
+      if (p.type == PropType::Integer && !is_integer(v.n))
+        return "'" + std::string(p.name) + "' must be an integer";
+      if (p.type == PropType::Integer && std::fabs(v.n) > 4294967295.0)
+        return "'" + std::string(p.name) + "' is too large";
+      std::string e = check_range(p.check, v.n);
+      return e.empty() ? "" : "'" + std::string(p.name) + "' " + e;
+    }
+    case PropType::Vec2:
+    case PropType::IntVec2: {
+      if (v.type == Type::Number) v = Value::vec2(v.n, v.n);
+      if (v.type != Type::Vec2) return wrong();
+      if (p.type == PropType::IntVec2) {
+        if (!is_integer(v.v.x) || !is_integer(v.v.y))
+          return "'" + std::string(p.name) + "' must have integer components";
+        if (std::fabs(v.v.x) > 1e9 || std::fabs(v.v.y) > 1e9)
+          return "'" + std::string(p.name) + "' is too large";
+      }
+      if (p.check == Check::Shutter && !(v.v.x <= v.v.y))
+        return "'shutter' needs open <= close";
+      return check_components(2);
+    }
+    case PropType::Vec3:
+    case PropType::Color:
+    case PropType::Translate:
+    case PropType::Rotate: {
+      if (v.type == Type::Number) v = Value::vec3(ir::Vec3(v.n));
+      if (v.type != Type::Vec3) return wrong();
+      if (p.check == Check::NonZero && v.v == ir::Vec3{})
+        return "'" + std::string(p.name) + "' must not be the zero vector";
+      return check_components(3);
+    }
+    case PropType::Scale: {
+      if (v.type == Type::Number) v = Value::vec3(ir::Vec3(v.n));
+      if (v.type != Type::Vec3) return wrong();
+      if (v.v.x == 0 || v.v.y == 0 || v.v.z == 0)
+        return "'scale' must not have a zero component (the object would vanish)";
+      return {};
+    }
+    case PropType::ColorOrPattern: {
+      if (v.type == Type::Pattern) return {};
+      if (v.type == Type::Number) v = Value::vec3(ir::Vec3(v.n));
+      if (v.type != Type::Vec3) return wrong();
+      return check_components(3);
+    }
+    case PropType::Bool: return v.type == Type::Bool ? "" : wrong();
+    case PropType::String: return v.type == Type::String ? "" : wrong();
+    case PropType::Sampler:
+      if (v.type != Type::String) return wrong();
+      if (*v.s != "independent" && *v.s != "stratified" && *v.s != "sobol")
+        return "'sampler' takes " + describe(p) + ", not \"" + *v.s + "\"";
+      return {};
+    case PropType::Fresnel:
+      if (v.type != Type::String) return wrong();
+      if (*v.s != "exact" && *v.s != "schlick")
+        return "'fresnel' takes " + describe(p) + ", not \"" + *v.s + "\"";
+      return {};
+    case PropType::Material: return v.type == Type::Material ? "" : wrong();
+    case PropType::Block: return wrong();  // blocks are written `motion { ... }`
+  }
+  return {};
+}
+
+}  // namespace snell::compile

@@ -1,0 +1,58 @@
+// Property tables of every block (from properties.def) and the checks that turn
+// an evaluated Value into what the block accepts (promotion, integers, ranges).
+#pragma once
+
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "compiler/value.hpp"
+
+namespace snell::compile {
+
+enum class BlockKind { Item, Constructor, Nested };
+
+enum class PropType {
+  Number, Integer, Vec2, IntVec2, Vec3, Bool, String, Sampler, Fresnel,
+  Material, Color, ColorOrPattern, Translate, Rotate, Scale, Block,
+};
+
+enum class Check { Any, Positive, NonNegative, AtLeast1, Fov, Ior, NonZero, Shutter };
+
+inline constexpr unsigned Req = 1, Rep = 2, Obj = 4;
+
+struct PropInfo {
+  std::string_view block;
+  std::string_view name;
+  PropType type;
+  Check check;
+  unsigned flags;
+  Value default_value;
+  bool required() const { return flags & Req; }
+  bool repeats() const { return flags & Rep; }
+};
+
+struct BlockInfo {
+  std::string_view name;
+  BlockKind kind;
+  std::vector<const PropInfo*> props;  // own properties, in table order
+  bool is_object = false;              // also takes the `object` properties
+};
+
+const BlockInfo* find_block(std::string_view name);
+const PropInfo* find_prop(const BlockInfo& block, std::string_view name);
+// Every property name the block accepts (for "did you mean").
+std::vector<std::string_view> prop_names(const BlockInfo& block);
+// Every block name of a kind (for "did you mean").
+std::vector<std::string_view> block_names(BlockKind kind);
+
+// What a property accepts, in words: "an integer >= 1", "a colour or a pattern".
+std::string describe(const PropInfo& prop);
+
+// Converts `v` in place to the property's canonical type (a number becomes a
+// vector where a vector is expected) and checks its range. Returns an error
+// message naming what the property accepts, or an empty string.
+std::string check_value(const PropInfo& prop, Value& v);
+
+}  // namespace snell::compile

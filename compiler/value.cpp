@@ -1,0 +1,58 @@
+#include "compiler/value.hpp"
+
+#include <charconv>
+#include <cmath>
+
+namespace snell::compile {
+
+std::string_view type_name(Type t) {
+  switch (t) {
+    case Type::None: return "nothing";
+    case Type::Error: return "error";
+    case Type::Number: return "number";
+    case Type::Bool: return "bool";
+    case Type::String: return "string";
+    case Type::Vec2: return "2-vector";
+    case Type::Vec3: return "3-vector";
+    case Type::Material: return "material";
+    case Type::Pattern: return "pattern";
+    case Type::Function: return "function";
+  }
+  return "?";
+}
+
+bool Value::finite() const {
+  switch (type) {
+    case Type::Number: return std::isfinite(n);
+    case Type::Vec2: return std::isfinite(v.x) && std::isfinite(v.y);
+    case Type::Vec3: return ir::is_finite(v);
+    default: return true;
+  }
+}
+
+namespace {
+std::string num(double x) {
+  if (x == 0) return "0";
+  char buf[32];
+  auto r = std::to_chars(buf, buf + sizeof buf, x);
+  return std::string(buf, r.ptr);
+}
+}  // namespace
+
+std::string to_string(const Value& v) {
+  switch (v.type) {
+    case Type::None: return "nothing";
+    case Type::Error: return "<error>";
+    case Type::Number: return num(v.n);
+    case Type::Bool: return v.n != 0 ? "true" : "false";
+    case Type::String: return "\"" + *v.s + "\"";
+    case Type::Vec2: return "<" + num(v.v.x) + ", " + num(v.v.y) + ">";
+    case Type::Vec3: return "<" + num(v.v.x) + ", " + num(v.v.y) + ", " + num(v.v.z) + ">";
+    case Type::Material: return ir::to_string(*v.material);
+    case Type::Pattern: return ir::to_string(*v.pattern);
+    case Type::Function: return "fn " + v.fn->name;
+  }
+  return "?";
+}
+
+}  // namespace snell::compile

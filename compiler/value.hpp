@@ -1,0 +1,72 @@
+// Run-time values of the .scn interpreter (§3): number, bool, string, 2- and
+// 3-vectors, material, pattern, function. `Error` is a poison value: an operation
+// on it yields Error without a new diagnostic, so one mistake reports once.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <string_view>
+
+#include "runtime/ir/ir.hpp"
+
+namespace snell::lang {
+struct Stmt;
+}
+
+namespace snell::compile {
+
+enum class Type : std::uint8_t { None, Error, Number, Bool, String, Vec2, Vec3, Material, Pattern, Function };
+
+std::string_view type_name(Type t);
+
+struct Env;
+
+// A user function (closure over its defining scope) or a builtin.
+struct Closure {
+  const lang::Stmt* def = nullptr;  // the `fn` statement; null for builtins
+  std::shared_ptr<Env> env;         // the scope it was defined in
+  int builtin = -1;                 // index into the builtin table
+  std::string name;
+};
+
+struct Value {
+  Type type = Type::None;
+  double n = 0;  // Number; Bool as 0/1
+  ir::Vec3 v;    // Vec2 uses x, y (z is 0)
+  std::shared_ptr<const std::string> s;
+  std::shared_ptr<const ir::Material> material;
+  std::shared_ptr<const ir::Texture> pattern;
+  std::shared_ptr<const Closure> fn;
+
+  static Value none() { return {}; }
+  static Value error() { Value r; r.type = Type::Error; return r; }
+  static Value number(double x) { Value r; r.type = Type::Number; r.n = x; return r; }
+  static Value boolean(bool b) { Value r; r.type = Type::Bool; r.n = b ? 1 : 0; return r; }
+  static Value vec2(double x, double y) { Value r; r.type = Type::Vec2; r.v = {x, y, 0}; return r; }
+  static Value vec3(ir::Vec3 v3) { Value r; r.type = Type::Vec3; r.v = v3; return r; }
+  static Value string(std::string text) {
+    Value r; r.type = Type::String; r.s = std::make_shared<const std::string>(std::move(text)); return r;
+  }
+  static Value of_material(ir::Material m) {
+    Value r; r.type = Type::Material; r.material = std::make_shared<const ir::Material>(std::move(m)); return r;
+  }
+  static Value of_pattern(ir::Texture t) {
+    Value r; r.type = Type::Pattern; r.pattern = std::make_shared<const ir::Texture>(t); return r;
+  }
+  static Value of_function(std::shared_ptr<const Closure> c) {
+    Value r; r.type = Type::Function; r.fn = std::move(c); return r;
+  }
+
+  bool is_error() const { return type == Type::Error; }
+  bool is_vector() const { return type == Type::Vec2 || type == Type::Vec3; }
+  int dims() const { return type == Type::Vec2 ? 2 : type == Type::Vec3 ? 3 : 1; }
+  bool truth() const { return n != 0; }
+  // True when every numeric component is finite (non-numeric values: true).
+  bool finite() const;
+};
+
+// Readable text of a value, as the language would write it (used in messages).
+std::string to_string(const Value& v);
+
+}  // namespace snell::compile
