@@ -1,0 +1,64 @@
+// The scene as the integrator sees it: ray queries against every surface, in
+// camera-relative float coordinates. The only header in front of Embree; the only
+// translation unit that includes Embree is embree_scene.cpp.
+//
+// What goes where:
+// - spheres: Embree user geometry intersected in object space (double), so any
+//   affine transform (non-uniform scale, rotation) is exact; robust discriminant
+//   (Haines et al., RTG ch. 7).
+// - boxes: 12 triangles, triangles and meshes: triangle geometry; vertices are
+//   transformed in double, moved by -camera, then rounded to float. Winding is
+//   flipped under mirroring transforms so Ng stays outward.
+// - area lights: two triangles each, so camera/reflection/refraction rays see them
+//   and they block shadow rays of other lights (an area light is a surface).
+// - planes: infinite, so they stay outside the BVH (an infinite box would ruin its
+//   quality) and are tested analytically after the Embree query.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "runtime/ir/ir.hpp"
+#include "runtime/vec.hpp"
+
+namespace snell::rt {
+
+struct Ray {
+  Vec3f org, dir;  // dir need not be unit length; t is in units of |dir|
+  float tmax = INFINITY;
+  float time = 0;  // shutter fraction in [0, 1]; reserved for motion blur
+};
+
+struct Hit {
+  float t = INFINITY;
+  Vec3f ng;  // geometric normal, unit, outward for closed shapes (§8)
+  enum class Kind : std::uint8_t { Shape, AreaLight } kind = Kind::Shape;
+  std::uint32_t index = 0;  // into ir::Scene::shapes or ::area_lights
+};
+
+class EmbreeScene {
+ public:
+  // `origin`: the world point that becomes (0, 0, 0) (the camera location).
+  EmbreeScene(const ir::Scene& scene, ir::Vec3 origin);
+  ~EmbreeScene();
+  EmbreeScene(const EmbreeScene&) = delete;
+  EmbreeScene& operator=(const EmbreeScene&) = delete;
+
+  // Nearest hit with t in (0, ray.tmax); false when the ray escapes.
+  bool intersect(const Ray& ray, Hit& hit) const;
+  // True when anything lies on the ray with t in (0, ray.tmax).
+  bool occluded(const Ray& ray) const;
+
+  ir::Vec3 origin() const { return origin_; }
+  std::string to_string() const;
+
+  struct Impl;
+
+ private:
+  ir::Vec3 origin_;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace snell::rt

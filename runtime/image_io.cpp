@@ -1,0 +1,105 @@
+// Image output: the only translation unit that includes OpenImageIO.
+// EXR: linear float32 RGB radiance with metadata. PNG/JPEG/TIFF: 8-bit sRGB made
+// through the OCIO display transform (color.cpp), clamped to [0, 1] and rounded.
+// Every file is written to a temporary name beside the target and renamed into
+// place, so an existing file is never left half-written; on failure the temporary
+// is removed and the target is untouched.
+#include <OpenImageIO/imageio.h>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cctype>
+#include <cstdio>
+#include <filesystem>
+
+#include <fmt/format.h>
+
+#include "runtime/color.hpp"
+#include "runtime/render.hpp"
+
+namespace snell::rt {
+
+namespace {
+
+std::string lower_extension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
+  return ext;
+}
+
+// A hidden sibling of the target that keeps its extension (OIIO picks the format
+// from it) and is unique per process and call.
+std::string temp_name(const std::string& path) {
+  static std::atomic<unsigned> counter{0};
+  std::filesystem::path p(path);
+  std::string name = fmt::format(".{}.snell-tmp-{}-{}{}", p.stem().string(), ::getpid(),
+                                 counter++, p.extension().string());
+  return (p.parent_path() / name).string();
+}
+
+}  // namespace
+
+bool is_supported_image_extension(const std::string& path) {
+  std::string e = lower_extension(path);
+  return e == ".exr" || e == ".png" || e == ".jpg" || e == ".jpeg" || e == ".tif" ||
+         e == ".tiff";
+}
+
+std::string write_image(const std::string& path, const Image& image, const OutputInfo& info,
+                        const std::string& ocio_config) {
+  if (!is_supported_image_extension(path))
+    return fmt::format("{}: unsupported image format (use .exr, .png, .jpg, .tif)", path);
+  if (image.width == 0 || image.height == 0) return fmt::format("{}: empty image", path);
+  std::string ext = lower_extension(path);
+  bool exr = ext == ".exr";
+
+  OIIO::ImageSpec spec;
+  std::vector<unsigned char> bytes;
+  if (exr) {
+    spec = OIIO::ImageSpec(int(image.width), int(image.height), 3, OIIO::TypeDesc::FLOAT);
+    spec.attribute("compression", "zip");
+    spec.attribute("oiio:ColorSpace", "Linear Rec.709 (sRGB)");
+  } else {
+    std::vector<float> disp = image.rgb;
+    std::string err = apply_display_transform(ocio_config, disp.data(), disp.size() / 3);
+    if (!err.empty()) return fmt::format("{}: {}", path, err);
+    bytes.resize(disp.size());
+    for (std::size_t i = 0; i < disp.size(); ++i) bytes[i] = quantize8(disp[i]);
+    spec = OIIO::ImageSpec(int(image.width), int(image.height), 3, OIIO::TypeDesc::UINT8);
+    spec.attribute("oiio:ColorSpace", "sRGB");
+    if (ext == ".jpg" || ext == ".jpeg") spec.attribute("CompressionQuality", 95);
+  }
+  spec.attribute("Software", "snell 0.1");
+  spec.attribute("snell:scene", info.scene_path);
+  spec.attribute("snell:samples", int(info.samples));
+  spec.attribute("snell:seed", fmt::format("{}", info.seed));
+  spec.attribute("snell:render_seconds", float(info.render_seconds));
+
+  std::string tmp = temp_name(path);
+  auto fail = [&](const std::string& why) {
+    std::error_code ec;
+    std::filesystem::remove(tmp, ec);
+    return fmt::format("cannot write {}: {}", path, why);
+  };
+  auto out = OIIO::ImageOutput::create(tmp);
+  if (!out) return fail(OIIO::geterror());
+  if (!out->open(tmp, spec)) return fail(out->geterror());
+  bool ok = exr ? out->write_image(OIIO::TypeDesc::FLOAT, image.rgb.data())
+                : out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
+  if (!ok) {
+    std::string e = out->geterror();
+    out->close();
+    return fail(e);
+  }
+  if (!out->close()) return fail(out->geterror());
+  out.reset();
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) return fail(ec.message());
+  return {};
+}
+
+}  // namespace snell::rt

@@ -1,0 +1,293 @@
+#include "runtime/integrator.hpp"
+
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "runtime/fresnel.hpp"
+
+namespace snell::rt {
+
+namespace {
+
+constexpr float kInvPi = 0.318309886183790671538f;
+
+Color to_color(ir::Vec3 v) { return to_float(v.x, v.y, v.z); }
+
+// Child path keys: slot 1 = reflection, 2 = refraction. Sampler dimensions of a node
+// are hashed from its key, so a dimension names the same decision in every sample
+// of a pixel (what stratification across samples needs).
+std::uint64_t child_key(std::uint64_t key, std::uint64_t slot) { return hash_combine(key, slot); }
+std::uint32_t node_dim(std::uint64_t key, std::uint64_t what) {
+  return kDimFirstFree + std::uint32_t(hash_combine(key, what) & 0x7fffffffu);
+}
+
+std::string fmt_color(Color c) { return fmt::format("({:.6g}, {:.6g}, {:.6g})", c.x, c.y, c.z); }
+
+struct TraceEntry {
+  std::uint32_t depth;
+  std::string text;
+};
+
+}  // namespace
+
+std::string to_string(RayKind k) {
+  switch (k) {
+    case RayKind::Camera: return "camera";
+    case RayKind::Reflection: return "reflection";
+    case RayKind::Refraction: return "refraction";
+    case RayKind::Glossy: return "glossy";
+  }
+  return "?";
+}
+
+Integrator::Integrator(const ir::Scene& scene, const EmbreeScene& embree)
+    : scene_(scene), embree_(embree) {
+  ir::Vec3 o = embree.origin();
+  for (const ir::AreaLight& l : scene.area_lights) {
+    LightF f;
+    ir::Vec3 c = l.corner - o;
+    ir::Vec3 n = ir::cross(l.edge1, l.edge2);
+    double area = ir::length(n);
+    f.corner = to_float(c.x, c.y, c.z);
+    f.e1 = to_color(l.edge1);
+    f.e2 = to_color(l.edge2);
+    f.area = float(area);
+    ir::Vec3 nu = area > 0 ? n / area : ir::Vec3(0, 1, 0);
+    f.n = to_color(nu);
+    // A light of zero area emits nothing (robustness.md #9): radiance 0.
+    f.radiance = area > 0 ? to_color(l.radiance) : Color(0);
+    f.nu = l.samples_u ? l.samples_u : 1;
+    f.nv = l.samples_v ? l.samples_v : 1;
+    f.two_sided = l.two_sided;
+    area_.push_back(f);
+  }
+  for (const ir::PointLight& l : scene.point_lights) {
+    ir::Vec3 p = l.position - o;
+    points_.push_back({to_float(p.x, p.y, p.z), to_color(l.intensity)});
+  }
+  background_ = to_color(scene.background);
+  max_depth_ = scene.settings.max_depth;
+  min_weight_ = float(scene.settings.min_weight);
+  fresnel_ = scene.settings.fresnel;
+}
+
+// §8 checker: p (world space) moved inward by S/100 along the outward normal, cell
+// floor(p / S), even i + j + k takes color1. World space means adding the camera
+// location back in double.
+Color Integrator::texture(const ir::Texture& t, Vec3f p, Vec3f n_out) const {
+  if (t.kind == ir::Texture::Kind::Constant) return to_color(t.color);
+  ir::Vec3 o = embree_.origin();
+  double s = t.size;
+  ir::Vec3 w(double(p.x) + o.x - n_out.x * s / 100, double(p.y) + o.y - n_out.y * s / 100,
+             double(p.z) + o.z - n_out.z * s / 100);
+  long long i = (long long)std::floor(w.x / s), j = (long long)std::floor(w.y / s),
+            k = (long long)std::floor(w.z / s);
+  return ((i + j + k) & 1) == 0 ? to_color(t.color) : to_color(t.color2);
+}
+
+// Radiance an area light sends along `dir` (the ray's direction, towards the light):
+// one-sided lights emit only towards cross(edge1, edge2).
+Color Integrator::emitted(const LightF& l, Vec3f dir) const {
+  if (l.two_sided || dot(dir, l.n) < 0) return l.radiance;
+  return Color(0);
+}
+
+// Irradiance-like sum E so that a Lambertian surface of albedo ρ reflects ρ/π · E:
+// point lights I·cosθ/d²; area lights a jittered nu×nv grid over the parallelogram,
+// each sample L·cosθ_surf·cosθ_light·A/(d²·nu·nv) (area-to-solid-angle factor).
+// Shadow rays leave from the offset hit point and end at the offset light sample, so
+// the light's own surface never blocks them; everything else does (§7).
+Color Integrator::direct(Vec3f p, Vec3f nf, std::uint64_t key, const SampleContext& sc,
+                         RenderStats& stats) const {
+  Color e(0);
+  Vec3f o = offset_ray_origin(p, nf);
+  for (const PointF& l : points_) {
+    Vec3f to = l.pos - p;
+    float d2 = dot(to, to);
+    float cos_s = dot(nf, to);
+    if (!(cos_s > 0)) continue;
+    Ray shadow{o, l.pos - o, 1.0f, 0};
+    ++stats.shadow_rays;
+    if (embree_.occluded(shadow)) continue;
+    float d = std::sqrt(d2);
+    e += l.intensity * (cos_s / (d * d2));
+  }
+  for (std::size_t li = 0; li < area_.size(); ++li) {
+    const LightF& l = area_[li];
+    if (l.radiance.x == 0 && l.radiance.y == 0 && l.radiance.z == 0) continue;
+    float inv_n = 1.0f / float(l.nu * l.nv);
+    for (std::uint32_t iv = 0; iv < l.nv; ++iv)
+      for (std::uint32_t iu = 0; iu < l.nu; ++iu) {
+        std::uint32_t dim = node_dim(key, (std::uint64_t(li + 1) << 40) | (iv << 20) | iu);
+        Sample2 s = sample2(sc.spec, sc.px, sc.py, sc.index, dim);
+        float u = (float(iu) + s.u) / float(l.nu), v = (float(iv) + s.v) / float(l.nv);
+        Vec3f q = l.corner + l.e1 * u + l.e2 * v;
+        Vec3f to = q - p;
+        float d2 = dot(to, to);
+        float cos_s = dot(nf, to);
+        float cos_l = -dot(l.n, to);
+        if (!(cos_s > 0)) continue;
+        if (!l.two_sided && !(cos_l > 0)) continue;
+        Vec3f side = cos_l > 0 ? l.n : -l.n;  // the light's face towards p
+        Vec3f target = offset_ray_origin(q, side);
+        Ray shadow{o, target - o, 1.0f, 0};
+        ++stats.shadow_rays;
+        if (embree_.occluded(shadow)) continue;
+        float g = cos_s * std::fabs(cos_l) / (d2 * d2) * l.area * inv_n;
+        e += l.radiance * g;
+      }
+  }
+  return e;
+}
+
+Color Integrator::li(const Ray& camera_ray, const SampleContext& sc, RenderStats& stats,
+                     std::vector<Node>& stack, std::string* trace) const {
+  Color total(0);
+  std::vector<TraceEntry> entries;
+  stack.clear();
+  Node root;
+  root.ray = camera_ray;
+  root.key = hash_combine(0x5eed, 0);
+  stack.push_back(root);
+  const auto& mats = scene_.materials;
+
+  while (!stack.empty()) {
+    Node node = stack.back();
+    stack.pop_back();
+    switch (node.kind) {
+      case RayKind::Camera: ++stats.camera_rays; break;
+      case RayKind::Reflection: ++stats.reflection_rays; break;
+      case RayKind::Refraction: ++stats.refraction_rays; break;
+      case RayKind::Glossy: ++stats.glossy_rays; break;
+    }
+    Color contrib(0);
+    std::string desc;
+    Hit hit;
+    Vec3f d = node.ray.dir;
+    // Children are collected here, then pushed reflection-last so it pops first.
+    Node kids[2];
+    int nkids = 0;
+    auto spawn = [&](RayKind kind, Vec3f org, Vec3f dir, Color w, std::uint64_t slot) {
+      if (w.x == 0 && w.y == 0 && w.z == 0) return;  // nothing to carry: not a prune
+      if (node.depth + 1 > max_depth_) {
+        ++stats.pruned_by_depth;
+        return;
+      }
+      if (min_weight_ > 0 && max_component(w) < min_weight_) {
+        ++stats.pruned_by_weight;
+        return;
+      }
+      Node& k = kids[nkids++];
+      k.ray = Ray{org, dir, INFINITY, node.ray.time};
+      k.weight = w;
+      k.depth = node.depth + 1;
+      k.kind = kind;
+      k.key = child_key(node.key, slot);
+    };
+
+    if (!embree_.intersect(node.ray, hit)) {
+      contrib = node.weight * background_;
+      if (trace) desc = "escapes: background";
+    } else if (hit.kind == Hit::Kind::AreaLight) {
+      contrib = node.weight * emitted(area_[hit.index], d);
+      if (trace)
+        desc = fmt::format("hits area light {} ({}) t={:.6g}", hit.index,
+                           ir::to_string(scene_.area_lights[hit.index].src, scene_), hit.t);
+    } else {
+      const ir::Shape& shape = scene_.shapes[hit.index];
+      const ir::Material& m = mats[shape.material];
+      Vec3f p = node.ray.org + d * hit.t;
+      Vec3f ng = hit.ng;                  // outward
+      bool entering = dot(d, ng) < 0;     // §8: against the outward normal
+      Vec3f nf = entering ? ng : -ng;     // the normal on the ray's side
+      float cos_i = std::fmin(1.0f, -dot(d, nf));
+      Color w = node.weight;
+      if (trace)
+        desc = fmt::format("hits shape {} ({} {}, {}) t={:.6g} {}", hit.index,
+                           ir::to_string(shape.kind), ir::to_string(m.kind),
+                           ir::to_string(shape.src, scene_), hit.t,
+                           entering ? "entering" : "exiting");
+      Vec3f refl = d + nf * (2 * cos_i);
+      switch (m.kind) {
+        case ir::MaterialKind::Diffuse: {
+          Color albedo = texture(m.color, p, ng);
+          contrib = w * albedo * direct(p, nf, node.key, sc, stats) * kInvPi;
+          break;
+        }
+        case ir::MaterialKind::Mirror:
+          spawn(RayKind::Reflection, offset_ray_origin(p, nf), normalize(refl),
+                w * texture(m.color, p, ng), 1);
+          break;
+        case ir::MaterialKind::Glossy: {
+          // Perturb the mirror direction inside a square of side `blur` perpendicular
+          // to it, then renormalise. A direction that falls below the surface is
+          // mirrored back above it (its normal component flipped): energy is kept and
+          // no sample is wasted; the limit is a slight bias towards grazing angles.
+          Vec3f r = normalize(refl);
+          if (m.blur > 0) {
+            Vec3f b1, b2;
+            orthonormal_basis(r, b1, b2);
+            Sample2 s = sample2(sc.spec, sc.px, sc.py, sc.index, node_dim(node.key, 7));
+            float a = float(m.blur);
+            r = normalize(r + b1 * ((s.u - 0.5f) * a) + b2 * ((s.v - 0.5f) * a));
+            float below = dot(r, nf);
+            if (below < 0) r = normalize(r - nf * (2 * below));
+          }
+          spawn(RayKind::Glossy, offset_ray_origin(p, nf), r, w * texture(m.color, p, ng), 1);
+          break;
+        }
+        case ir::MaterialKind::Dielectric: {
+          if (!entering) {  // Beer over the path inside this object (not nested media)
+            double dist = double(hit.t) * double(length(d));
+            w = w * to_float(beer(m.absorb.x, dist), beer(m.absorb.y, dist),
+                             beer(m.absorb.z, dist));
+          }
+          double eta = entering ? m.ior : 1.0 / m.ior;
+          Interface f = make_interface(cos_i, eta);
+          double R = reflectance(f, fresnel_);
+          if (f.tir) ++stats.tir_events;
+          spawn(RayKind::Reflection, offset_ray_origin(p, nf), normalize(refl), w * float(R), 1);
+          if (!f.tir) {
+            Vec3d t = refract({d.x, d.y, d.z}, {nf.x, nf.y, nf.z}, f);
+            spawn(RayKind::Refraction, offset_ray_origin(p, -nf),
+                  normalize(to_float(t.x, t.y, t.z)), w * float(1 - R), 2);
+          }
+          break;
+        }
+        case ir::MaterialKind::Glazed: {
+          // A clear coat of index ior over a diffuse base, seen from the ray's side.
+          Interface f = make_interface(cos_i, m.ior);
+          double R = reflectance(f, fresnel_);
+          Color albedo = texture(m.color, p, ng);
+          contrib = w * albedo * direct(p, nf, node.key, sc, stats) * (kInvPi * float(1 - R));
+          spawn(RayKind::Reflection, offset_ray_origin(p, nf), normalize(refl), w * float(R), 1);
+          break;
+        }
+      }
+    }
+    total += contrib;
+    if (trace) {
+      entries.push_back({node.depth, fmt::format("{} depth {} weight {}: {} -> contribution {}",
+                                                 rt::to_string(node.kind), node.depth,
+                                                 fmt_color(node.weight), desc,
+                                                 fmt_color(contrib))});
+    }
+    for (int i = nkids - 1; i >= 0; --i) stack.push_back(kids[i]);
+  }
+  if (trace) {
+    for (const TraceEntry& e : entries)
+      *trace += std::string(2 * std::min<std::uint32_t>(e.depth, 40), ' ') + e.text + "\n";
+    *trace += fmt::format("sample radiance {}\n", fmt_color(total));
+  }
+  return total;
+}
+
+std::string Integrator::to_string() const {
+  return fmt::format(
+      "integrator {{ whitted point_lights {} area_lights {} max_depth {} min_weight {} "
+      "fresnel {} }}",
+      points_.size(), area_.size(), max_depth_, min_weight_, ir::to_string(fresnel_));
+}
+
+}  // namespace snell::rt

@@ -1,0 +1,63 @@
+// Samplers: every value is a pure function of (seed, pixel, sample index, dimension)
+// plus the pixel's sample count, so the image does not depend on threads or tile
+// order. Values lie in [0, 1) and are never exactly 1: they are built from 24-bit
+// integers (k · 2^-24), which float represents exactly.
+//
+// - independent: a hash of all inputs.
+// - stratified: per dimension pair, a jittered m×k grid (m = floor(sqrt(spp)),
+//   k = ceil(spp / m)); the pixel's samples take distinct cells through a hashed
+//   permutation (Kensler 2013), different per dimension pair, so pairs decorrelate.
+//   When m·k > spp the unused cells are random, so each sample is still uniform.
+// - sobol: the first two Sobol' dimensions, Owen-scrambled with a hash seeded by
+//   (seed, pixel, dimension) and with a shuffled index (Burley 2020, "Practical
+//   Hash-based Owen Scrambling"). Best with power-of-two sample counts.
+//
+// Dimensions are requested in pairs (`sample2`); `sample1` is the first component.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "runtime/ir/ir.hpp"
+
+namespace snell::rt {
+
+struct Sample2 {
+  float u = 0, v = 0;
+};
+
+// Fixed dimensions of a camera sample; the ray tree draws further dimensions from
+// hashed per-node keys (integrator.cpp).
+enum : std::uint32_t {
+  kDimPixel = 0,   // film position inside the pixel
+  kDimLens = 1,    // reserved: depth of field
+  kDimTime = 2,    // reserved: motion blur
+  kDimFirstFree = 3,
+};
+
+struct SamplerSpec {
+  ir::SamplerKind kind = ir::SamplerKind::Stratified;
+  std::uint64_t seed = 0;
+  std::uint32_t spp = 1;
+};
+
+Sample2 sample2(const SamplerSpec& spec, std::uint32_t px, std::uint32_t py,
+                std::uint32_t index, std::uint32_t dim);
+inline float sample1(const SamplerSpec& spec, std::uint32_t px, std::uint32_t py,
+                     std::uint32_t index, std::uint32_t dim) {
+  return sample2(spec, px, py, index, dim).u;
+}
+
+// Helpers, exposed for the integrator and tests.
+std::uint64_t hash64(std::uint64_t x);
+std::uint64_t hash_combine(std::uint64_t a, std::uint64_t b);
+// 24-bit float in [0, 1) from the top bits of a 32-bit integer.
+inline float to_unit_float(std::uint32_t bits) {
+  return static_cast<float>(bits >> 8) * (1.0f / 16777216.0f);
+}
+// Kensler's hashed permutation of [0, n).
+std::uint32_t permute(std::uint32_t i, std::uint32_t n, std::uint32_t key);
+
+std::string to_string(const SamplerSpec& s);
+
+}  // namespace snell::rt

@@ -1,0 +1,84 @@
+// Float vectors for the hot path. The IR is double; the runtime converts to float
+// only after moving the world so the camera sits at the origin (ir.hpp), so float
+// precision is spent where the picture is.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <string>
+
+namespace snell::rt {
+
+struct Vec3f {
+  float x = 0, y = 0, z = 0;
+  constexpr Vec3f() = default;
+  constexpr Vec3f(float a, float b, float c) : x(a), y(b), z(c) {}
+  constexpr explicit Vec3f(float s) : x(s), y(s), z(s) {}
+  constexpr float operator[](int i) const { return i == 0 ? x : i == 1 ? y : z; }
+  constexpr float& operator[](int i) { return i == 0 ? x : i == 1 ? y : z; }
+};
+
+constexpr Vec3f operator+(Vec3f a, Vec3f b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+constexpr Vec3f operator-(Vec3f a, Vec3f b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+constexpr Vec3f operator-(Vec3f a) { return {-a.x, -a.y, -a.z}; }
+constexpr Vec3f operator*(Vec3f a, Vec3f b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
+constexpr Vec3f operator*(Vec3f a, float s) { return {a.x * s, a.y * s, a.z * s}; }
+constexpr Vec3f operator*(float s, Vec3f a) { return a * s; }
+constexpr Vec3f operator/(Vec3f a, float s) { return {a.x / s, a.y / s, a.z / s}; }
+constexpr Vec3f& operator+=(Vec3f& a, Vec3f b) { return a = a + b; }
+constexpr Vec3f& operator*=(Vec3f& a, Vec3f b) { return a = a * b; }
+constexpr float dot(Vec3f a, Vec3f b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+constexpr Vec3f cross(Vec3f a, Vec3f b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+inline float length(Vec3f a) { return std::sqrt(dot(a, a)); }
+inline Vec3f normalize(Vec3f a) { return a / length(a); }
+inline float max_component(Vec3f a) { return std::fmax(a.x, std::fmax(a.y, a.z)); }
+inline bool is_finite(Vec3f a) {
+  return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z);
+}
+
+// Colours share the vector type: linear RGB radiance or a per-channel weight.
+using Color = Vec3f;
+
+// The Wächter–Binder offset (Ray Tracing Gems ch. 6): move a hit point `p` off its
+// surface along the unit normal `n` (pointing to the side the new ray leaves on) by
+// a fixed number of ulps of each coordinate, or by a tiny absolute step near zero
+// where ulps vanish. Scale-aware: no scene-size epsilon. Limits: assumes `p` is
+// within a few hundred ulps of the true surface (true for our hit points, which are
+// o + t·d with the camera at the origin) and that n is unit length.
+inline float offset_coord(float p, float n) {
+  constexpr float kOrigin = 1.0f / 32.0f;
+  constexpr float kFloatScale = 1.0f / 65536.0f;
+  constexpr float kIntScale = 256.0f;
+  if (std::fabs(p) < kOrigin) return p + kFloatScale * n;
+  std::int32_t of = static_cast<std::int32_t>(kIntScale * n);
+  std::int32_t bits;
+  std::memcpy(&bits, &p, 4);
+  bits += (p < 0) ? -of : of;
+  float r;
+  std::memcpy(&r, &bits, 4);
+  return r;
+}
+inline Vec3f offset_ray_origin(Vec3f p, Vec3f n) {
+  return {offset_coord(p.x, n.x), offset_coord(p.y, n.y), offset_coord(p.z, n.z)};
+}
+
+// An orthonormal basis around unit `n` (Duff et al. 2017, JCGT 6(1)): no
+// singularity, accurate near n = (0, 0, -1).
+inline void orthonormal_basis(Vec3f n, Vec3f& b1, Vec3f& b2) {
+  float sign = std::copysign(1.0f, n.z);
+  float a = -1.0f / (sign + n.z);
+  float b = n.x * n.y * a;
+  b1 = {1.0f + sign * n.x * n.x * a, sign * b, -sign * n.x};
+  b2 = {b, sign + n.y * n.y * a, -n.y};
+}
+
+inline Vec3f to_float(double x, double y, double z) {
+  return {static_cast<float>(x), static_cast<float>(y), static_cast<float>(z)};
+}
+
+std::string to_string(Vec3f v);
+
+}  // namespace snell::rt

@@ -1,0 +1,162 @@
+// Analytic scenes with diffuse surfaces and lights, determinism, robustness.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+#include "runtime/render.hpp"
+#include "scene_util.hpp"
+
+using namespace snell;
+using namespace snell::test;
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+
+// Mean of a block of pixels around (cx, cy), per channel.
+ir::Vec3 block_mean(const rt::Image& im, int cx, int cy, int r) {
+  ir::Vec3 s;
+  int n = 0;
+  for (int y = cy - r; y <= cy + r; ++y)
+    for (int x = cx - r; x <= cx + r; ++x) {
+      const float* p = im.at(x, y);
+      s = s + ir::Vec3(p[0], p[1], p[2]);
+      ++n;
+    }
+  return s / n;
+}
+}  // namespace
+
+TEST_CASE("diffuse plane under a point light: albedo/pi * I * cos / d^2", "[scene]") {
+  ir::Scene s = base_scene(33, 33, 4);
+  auto m = add_material(s, diffuse({0.5, 0.25, 0.8}));
+  s.shapes.push_back(plane({0, 1, 0}, 0, m));
+  // Light at height 2 beside the view axis, so cos θ = 2 / d at the origin.
+  s.point_lights.push_back({{1.5, 2, 0}, {10, 20, 30}, {}});
+  look(s, {0, 5, -0.5}, {0, 0, 0}, 0.5);
+  rt::RenderResult r = rt::render(s, {});
+  double d2 = 1.5 * 1.5 + 4, cos = 2 / std::sqrt(d2);
+  const float* px = r.image.at(16, 16);
+  CHECK(px[0] == Approx(0.5 / kPi * 10 * cos / d2).epsilon(2e-4));
+  CHECK(px[1] == Approx(0.25 / kPi * 20 * cos / d2).epsilon(2e-4));
+  CHECK(px[2] == Approx(0.8 / kPi * 30 * cos / d2).epsilon(2e-4));
+  CHECK(r.stats.nonfinite_samples == 0);
+  CHECK(r.stats.camera_rays == 33 * 33 * 4);
+}
+
+TEST_CASE("point light shadowed by a sphere; background for escaping rays", "[scene]") {
+  ir::Scene s = base_scene(32, 32, 1);
+  s.background = {0.1, 0.2, 0.3};
+  s.shapes.push_back(plane({0, 1, 0}, 0, 0));
+  s.shapes.push_back(sphere({0, 1, 0}, 0.5, 0));
+  s.point_lights.push_back({{0, 4, 0}, {50, 50, 50}, {}});
+  look(s, {0, 1, -6}, {0, 1, 0}, 30);
+  rt::RenderResult r = rt::render(s, {});
+  const float* top = r.image.at(16, 0);  // above the horizon: background
+  CHECK(top[0] == Approx(0.1f));
+  CHECK(top[2] == Approx(0.3f));
+  // The floor directly under the sphere is in its shadow: find a floor pixel whose
+  // ray hits near the origin by checking the bottom row is lit and shadow exists.
+  const float* bottom = r.image.at(16, 31);
+  CHECK(bottom[0] > 0.5f);
+}
+
+TEST_CASE("square area light over a diffuse point: L = rho * Le * F", "[scene][area]") {
+  // robustness.md §3.7: half-side 1 at height 1 → F = 0.55412642. One-sided, emitting
+  // down (cross(edge1, edge2) = -y). 16×16 jittered grid per point, 16 spp, mean of
+  // 3×3 pixels: 36 864 light samples. An independent estimator has a per-sample
+  // relative σ of 0.506 (§3.7), so 3σ = 0.8 %; the jittered grid is never worse.
+  ir::Scene s = base_scene(33, 33, 16);
+  auto m = add_material(s, diffuse({0.7, 0.7, 0.7}));
+  s.shapes.push_back(plane({0, 1, 0}, 0, m));
+  ir::AreaLight l;
+  l.corner = {-1, 1, -1};
+  l.edge1 = {2, 0, 0};
+  l.edge2 = {0, 0, 2};
+  l.radiance = {2, 2, 2};
+  l.samples_u = l.samples_v = 16;
+  s.area_lights.push_back(l);
+  look(s, {0, 0.5, -3}, {0, 0, 0}, 0.5);
+  rt::RenderResult r = rt::render(s, {});
+  ir::Vec3 mean = block_mean(r.image, 16, 16, 1);
+  CHECK(mean.x == Approx(0.7 * 2 * 0.55412642).epsilon(0.008));
+
+  SECTION("the light seen from below shows its radiance; from above it is black") {
+    ir::Scene v = s;
+    v.shapes.clear();
+    look(v, {0, 0, 0.2}, {0, 2, 0.2}, 10, {0, 0, 1});
+    CHECK(rt::render(v, {}).image.at(16, 16)[0] == 2.0f);
+    look(v, {0, 3, 0.2}, {0, 0, 0.2}, 10, {0, 0, 1});
+    CHECK(rt::render(v, {}).image.at(16, 16)[0] == 0.0f);
+    v.area_lights[0].two_sided = true;
+    CHECK(rt::render(v, {}).image.at(16, 16)[0] == 2.0f);
+  }
+}
+
+TEST_CASE("same image bit for bit with 1 and 2 threads", "[scene][determinism]") {
+  for (auto kind : {ir::SamplerKind::Independent, ir::SamplerKind::Stratified,
+                    ir::SamplerKind::Sobol}) {
+    ir::Scene s = base_scene(40, 30, 4);
+    s.settings.sampler = kind;
+    s.settings.seed = 42;
+    s.background = {0.2, 0.3, 0.4};
+    ir::Material check = diffuse({0.9, 0.9, 0.9});
+    check.color.kind = ir::Texture::Kind::Checker;
+    check.color.color2 = {0.1, 0.1, 0.1};
+    check.color.size = 0.5;
+    s.shapes.push_back(plane({0, 1, 0}, 0, add_material(s, check)));
+    s.shapes.push_back(sphere({-0.8, 0.7, 0}, 0.7, add_material(s, dielectric(1.5, {0.2, 0.1, 0}))));
+    s.shapes.push_back(sphere({0.8, 0.5, 0.5}, 0.5, add_material(s, glazed({0.8, 0.1, 0.1}, 1.5))));
+    ir::AreaLight l;
+    l.corner = {-1, 3, -1};
+    l.edge1 = {2, 0, 0};
+    l.edge2 = {0, 0, 2};
+    l.radiance = {5, 5, 5};
+    l.samples_u = l.samples_v = 2;
+    s.area_lights.push_back(l);
+    look(s, {0, 1.5, -4}, {0, 0.5, 0}, 50);
+    rt::RenderOptions one, two;
+    one.threads = 1;
+    two.threads = 2;
+    rt::RenderResult a = rt::render(s, one), b = rt::render(s, two);
+    REQUIRE(a.image.rgb.size() == b.image.rgb.size());
+    CHECK(a.image.rgb == b.image.rgb);
+    CHECK(a.stats.shadow_rays == b.stats.shadow_rays);
+    CHECK(a.stats.nonfinite_samples == 0);
+  }
+}
+
+// Hidden: `test_runtime "[demo]"` writes /tmp/snell_demo.png to look at.
+TEST_CASE("demo picture", "[.][demo]") {
+  ir::Scene s = base_scene(320, 240, 16);
+  s.settings.sampler = ir::SamplerKind::Sobol;
+  s.background = {0.1, 0.1, 0.15};
+  ir::Material check = diffuse({0.9, 0.9, 0.9});
+  check.color.kind = ir::Texture::Kind::Checker;
+  check.color.color2 = {0.2, 0.2, 0.2};
+  check.color.size = 1;
+  s.shapes.push_back(plane({0, 1, 0}, 0, add_material(s, check)));
+  s.shapes.push_back(sphere({-1.2, 1, 0}, 1, add_material(s, dielectric(1.5, {0.3, 0.1, 0.05}))));
+  s.shapes.push_back(sphere({1.2, 0.7, 0.6}, 0.7, add_material(s, glazed({0.05, 0.05, 0.05}, 1.5))));
+  s.shapes.push_back(sphere({0.2, 0.4, -1.2}, 0.4, add_material(s, mirror({0.9, 0.8, 0.5}))));
+  ir::Shape b = box({-0.4, 0, -0.4}, {0.4, 0.8, 0.4}, add_material(s, diffuse({0.2, 0.6, 0.2})));
+  b.world_from_object = ir::Transform::translate({2.5, 0, -1}) * ir::Transform::rotate_y(30);
+  s.shapes.push_back(b);
+  ir::Shape e = sphere({0, 0, 0}, 1, add_material(s, diffuse({0.8, 0.3, 0.2})));
+  e.world_from_object = ir::Transform::translate({-2.8, 0.5, -1.5}) *
+                        ir::Transform::rotate_z(30) * ir::Transform::scale({0.8, 0.4, 0.4});
+  s.shapes.push_back(e);
+  ir::AreaLight l;
+  l.corner = {-1, 4, -1};
+  l.edge1 = {2, 0, 0};
+  l.edge2 = {0, 0, 2};
+  l.radiance = {6, 6, 6};
+  l.samples_u = l.samples_v = 3;
+  s.area_lights.push_back(l);
+  s.point_lights.push_back({{4, 5, -4}, {20, 20, 20}, {}});
+  look(s, {0, 2, -7}, {0, 0.8, 0}, 50);
+  rt::RenderOptions opt;
+  opt.trace_pixel = std::pair<std::uint32_t, std::uint32_t>{100, 120};
+  rt::RenderResult r = rt::render(s, opt);
+  CHECK(rt::write_image("/tmp/snell_demo.png", r.image, {"demo", 16, 0, 0}, "") == "");
+  WARN(r.stats.to_string() << r.trace);
+}
