@@ -148,6 +148,7 @@ Color Integrator::li(const Ray& camera_ray, const SampleContext& sc, RenderStats
   stack.clear();
   Node root;
   root.ray = camera_ray;
+  root.start = camera_ray.org;
   root.key = hash_combine(0x5eed, 0);
   stack.push_back(root);
   const auto& mats = scene_.materials;
@@ -168,6 +169,7 @@ Color Integrator::li(const Ray& camera_ray, const SampleContext& sc, RenderStats
     // Children are collected here, then pushed reflection-last so it pops first.
     Node kids[2];
     int nkids = 0;
+    Vec3f p_surface;
     auto spawn = [&](RayKind kind, Vec3f org, Vec3f dir, Color w, std::uint64_t slot) {
       if (w.x == 0 && w.y == 0 && w.z == 0) return;  // nothing to carry: not a prune
       if (node.depth + 1 > max_depth_) {
@@ -180,6 +182,7 @@ Color Integrator::li(const Ray& camera_ray, const SampleContext& sc, RenderStats
       }
       Node& k = kids[nkids++];
       k.ray = Ray{org, dir, INFINITY, node.ray.time};
+      k.start = p_surface;
       k.weight = w;
       k.depth = node.depth + 1;
       k.kind = kind;
@@ -198,6 +201,7 @@ Color Integrator::li(const Ray& camera_ray, const SampleContext& sc, RenderStats
       const ir::Shape& shape = scene_.shapes[hit.index];
       const ir::Material& m = mats[shape.material];
       Vec3f p = node.ray.org + d * hit.t;
+      p_surface = p;
       Vec3f ng = hit.ng;                  // outward
       bool entering = dot(d, ng) < 0;     // §8: against the outward normal
       Vec3f nf = entering ? ng : -ng;     // the normal on the ray's side
@@ -238,8 +242,11 @@ Color Integrator::li(const Ray& camera_ray, const SampleContext& sc, RenderStats
           break;
         }
         case ir::MaterialKind::Dielectric: {
-          if (!entering) {  // Beer over the path inside this object (not nested media)
-            double dist = double(hit.t) * double(length(d));
+          if (!entering) {
+            // Beer over the path inside this object (nested media are not modelled),
+            // measured from the surface point the ray left, not its offset origin:
+            // near the origin the offset is 2^-16 absolute, visible in thin slabs.
+            double dist = double(length(p - node.start));
             w = w * to_float(beer(m.absorb.x, dist), beer(m.absorb.y, dist),
                              beer(m.absorb.z, dist));
           }

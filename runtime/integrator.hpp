@@ -27,6 +27,7 @@ struct SampleContext {
 
 struct Node {
   Ray ray;
+  Vec3f start;  // the surface point the ray leaves, before the origin offset
   Color weight{1, 1, 1};
   std::uint32_t depth = 0;  // reflection/refraction rays after the camera ray
   RayKind kind = RayKind::Camera;
