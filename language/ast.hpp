@@ -103,6 +103,9 @@ struct Stmt {
 struct Program {
   FileId file = 0;
   std::vector<StmtPtr> statements;
+  // The parsed file, set by parse(): dump_ast prints line:col from it. Owned by the
+  // SourceManager, which outlives every Program parsed from it.
+  const SourceFile* source = nullptr;
 };
 
 // The names the parser treats as constructors in operand position (see parser.hpp).

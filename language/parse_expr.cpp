@@ -1,0 +1,288 @@
+// Expressions (§3) with a Pratt table, and property blocks (§5).
+#include "language/parser_impl.hpp"
+
+namespace snell::lang {
+namespace {
+
+// The Pratt table: the binding power of each infix operator, loosest first (§3).
+// Every level is left-associative, comparisons included: `a < b < c` parses as
+// `(a < b) < c` and the compiler rejects comparing a bool with a number, which
+// gives a clearer message than a parse error would.
+constexpr int kPowerOr = 1, kPowerAnd = 2, kPowerEquality = 3, kPowerCompare = 4,
+              kPowerSum = 5, kPowerProduct = 6;
+
+int infix_power(TokenKind k) {
+  switch (k) {
+    case TokenKind::PipePipe: return kPowerOr;
+    case TokenKind::AmpAmp: return kPowerAnd;
+    case TokenKind::EqualEqual: case TokenKind::BangEqual: return kPowerEquality;
+    case TokenKind::Less: case TokenKind::LessEqual:
+    case TokenKind::Greater: case TokenKind::GreaterEqual: return kPowerCompare;
+    case TokenKind::Plus: case TokenKind::Minus: return kPowerSum;
+    case TokenKind::Star: case TokenKind::Slash: case TokenKind::Percent: return kPowerProduct;
+    default: return 0;  // not an infix operator: the expression ends here
+  }
+}
+
+ExprPtr make(ExprKind kind, Span span) {
+  auto e = std::make_unique<Expr>();
+  e->kind = kind;
+  e->span = span;
+  return e;
+}
+
+}  // namespace
+
+bool is_constructor_name(std::string_view name) {
+#define SNELL_CONSTRUCTOR(ctor, type) \
+  if (name == #ctor) return true;
+#include "language/constructors.def"
+  return false;
+}
+
+ExprPtr Parser::error_expr(Span span) { return make(ExprKind::Error, span); }
+
+// expr -> unary { INFIX expr' }     where expr' binds tighter than INFIX (Pratt)
+// Inside a vector literal, '>' ends the element (it closes the vector) and the other
+// comparisons are errors unless parenthesised (§3).
+ExprPtr Parser::parse_expr(int min_power) {
+  DepthGuard guard(*this);
+  if (too_deep()) return error_expr(here());
+  ExprPtr lhs = parse_unary();
+  for (;;) {
+    TokenKind op = cur_.kind;
+    int power = infix_power(op);
+    if (power < min_power || power == 0) break;
+    if (in_vector_ && op == TokenKind::Greater) break;
+    if (in_vector_ && power == kPowerCompare && !panic_) {
+      diags_.report(DiagKind::ComparisonInVector, here(),
+                    "comparison inside a vector literal must be parenthesised")
+          .note("write it as <(a " + std::string(cur_.text) + " b), ...>");
+    }
+    advance();
+    ExprPtr rhs = parse_expr(power + 1);
+    auto bin = make(ExprKind::Binary, Span::join(lhs->span, rhs->span));
+    bin->op = op;
+    bin->args.push_back(std::move(lhs));
+    bin->args.push_back(std::move(rhs));
+    lhs = std::move(bin);
+    // A left-deep chain is as deep as nested parentheses for every later walk.
+    ++depth_;
+    if (too_deep()) break;
+  }
+  return lhs;
+}
+
+// unary -> ( '-' | '!' ) unary | postfix
+ExprPtr Parser::parse_unary() {
+  if (!at(TokenKind::Minus) && !at(TokenKind::Bang)) return parse_postfix(parse_primary());
+  DepthGuard guard(*this);
+  Token op = take();
+  if (too_deep()) return error_expr(op.span);
+  ExprPtr operand = parse_unary();
+  auto e = make(ExprKind::Unary, Span::join(op.span, operand->span));
+  e->op = op.kind;
+  e->args.push_back(std::move(operand));
+  return e;
+}
+
+// postfix -> primary { '(' args ')' | '.' IDENT }
+ExprPtr Parser::parse_postfix(ExprPtr base) {
+  int saved_depth = depth_;
+  for (;;) {
+    if (at(TokenKind::LParen)) {
+      base = parse_call(std::move(base));
+    } else if (at(TokenKind::Dot)) {
+      advance();
+      if (!at(TokenKind::Identifier)) {
+        error_here(DiagKind::ExpectedToken,
+                   "expected a component name (x, y or z) after '.', found " + describe(cur_));
+        break;
+      }
+      auto e = make(ExprKind::Component, Span::join(base->span, here()));
+      e->text = std::string(cur_.text);
+      e->args.push_back(std::move(base));
+      base = std::move(e);
+      advance();
+    } else {
+      break;
+    }
+    ++depth_;
+    if (too_deep()) break;
+  }
+  depth_ = saved_depth;
+  return base;
+}
+
+// call -> postfix '(' [ expr { ',' expr } ] ')'
+ExprPtr Parser::parse_call(ExprPtr callee) {
+  Token open = take();
+  auto call = make(ExprKind::Call, callee->span);
+  call->args.push_back(std::move(callee));
+  bool saved_vector = in_vector_;
+  in_vector_ = false;  // (a > b) in an argument list is unambiguous
+  if (!at(TokenKind::RParen)) {
+    for (;;) {
+      call->args.push_back(parse_expr());
+      if (!accept(TokenKind::Comma)) break;
+    }
+  }
+  in_vector_ = saved_vector;
+  if (!accept(TokenKind::RParen)) missing_closer(open, ")", "the argument list");
+  call->span = from(call->span);
+  return call;
+}
+
+// primary -> NUMBER | STRING | 'true' | 'false' | constructor | IDENT | paren | vector
+ExprPtr Parser::parse_primary() {
+  switch (cur_.kind) {
+    case TokenKind::Number: {
+      auto e = make(ExprKind::Number, here());
+      e->number = cur_.number;
+      advance();
+      return e;
+    }
+    case TokenKind::String: {
+      auto e = make(ExprKind::String, here());
+      e->text = std::move(cur_.string);
+      advance();
+      return e;
+    }
+    case TokenKind::KwTrue: case TokenKind::KwFalse: {
+      auto e = make(ExprKind::Bool, here());
+      e->boolean = at(TokenKind::KwTrue);
+      advance();
+      return e;
+    }
+    case TokenKind::Identifier: {
+      if (is_constructor_name(cur_.text) &&
+          (peek_.kind == TokenKind::LBrace ||
+           (starts_operand(peek_.kind) && peek_.kind != TokenKind::Minus)))
+        return parse_constructor();
+      auto e = make(ExprKind::Name, here());
+      e->text = std::string(cur_.text);
+      advance();
+      return e;
+    }
+    case TokenKind::LParen: return parse_paren();
+    case TokenKind::Less: return parse_vector();
+    case TokenKind::Error: {
+      // Already reported by the lexer; the rest of the statement is suspect.
+      panic_ = true;
+      auto e = error_expr(here());
+      advance();
+      return e;
+    }
+    default: break;
+  }
+  error_here(DiagKind::ExpectedExpression, "expected an expression, found " + describe(cur_));
+  return error_expr(here());
+}
+
+// constructor -> CTOR block | CTOR expr       (CTOR from constructors.def)
+// The positional argument is a whole expression parsed in the current vector context,
+// so `dielectric <1.5, <0.05, 0.2, 0.3>>` and `diffuse tint(i)` read naturally.
+ExprPtr Parser::parse_constructor() {
+  auto e = make(ExprKind::Constructor, here());
+  e->text = std::string(cur_.text);
+  advance();
+  if (at(TokenKind::LBrace)) {
+    e->block = parse_block();
+    e->span = Span::join(e->span, e->block->span);
+  } else {
+    e->args.push_back(parse_expr());
+    e->span = Span::join(e->span, e->args[0]->span);
+  }
+  return e;
+}
+
+// paren -> '(' expr ')'
+ExprPtr Parser::parse_paren() {
+  Token open = take();
+  bool saved_vector = in_vector_;
+  in_vector_ = false;  // <(a > b), 1, 2> is how a comparison goes inside a vector
+  ExprPtr inner = parse_expr();
+  in_vector_ = saved_vector;
+  if (!accept(TokenKind::RParen)) missing_closer(open, ")", "the parenthesised expression");
+  return inner;
+}
+
+// vector -> '<' expr { ',' expr } '>'
+ExprPtr Parser::parse_vector() {
+  Token open = take();
+  auto vec = make(ExprKind::Vector, open.span);
+  bool saved_vector = in_vector_;
+  in_vector_ = true;
+  for (;;) {
+    vec->args.push_back(parse_expr());
+    if (accept(TokenKind::Comma)) continue;
+    if (accept(TokenKind::Greater)) break;
+    missing_closer(open, ">", "the vector literal");
+    break;
+  }
+  in_vector_ = saved_vector;
+  vec->span = from(open.span);
+  return vec;
+}
+
+// block -> '{' { IDENT ( block | expr ) } '}'
+// Properties have no separators: a value ends where the next property name starts,
+// since no expression can continue with an identifier.
+BlockPtr Parser::parse_block() {
+  auto block = std::make_unique<Block>();
+  block->span = here();
+  DepthGuard guard(*this);
+  Token open = take();  // callers checked it is '{'
+  if (too_deep()) {
+    accept(TokenKind::RBrace);
+    block->span = from(open.span);
+    return block;
+  }
+  bool saved_vector = in_vector_;
+  in_vector_ = false;
+  for (;;) {
+    if (accept(TokenKind::RBrace)) break;
+    if (at(TokenKind::EndOfFile) || starts_statement(cur_.kind)) {
+      // A statement keyword here means the block's '}' is missing.
+      panic_ = false;
+      missing_closer(open, "}", "the block");
+      break;
+    }
+    if (at(TokenKind::Identifier)) {
+      panic_ = false;  // a property name is a recovery point
+      Property prop;
+      prop.name = std::string(cur_.text);
+      prop.name_span = here();
+      advance();
+      if (at(TokenKind::LBrace)) {
+        prop.block = parse_block();
+      } else if (starts_operand(cur_.kind) || at(TokenKind::Error)) {
+        prop.value = parse_expr();
+      } else {
+        error_here(DiagKind::ExpectedExpression,
+                   "expected a value for '" + prop.name + "', found " + describe(cur_));
+        prop.value = error_expr(here());
+      }
+      block->properties.push_back(std::move(prop));
+      continue;
+    }
+    error_here(DiagKind::ExpectedProperty,
+               "expected a property name or '}', found " + describe(cur_));
+    // Skip the stray tokens (with any groups they open) up to the next name.
+    int level = 0;
+    while (!at(TokenKind::EndOfFile)) {
+      TokenKind k = cur_.kind;
+      if (level == 0 && (k == TokenKind::Identifier || k == TokenKind::RBrace ||
+                         starts_statement(k)))
+        break;
+      if (k == TokenKind::LParen || k == TokenKind::LBrace) ++level;
+      if ((k == TokenKind::RParen || k == TokenKind::RBrace) && level > 0) --level;
+      advance();
+    }
+  }
+  in_vector_ = saved_vector;
+  block->span = from(open.span);
+  return block;
+}
+
+}  // namespace snell::lang

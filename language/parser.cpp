@@ -1,0 +1,476 @@
+// Statements (§4), and the parser's token handling and error recovery. Expressions
+// and property blocks are in parse_expr.cpp.
+//
+// Recovery follows clox: the first error of a statement sets panic mode, which
+// silences further errors until synchronize() reaches a statement boundary (or a
+// property block reaches its next property name). So every independent error is
+// reported once and none is a consequence of another.
+#include <algorithm>
+
+#include "language/parser_impl.hpp"
+
+namespace snell::lang {
+
+bool starts_operand(TokenKind k) {
+  switch (k) {
+    case TokenKind::Number: case TokenKind::String: case TokenKind::Identifier:
+    case TokenKind::LParen: case TokenKind::Less: case TokenKind::Bang:
+    case TokenKind::Minus: case TokenKind::KwTrue: case TokenKind::KwFalse:
+      return true;
+    default:
+      return false;
+  }
+}
+
+bool starts_statement(TokenKind k) {
+  switch (k) {
+    case TokenKind::KwLet: case TokenKind::KwFn: case TokenKind::KwReturn:
+    case TokenKind::KwIf: case TokenKind::KwFor: case TokenKind::KwImport:
+      return true;
+    default:
+      return false;
+  }
+}
+
+namespace {
+
+bool is_keyword(TokenKind k) { return k >= TokenKind::KwLet; }
+
+}  // namespace
+
+Parser::Parser(const SourceManager& sources, FileId file, DiagnosticEngine& diags)
+    : file_(file), diags_(diags), scanner_(sources, file, diags) {
+  cur_ = scanner_.next();
+  peek_ = scanner_.next();
+}
+
+void Parser::advance() {
+  prev_kind_ = cur_.kind;
+  last_end_ = cur_.span.end;
+  ++consumed_;
+  cur_ = std::move(peek_);
+  // Past the error limit nothing more can be shown: pretend the file ends here so
+  // every loop unwinds at once (hostile input stays cheap).
+  if (diags_.limit_reached() && cur_.kind != TokenKind::EndOfFile) {
+    cur_.kind = TokenKind::EndOfFile;
+    peek_ = cur_;
+    return;
+  }
+  peek_ = cur_.kind == TokenKind::EndOfFile ? cur_ : scanner_.next();
+}
+
+Token Parser::take() {
+  Token t = cur_;
+  advance();
+  return t;
+}
+
+bool Parser::accept(TokenKind k) {
+  if (!at(k)) return false;
+  advance();
+  return true;
+}
+
+std::string Parser::describe(const Token& t) const {
+  switch (t.kind) {
+    case TokenKind::EndOfFile: return "the end of the file";
+    case TokenKind::String: return "a string";
+    default: break;
+  }
+  std::string_view text = t.text;
+  std::string out = "'";
+  out.append(text.substr(0, 24));
+  if (text.size() > 24) out += "...";
+  out += '\'';
+  return out;
+}
+
+DiagBuilder Parser::error(DiagKind kind, Span span, std::string message) {
+  if (panic_) return dropped();
+  panic_ = true;
+  return diags_.report(kind, span, std::move(message));
+}
+
+DiagBuilder Parser::error_here(DiagKind kind, std::string message) {
+  if (at(TokenKind::Error) || (at(TokenKind::EndOfFile) && scanner_.ate_rest_of_file())) {
+    panic_ = true;
+    return dropped();
+  }
+  return error(kind, here(), std::move(message));
+}
+
+// Reported just after the previous token (as clang does), so a missing ';' at the
+// end of a line points at that line, not at the next statement.
+void Parser::expect_semicolon(const char* after) {
+  if (accept(TokenKind::Semicolon)) return;
+  if (at(TokenKind::Error) ||
+      (prev_kind_ == TokenKind::String && scanner_.unterminated_string_ends_at(last_end_))) {
+    panic_ = true;
+    return;
+  }
+  error(DiagKind::ExpectedToken, {file_, last_end_, last_end_},
+        std::string("expected ';' after ") + after + ", found " + describe(cur_));
+}
+
+void Parser::missing_closer(const Token& opener, std::string_view closer, std::string_view what) {
+  std::string open(opener.text);
+  if (at(TokenKind::EndOfFile)) {
+    if (scanner_.ate_rest_of_file()) return;
+    error(DiagKind::UnclosedDelimiter, opener.span, "unclosed '" + open + "' of " + std::string(what))
+        .note("the file ends before its '" + std::string(closer) + "'");
+    return;
+  }
+  error_here(DiagKind::ExpectedToken,
+             "expected '" + std::string(closer) + "' to close " + std::string(what) + ", found " +
+                 describe(cur_))
+      .note(opener.span, "to close '" + open + "' opened here");
+}
+
+void Parser::skip_balanced_braces() {
+  int level = 0;
+  while (!at(TokenKind::EndOfFile)) {
+    if (at(TokenKind::LBrace)) ++level;
+    if (at(TokenKind::RBrace) && --level <= 0) {
+      advance();
+      return;
+    }
+    advance();
+  }
+}
+
+// Skips to the start of the next statement: just past a ';' or a '{ }' group, or
+// before a statement keyword, a '}', or an identifier that begins a line and is
+// followed by '{' (a scene item).
+void Parser::synchronize() {
+  panic_ = false;
+  if (prev_kind_ == TokenKind::Semicolon || prev_kind_ == TokenKind::RBrace ||
+      prev_kind_ == TokenKind::LBrace)
+    return;
+  while (!at(TokenKind::EndOfFile)) {
+    if (at(TokenKind::Semicolon)) {
+      advance();
+      return;
+    }
+    if (at(TokenKind::RBrace) || starts_statement(cur_.kind)) return;
+    if (at(TokenKind::LBrace)) {
+      skip_balanced_braces();
+      return;
+    }
+    if (at(TokenKind::Identifier) && peek_.kind == TokenKind::LBrace &&
+        scanner_.newline_between(last_end_, cur_.span.begin))
+      return;
+    advance();
+  }
+}
+
+bool Parser::too_deep() {
+  if (depth_ <= kMaxNesting) return false;
+  error(DiagKind::NestingTooDeep, here(),
+        "nesting is deeper than " + std::to_string(kMaxNesting) + " levels")
+      .note("split the expression or block with 'let' or 'fn'");
+  panic_ = true;
+  // Skip the rest of the deep construct, up to the first ')' '}' or ';' that belongs
+  // to an enclosing level, so the levels above close normally and nothing deeper is
+  // ever built (every later walk of the tree, its destructor included, is recursive).
+  int level = 0;
+  while (!at(TokenKind::EndOfFile)) {
+    TokenKind k = cur_.kind;
+    if (k == TokenKind::LParen || k == TokenKind::LBrace) ++level;
+    if (k == TokenKind::RParen || k == TokenKind::RBrace) {
+      if (level == 0) break;
+      --level;
+    }
+    if (k == TokenKind::Semicolon && level == 0) break;
+    advance();
+  }
+  return true;
+}
+
+Program Parser::parse_program() {
+  Program program;
+  program.file = file_;
+  parse_statements(program.statements, false);
+  return program;
+}
+
+// statements -> { statement }      (up to '}' when nested, else to the end of file)
+void Parser::parse_statements(std::vector<StmtPtr>& out, bool nested) {
+  while (!at(TokenKind::EndOfFile)) {
+    if (at(TokenKind::RBrace)) {
+      if (nested) return;
+      error(DiagKind::ExpectedStatement, here(), "unmatched '}'");
+      advance();
+      continue;
+    }
+    if (panic_) {
+      synchronize();
+      continue;
+    }
+    std::uint64_t before = consumed_;
+    if (StmtPtr s = parse_statement()) out.push_back(std::move(s));
+    if (consumed_ == before) advance();  // always make progress
+  }
+}
+
+// statement -> let | fn | return | for | if | import | item | background
+//            | expr ';' | ';'
+StmtPtr Parser::parse_statement() {
+  switch (cur_.kind) {
+    case TokenKind::KwLet: return parse_let();
+    case TokenKind::KwFn: return parse_fn();
+    case TokenKind::KwReturn: return parse_return();
+    case TokenKind::KwFor: return parse_for();
+    case TokenKind::KwIf: return parse_if();
+    case TokenKind::KwImport: return parse_import();
+    case TokenKind::Semicolon: advance(); return nullptr;  // stray ';' is harmless
+    case TokenKind::Identifier:
+      if (peek_.kind == TokenKind::LBrace) return parse_item();
+      if (cur_.text == "background" && peek_.kind != TokenKind::LParen &&
+          peek_.kind != TokenKind::Equal)
+        return parse_background();
+      return parse_expr_stmt();
+    default: break;
+  }
+  if (starts_operand(cur_.kind)) return parse_expr_stmt();
+  auto stmt = std::make_unique<Stmt>();
+  stmt->span = here();
+  if (at(TokenKind::KwElse))
+    error_here(DiagKind::ExpectedStatement, "'else' without a matching 'if'");
+  else
+    error_here(DiagKind::ExpectedStatement, "expected a statement, found " + describe(cur_));
+  advance();
+  return stmt;
+}
+
+bool Parser::expect_name(std::string& name, Span& span, const char* what) {
+  if (at(TokenKind::Identifier)) {
+    name = std::string(cur_.text);
+    span = here();
+    advance();
+    return true;
+  }
+  if (is_keyword(cur_.kind))
+    error_here(DiagKind::ExpectedToken, std::string("expected ") + what + ", found the reserved word " +
+                                            describe(cur_));
+  else
+    error_here(DiagKind::ExpectedToken, std::string("expected ") + what + ", found " + describe(cur_));
+  return false;
+}
+
+// let -> 'let' IDENT '=' expr ';'
+StmtPtr Parser::parse_let() {
+  auto stmt = std::make_unique<Stmt>();
+  Span begin = take().span;
+  if (expect_name(stmt->name, stmt->name_span, "a name after 'let'")) {
+    if (accept(TokenKind::Equal)) {
+      stmt->kind = StmtKind::Let;
+      stmt->exprs.push_back(parse_expr());
+      expect_semicolon("the value of a 'let'");
+    } else {
+      error_here(DiagKind::ExpectedToken,
+                 "expected '=' after 'let " + stmt->name + "', found " + describe(cur_));
+    }
+  }
+  stmt->span = from(begin);
+  return stmt;
+}
+
+// fn -> 'fn' IDENT '(' [ IDENT { ',' IDENT } ] ')' ( '=' expr ';' | '{' statements '}' )
+StmtPtr Parser::parse_fn() {
+  auto stmt = std::make_unique<Stmt>();
+  Span begin = take().span;
+  if (!expect_name(stmt->name, stmt->name_span, "a function name after 'fn'")) {
+    stmt->span = from(begin);
+    return stmt;
+  }
+  Token open = cur_;
+  if (!accept(TokenKind::LParen)) {
+    error_here(DiagKind::ExpectedToken,
+               "expected '(' after 'fn " + stmt->name + "', found " + describe(cur_));
+    stmt->span = from(begin);
+    return stmt;
+  }
+  bool ok = true;
+  if (!at(TokenKind::RParen)) {
+    for (;;) {
+      std::string param;
+      Span span;
+      if (!expect_name(param, span, "a parameter name")) {
+        ok = false;
+        break;
+      }
+      stmt->params.push_back(std::move(param));
+      stmt->param_spans.push_back(span);
+      if (!accept(TokenKind::Comma)) break;
+    }
+  }
+  if (ok && !accept(TokenKind::RParen)) {
+    missing_closer(open, ")", "the parameter list");
+    ok = false;
+  }
+  if (ok && accept(TokenKind::Equal)) {
+    stmt->kind = StmtKind::Fn;
+    stmt->exprs.push_back(parse_expr());
+    expect_semicolon("the function's value");
+  } else if (ok && at(TokenKind::LBrace)) {
+    stmt->kind = StmtKind::Fn;
+    parse_body(stmt->body, "the function body");
+  } else if (ok) {
+    error_here(DiagKind::ExpectedToken,
+               "expected '=' or '{' after the parameters of 'fn " + stmt->name + "', found " +
+                   describe(cur_));
+  }
+  stmt->span = from(begin);
+  return stmt;
+}
+
+// return -> 'return' expr ';'
+StmtPtr Parser::parse_return() {
+  auto stmt = std::make_unique<Stmt>();
+  stmt->kind = StmtKind::Return;
+  Span begin = take().span;
+  stmt->exprs.push_back(parse_expr());
+  expect_semicolon("the value of 'return'");
+  stmt->span = from(begin);
+  return stmt;
+}
+
+// for -> 'for' IDENT 'in' expr '..' expr [ 'step' expr ] '{' statements '}'
+StmtPtr Parser::parse_for() {
+  auto stmt = std::make_unique<Stmt>();
+  Span begin = take().span;
+  auto fail = [&] {
+    stmt->kind = StmtKind::Error;
+    stmt->span = from(begin);
+    return std::move(stmt);
+  };
+  if (!expect_name(stmt->name, stmt->name_span, "a loop variable after 'for'")) return fail();
+  if (!accept(TokenKind::KwIn)) {
+    error_here(DiagKind::ExpectedToken,
+               "expected 'in' after 'for " + stmt->name + "', found " + describe(cur_));
+    return fail();
+  }
+  stmt->exprs.push_back(parse_expr());
+  if (!accept(TokenKind::DotDot)) {
+    error_here(DiagKind::ExpectedToken, "expected '..' between the bounds of the loop, found " +
+                                            describe(cur_));
+    return fail();
+  }
+  stmt->exprs.push_back(parse_expr());
+  if (accept(TokenKind::KwStep)) stmt->exprs.push_back(parse_expr());
+  stmt->kind = StmtKind::For;
+  parse_body(stmt->body, "the loop body");
+  stmt->span = from(begin);
+  return stmt;
+}
+
+// if -> 'if' expr '{' statements '}' { 'else' 'if' expr '{' statements '}' }
+//       [ 'else' '{' statements '}' ]
+StmtPtr Parser::parse_if() {
+  auto stmt = std::make_unique<Stmt>();
+  stmt->kind = StmtKind::If;
+  Span begin = take().span;
+  // else-if chains are a loop, not recursion: a long chain is not deep nesting.
+  for (;;) {
+    stmt->exprs.push_back(parse_expr());
+    stmt->branches.emplace_back();
+    if (!parse_body(stmt->branches.back(), "the 'if' body")) break;
+    if (!accept(TokenKind::KwElse)) break;
+    if (accept(TokenKind::KwIf)) continue;
+    if (at(TokenKind::LBrace)) {
+      stmt->has_else = true;
+      parse_body(stmt->else_body, "the 'else' body");
+    } else {
+      error_here(DiagKind::ExpectedToken, "expected '{' or 'if' after 'else', found " + describe(cur_));
+    }
+    break;
+  }
+  stmt->span = from(begin);
+  return stmt;
+}
+
+// import -> 'import' STRING ';'
+StmtPtr Parser::parse_import() {
+  auto stmt = std::make_unique<Stmt>();
+  Span begin = take().span;
+  if (at(TokenKind::String)) {
+    stmt->kind = StmtKind::Import;
+    stmt->name = cur_.string;
+    stmt->name_span = here();
+    advance();
+    expect_semicolon("the imported file name");
+  } else {
+    error_here(DiagKind::ExpectedToken,
+               "expected a file name in quotes after 'import', found " + describe(cur_));
+  }
+  stmt->span = from(begin);
+  return stmt;
+}
+
+// item -> IDENT block [ ';' ]
+StmtPtr Parser::parse_item() {
+  auto stmt = std::make_unique<Stmt>();
+  stmt->kind = StmtKind::Item;
+  stmt->name = std::string(cur_.text);
+  stmt->name_span = stmt->span = here();
+  advance();
+  stmt->block = parse_block();
+  accept(TokenKind::Semicolon);
+  stmt->span = from(stmt->span);
+  return stmt;
+}
+
+// background -> 'background' expr [ ';' ]
+StmtPtr Parser::parse_background() {
+  auto stmt = std::make_unique<Stmt>();
+  stmt->kind = StmtKind::Background;
+  stmt->name_span = stmt->span = here();
+  advance();
+  stmt->exprs.push_back(parse_expr());
+  accept(TokenKind::Semicolon);
+  stmt->span = from(stmt->span);
+  return stmt;
+}
+
+// expr-stmt -> expr ';'      (the compiler checks that expr is a call)
+StmtPtr Parser::parse_expr_stmt() {
+  auto stmt = std::make_unique<Stmt>();
+  stmt->kind = StmtKind::ExprStmt;
+  Span begin = here();
+  stmt->exprs.push_back(parse_expr());
+  if (stmt->exprs[0]->kind == ExprKind::Call)
+    expect_semicolon("the call");
+  else
+    expect_semicolon("the expression");
+  stmt->span = from(begin);
+  return stmt;
+}
+
+// body -> '{' statements '}'
+bool Parser::parse_body(std::vector<StmtPtr>& out, const char* owner) {
+  if (!at(TokenKind::LBrace)) {
+    error_here(DiagKind::ExpectedToken,
+               std::string("expected '{' to begin ") + owner + ", found " + describe(cur_));
+    return false;
+  }
+  DepthGuard guard(*this);
+  Token open = take();
+  if (too_deep()) return accept(TokenKind::RBrace);
+  bool saved_vector = in_vector_;
+  in_vector_ = false;
+  parse_statements(out, true);
+  in_vector_ = saved_vector;
+  if (accept(TokenKind::RBrace)) return true;
+  panic_ = false;  // an unclosed body is worth reporting even after an inner error
+  missing_closer(open, "}", owner);
+  return false;
+}
+
+Program parse(const SourceManager& sources, FileId file, DiagnosticEngine& diags) {
+  Parser parser(sources, file, diags);
+  Program program = parser.parse_program();
+  program.source = &sources.file(file);
+  return program;
+}
+
+}  // namespace snell::lang

@@ -1,0 +1,106 @@
+// The parser's state, shared by parser.cpp (statements, blocks, recovery) and
+// parse_expr.cpp (the Pratt table). Private to the language layer.
+#pragma once
+
+#include <string>
+
+#include "language/parser.hpp"
+#include "language/scanner.hpp"
+
+namespace snell::lang {
+
+class Parser {
+ public:
+  Parser(const SourceManager& sources, FileId file, DiagnosticEngine& diags);
+  Program parse_program();
+
+ private:
+  friend class DepthGuard;
+
+  // ---- tokens (parser.cpp)
+  void advance();
+  Token take();  // the current token, then advance
+  bool at(TokenKind k) const { return cur_.kind == k; }
+  bool accept(TokenKind k);
+  Span here() const { return cur_.span; }
+  Span from(Span begin) const { return {file_, begin.begin, last_end_}; }
+  std::string describe(const Token& t) const;  // "'radius'", "end of file", ...
+
+  // ---- diagnostics and recovery (parser.cpp)
+  // Reports unless the parser is in panic mode (clox), then enters panic mode.
+  DiagBuilder error(DiagKind kind, Span span, std::string message);
+  // As error(), at the current token; silent when that token is an Error token the
+  // lexer already reported, or the end of a file an unclosed comment swallowed.
+  DiagBuilder error_here(DiagKind kind, std::string message);
+  DiagBuilder dropped() { return DiagBuilder(&diags_, static_cast<std::size_t>(-1)); }
+  void expect_semicolon(const char* after);
+  // Reports a missing closer: UnclosedDelimiter at the opener at end of file,
+  // otherwise ExpectedToken here with a note at the opener.
+  void missing_closer(const Token& opener, std::string_view closer, std::string_view what);
+  void synchronize();
+  void skip_balanced_braces();
+  // True (after reporting NestingTooDeep and skipping the deep remainder) when the
+  // nesting depth is past kMaxNesting.
+  bool too_deep();
+
+  // ---- statements (parser.cpp)
+  void parse_statements(std::vector<StmtPtr>& out, bool nested);
+  StmtPtr parse_statement();
+  StmtPtr parse_let();
+  StmtPtr parse_fn();
+  StmtPtr parse_return();
+  StmtPtr parse_for();
+  StmtPtr parse_if();
+  StmtPtr parse_import();
+  StmtPtr parse_item();
+  StmtPtr parse_background();
+  StmtPtr parse_expr_stmt();
+  bool parse_body(std::vector<StmtPtr>& out, const char* owner);
+  bool expect_name(std::string& name, Span& span, const char* what);
+
+  // ---- blocks and expressions (parse_expr.cpp)
+  BlockPtr parse_block();
+  ExprPtr parse_expr(int min_power = 1);
+  ExprPtr parse_unary();
+  ExprPtr parse_postfix(ExprPtr base);
+  ExprPtr parse_primary();
+  ExprPtr parse_paren();
+  ExprPtr parse_vector();
+  ExprPtr parse_call(ExprPtr callee);
+  ExprPtr parse_constructor();
+  ExprPtr error_expr(Span span);
+
+  FileId file_;
+  DiagnosticEngine& diags_;
+  Scanner scanner_;
+  Token cur_;
+  Token peek_;
+  TokenKind prev_kind_ = TokenKind::EndOfFile;
+  std::uint32_t last_end_ = 0;     // end offset of the last consumed token
+  std::uint64_t consumed_ = 0;     // tokens consumed so far (progress checks)
+  bool panic_ = false;
+  bool in_vector_ = false;  // parsing an element of a vector literal at its top level
+  int depth_ = 0;           // nesting of expressions, blocks and chains built so far
+};
+
+// Counts one level of nesting for the lifetime of a parse function; chains
+// (a + b + c, f(x)(y), v.x.y) add to depth_ inside it and are undone here too.
+class DepthGuard {
+ public:
+  explicit DepthGuard(Parser& p) : p_(p), saved_(p.depth_) { ++p.depth_; }
+  ~DepthGuard() { p_.depth_ = saved_; }
+  DepthGuard(const DepthGuard&) = delete;
+  DepthGuard& operator=(const DepthGuard&) = delete;
+
+ private:
+  Parser& p_;
+  int saved_;
+};
+
+// Tokens that can begin an operand (and so an expression statement or a
+// positional constructor argument).
+bool starts_operand(TokenKind k);
+// Keywords that begin a statement (recovery points).
+bool starts_statement(TokenKind k);
+
+}  // namespace snell::lang
