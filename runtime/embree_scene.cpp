@@ -20,6 +20,12 @@ struct SphereData {
   ir::Mat4 object_from_rel;  // camera-relative world -> object space
   Vec3 center;
   double radius = 1;
+  // A similarity transform (rotation, uniform scale, translation) keeps a sphere a
+  // sphere: then it is intersected directly in camera-relative space, skipping the
+  // per-ray matrix products (most scenes' spheres).
+  bool similarity = false;
+  Vec3 rel_center;
+  double rel_radius = 1;
   std::uint32_t shape = 0;
 };
 
@@ -82,9 +88,21 @@ struct SphereSet {
 // (tnear, tfar) and the outward unit world normal.
 bool hit_sphere(const SphereData& s, float ox, float oy, float oz, float dx, float dy, float dz,
                 float tnear, float tfar, float& t_out, Vec3f& n_out) {
+  double t0, t1;
+  if (s.similarity) {
+    Vec3 o(ox, oy, oz), d(dx, dy, dz);
+    if (!sphere_roots(o, d, s.rel_center, s.rel_radius, t0, t1)) return false;
+    double t = t0 > tnear ? t0 : t1;
+    if (!(t > tnear) || !(t < tfar)) return false;
+    t_out = static_cast<float>(t);
+    if (!(t_out > tnear && t_out < tfar)) return false;
+    Vec3 n = (o + d * t - s.rel_center) / s.rel_radius;
+    n = ir::normalize(n);
+    n_out = to_float(n.x, n.y, n.z);
+    return true;
+  }
   Vec3 o = xform_point(s.object_from_rel, Vec3(ox, oy, oz));
   Vec3 d = xform_vector(s.object_from_rel, Vec3(dx, dy, dz));
-  double t0, t1;
   if (!sphere_roots(o, d, s.center, s.radius, t0, t1)) return false;
   double t = t0 > tnear ? t0 : t1;
   if (!(t > tnear) || !(t < tfar)) return false;
@@ -254,6 +272,19 @@ EmbreeScene::EmbreeScene(const ir::Scene& sc, ir::Vec3 origin)
         d.center = s.center;
         d.radius = s.radius;
         d.shape = si;
+        {
+          // Similarity test: the columns of the linear part are orthogonal and of
+          // equal length (to 1e-12 relative).
+          Vec3 c0(xf.m(0, 0), xf.m(1, 0), xf.m(2, 0)), c1(xf.m(0, 1), xf.m(1, 1), xf.m(2, 1)),
+              c2(xf.m(0, 2), xf.m(1, 2), xf.m(2, 2));
+          double l0 = ir::dot(c0, c0), tol = 1e-12 * l0;
+          d.similarity = std::fabs(ir::dot(c1, c1) - l0) <= tol &&
+                         std::fabs(ir::dot(c2, c2) - l0) <= tol &&
+                         std::fabs(ir::dot(c0, c1)) <= tol && std::fabs(ir::dot(c0, c2)) <= tol &&
+                         std::fabs(ir::dot(c1, c2)) <= tol;
+          d.rel_center = xf.point(s.center) - origin;
+          d.rel_radius = s.radius * std::sqrt(l0);
+        }
         im.spheres.spheres.push_back(d);
         break;
       }
@@ -413,6 +444,16 @@ bool EmbreeScene::occluded(const Ray& r) const {
   RTCRay ray = make_rayhit(r).ray;
   rtcOccluded1(im.scene, &ctx, &ray);
   return ray.tfar < 0;
+}
+
+std::string to_string(const Ray& r) {
+  return fmt::format("ray {{ org {} dir {} tmax {} time {} }}", rt::to_string(r.org),
+                     rt::to_string(r.dir), r.tmax, r.time);
+}
+
+std::string to_string(const Hit& h) {
+  return fmt::format("hit {{ t {} ng {} {} {} }}", h.t, rt::to_string(h.ng),
+                     h.kind == Hit::Kind::Shape ? "shape" : "area_light", h.index);
 }
 
 std::string EmbreeScene::to_string() const {

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "runtime/ir/ir.hpp"
 
@@ -72,6 +73,11 @@ inline double fresnel_dielectric(double cos_i, double eta, ir::FresnelMode mode)
     cos_i = -cos_i;
   }
   return reflectance(make_interface(cos_i, eta), mode);
+}
+
+inline std::string to_string(const Interface& f) {
+  return "interface { cos_i " + std::to_string(f.cos_i) + " cos_t " + std::to_string(f.cos_t) +
+         " eta " + std::to_string(f.eta) + (f.tir ? " tir" : "") + " }";
 }
 
 struct Vec3d {

@@ -41,6 +41,16 @@ std::string to_string(RayKind k) {
   return "?";
 }
 
+std::string to_string(const SampleContext& c) {
+  return fmt::format("sample_context {{ {} pixel {},{} index {} }}", rt::to_string(c.spec), c.px,
+                     c.py, c.index);
+}
+
+std::string to_string(const Node& n) {
+  return fmt::format("node {{ {} {} weight {} depth {} key {:x} }}", rt::to_string(n.kind),
+                     rt::to_string(n.ray), fmt_color(n.weight), n.depth, n.key);
+}
+
 Integrator::Integrator(const ir::Scene& scene, const EmbreeScene& embree)
     : scene_(scene), embree_(embree) {
   ir::Vec3 o = embree.origin();

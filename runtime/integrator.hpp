@@ -35,6 +35,9 @@ struct Node {
   std::int32_t trace_id = -1, trace_parent = -1;
 };
 
+std::string to_string(const SampleContext& c);
+std::string to_string(const Node& n);
+
 class Integrator {
  public:
   Integrator(const ir::Scene& scene, const EmbreeScene& embree);

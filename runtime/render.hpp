@@ -69,4 +69,9 @@ std::string write_image(const std::string& path, const Image& image, const Outpu
 // True when `path`'s extension is one write_image knows.
 bool is_supported_image_extension(const std::string& path);
 
+// One-line descriptions for logs and test failures.
+std::string to_string(const Image& image);
+std::string to_string(const RenderOptions& options);
+std::string to_string(const OutputInfo& info);
+
 }  // namespace snell::rt

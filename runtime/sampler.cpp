@@ -124,6 +124,8 @@ Sample2 sample2(const SamplerSpec& spec, std::uint32_t px, std::uint32_t py,
   return {};
 }
 
+std::string to_string(Sample2 s) { return fmt::format("({}, {})", s.u, s.v); }
+
 std::string to_string(const SamplerSpec& s) {
   return fmt::format("sampler {{ kind {} seed {} spp {} }}", ir::to_string(s.kind), s.seed,
                      s.spp);

@@ -59,5 +59,6 @@ inline float to_unit_float(std::uint32_t bits) {
 std::uint32_t permute(std::uint32_t i, std::uint32_t n, std::uint32_t key);
 
 std::string to_string(const SamplerSpec& s);
+std::string to_string(Sample2 s);
 
 }  // namespace snell::rt

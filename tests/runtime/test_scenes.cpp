@@ -1,6 +1,7 @@
 // Analytic scenes with diffuse surfaces and lights, determinism, robustness.
 #include <catch2/catch.hpp>
 
+#include <atomic>
 #include <cmath>
 
 #include "runtime/render.hpp"
@@ -159,4 +160,30 @@ TEST_CASE("demo picture", "[.][demo]") {
   rt::RenderResult r = rt::render(s, opt);
   CHECK(rt::write_image("/tmp/snell_demo.png", r.image, {"demo", 16, 0, 0}, "") == "");
   WARN(r.stats.to_string() << r.trace);
+}
+
+TEST_CASE("progress reaches 1; the traced pixel gives a readable ray tree", "[scene][stats]") {
+  ir::Scene s = base_scene(40, 20, 1);
+  s.background = {1, 1, 1};
+  s.shapes.push_back(sphere({0, 0, 0}, 1, add_material(s, dielectric(1.5))));
+  look(s, {0, 0, -4}, {0, 0, 0}, 40);
+  std::atomic<int> calls{0};
+  std::atomic<double> last{0};
+  rt::RenderOptions opt;
+  opt.threads = 2;
+  opt.progress = [&](double f) {
+    ++calls;
+    double prev = last.load();
+    while (f > prev && !last.compare_exchange_weak(prev, f)) {
+    }
+  };
+  opt.trace_pixel = std::pair<std::uint32_t, std::uint32_t>{20, 10};
+  rt::RenderResult r = rt::render(s, opt);
+  CHECK(calls == 6);  // one call per 16×16 tile: 3 columns × 2 rows
+  CHECK(last == 1.0);
+  CHECK(r.trace.find("camera depth 0") != std::string::npos);
+  CHECK(r.trace.find("refraction depth 1") != std::string::npos);
+  CHECK(r.trace.find("sphere dielectric") != std::string::npos);
+  CHECK(r.stats.to_string().find("Mrays/s") != std::string::npos);
+  CHECK(rt::to_string(r.image) == "image { 40x20 rgb float32 }");
 }

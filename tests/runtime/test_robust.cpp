@@ -1,0 +1,80 @@
+// Self-intersection (robustness.md §1 #1): rays spawned from a hit with the
+// Wächter–Binder offset never re-hit their own surface, at any scale.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <random>
+
+#include "runtime/embree_scene.hpp"
+#include "scene_util.hpp"
+
+using namespace snell;
+using namespace snell::test;
+
+TEST_CASE("offset rays never re-hit their triangle or sphere", "[robust][property]") {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(0, 1);
+  auto unit = [&] {
+    double z = 2 * u(rng) - 1, a = 2 * 3.14159265358979 * u(rng), r = std::sqrt(1 - z * z);
+    return ir::Vec3(r * std::cos(a), r * std::sin(a), z);
+  };
+  long self_hits = 0, spawned = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    double scale = std::pow(10.0, -2 + 7 * u(rng));  // 1e-2 .. 1e5
+    ir::Vec3 where = unit() * (scale * 10 * u(rng));
+    ir::Scene s = base_scene(1, 1);
+    bool is_sphere = trial % 2;
+    if (is_sphere) {
+      s.shapes.push_back(sphere(where, scale * (0.1 + u(rng)), 0));
+    } else {
+      ir::Shape t;
+      t.kind = ir::ShapeKind::Triangle;
+      t.a = where + unit() * scale, t.b = where + unit() * scale, t.c = where + unit() * scale;
+      s.shapes.push_back(t);
+    }
+    rt::EmbreeScene es(s, {0, 0, 0});
+    // Aim at a point of the surface from outside.
+    ir::Vec3 target = is_sphere ? where + unit() * s.shapes[0].radius
+                                : s.shapes[0].a + (s.shapes[0].b - s.shapes[0].a) * 0.3 +
+                                      (s.shapes[0].c - s.shapes[0].a) * 0.3;
+    ir::Vec3 from = target + unit() * (3 * scale);
+    rt::Ray ray;
+    ray.org = rt::to_float(from.x, from.y, from.z);
+    ir::Vec3 dd = target - from;
+    ray.dir = rt::normalize(rt::to_float(dd.x, dd.y, dd.z));
+    rt::Hit hit;
+    if (!es.intersect(ray, hit)) continue;
+    rt::Vec3f p = ray.org + ray.dir * hit.t;
+    for (int k = 0; k < 50; ++k) {
+      ir::Vec3 w = unit();
+      rt::Vec3f dir = rt::to_float(w.x, w.y, w.z);
+      rt::Vec3f n = rt::dot(dir, hit.ng) > 0 ? hit.ng : -hit.ng;  // the side it leaves on
+      rt::Ray out{rt::offset_ray_origin(p, n), dir, INFINITY, 0};
+      rt::Hit h2;
+      ++spawned;
+      if (es.intersect(out, h2)) {
+        // A ray into a sphere legitimately hits its far side; only near hits count.
+        if (!(is_sphere && rt::dot(dir, hit.ng) < 0 && h2.t > 1e-3 * scale)) ++self_hits;
+      }
+    }
+  }
+  CHECK(spawned > 5000);
+  CHECK(self_hits == 0);
+}
+
+TEST_CASE("box normals point outward under mirroring transforms", "[robust]") {
+  for (double sx : {1.0, -1.0}) {
+    ir::Scene s = base_scene(1, 1);
+    ir::Shape b = box({-1, -1, -1}, {1, 1, 1}, 0);
+    b.world_from_object = ir::Transform::scale({sx, 2, 1});
+    s.shapes.push_back(b);
+    rt::EmbreeScene es(s, {0, 0, 0});
+    const rt::Vec3f dirs[] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    for (rt::Vec3f d : dirs) {
+      rt::Ray r{d * -10.0f + rt::Vec3f(0.1f, 0.2f, 0.3f) * 0.1f, d, INFINITY, 0};
+      rt::Hit h;
+      REQUIRE(es.intersect(r, h));
+      CHECK(rt::dot(h.ng, d) == Approx(-1));  // entering: against the outward normal
+    }
+  }
+}
