@@ -99,7 +99,7 @@ TEST_CASE("ior 1 reflects nothing and refracts straight", "[fresnel]") {
   }
 }
 
-TEST_CASE("refraction and Fresnel agree on TIR; Snell's law holds", "[fresnel][property]") {
+TEST_CASE("refraction and Fresnel agree on TIR and Snell's law holds", "[fresnel][property]") {
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> u(0, 1);
   int tir_count = 0;

@@ -5,7 +5,7 @@
 using namespace snell;
 using namespace snell::rt;
 
-TEST_CASE("sampler values lie in [0, 1) and never reach 1", "[sampler]") {
+TEST_CASE("sampler values lie in 0..1 and never reach 1", "[sampler]") {
   CHECK(to_unit_float(0xffffffffu) < 1.0f);
   for (auto kind : {ir::SamplerKind::Independent, ir::SamplerKind::Stratified,
                     ir::SamplerKind::Sobol}) {

@@ -44,7 +44,7 @@ TEST_CASE("diffuse plane under a point light: albedo/pi * I * cos / d^2", "[scen
   CHECK(r.stats.camera_rays == 33 * 33 * 4);
 }
 
-TEST_CASE("point light shadowed by a sphere; background for escaping rays", "[scene]") {
+TEST_CASE("point light shadowed by a sphere and background for escaping rays", "[scene]") {
   ir::Scene s = base_scene(32, 32, 1);
   s.background = {0.1, 0.2, 0.3};
   s.shapes.push_back(plane({0, 1, 0}, 0, 0));
@@ -162,7 +162,7 @@ TEST_CASE("demo picture", "[.][demo]") {
   WARN(r.stats.to_string() << r.trace);
 }
 
-TEST_CASE("progress reaches 1; the traced pixel gives a readable ray tree", "[scene][stats]") {
+TEST_CASE("progress reaches 1 and the traced pixel gives a readable ray tree", "[scene][stats]") {
   ir::Scene s = base_scene(40, 20, 1);
   s.background = {1, 1, 1};
   s.shapes.push_back(sphere({0, 0, 0}, 1, add_material(s, dielectric(1.5))));
