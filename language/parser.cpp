@@ -249,11 +249,21 @@ bool Parser::expect_name(std::string& name, Span& span, const char* what) {
     advance();
     return true;
   }
-  if (is_keyword(cur_.kind))
-    error_here(DiagKind::ExpectedToken, std::string("expected ") + what + ", found the reserved word " +
-                                            describe(cur_));
-  else
-    error_here(DiagKind::ExpectedToken, std::string("expected ") + what + ", found " + describe(cur_));
+  if (is_keyword(cur_.kind)) {
+    error_here(DiagKind::ExpectedToken,
+               std::string("expected ") + what + ", found the reserved word " + describe(cur_));
+    // `fn let() = 1;` is one mistake: take the word as the name so the rest of the
+    // line does not read as a second statement. A keyword on the next line is more
+    // likely the start of that statement.
+    if (!scanner_.newline_between(last_end_, cur_.span.begin)) {
+      name = std::string(cur_.text);
+      span = here();
+      advance();
+      return true;
+    }
+    return false;
+  }
+  error_here(DiagKind::ExpectedToken, std::string("expected ") + what + ", found " + describe(cur_));
   return false;
 }
 

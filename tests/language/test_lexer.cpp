@@ -1,0 +1,165 @@
+// The lexer (§2): every token kind, numbers, strings, comments, and its diagnostics.
+#include <catch2/catch.hpp>
+
+#include "test_support.hpp"
+
+using namespace snell::lang;
+using namespace snell::lang::test;
+using K = TokenKind;
+using Kinds = std::vector<TokenKind>;
+
+TEST_CASE("every punctuation token and keyword lexes from its spelling", "[lexer]") {
+  struct Entry {
+    TokenKind kind;
+    std::string_view spelling;
+  };
+  const Entry table[] = {
+#define SNELL_TOKEN(name, spelling) {TokenKind::name, spelling},
+#include "language/tokens.def"
+  };
+  int checked = 0;
+  for (const Entry& e : table) {
+    if (e.kind <= K::Identifier) continue;  // literal kinds have no fixed spelling
+    CAPTURE(e.spelling);
+    Lexed l = lex_text(std::string(e.spelling));
+    REQUIRE(l.diags.empty());
+    REQUIRE(l.tokens.size() == 2);
+    CHECK(l.tokens[0].kind == e.kind);
+    CHECK(token_spelling(e.kind) == e.spelling);
+    ++checked;
+  }
+  CHECK(checked == 34);
+  CHECK(lex_text("").kinds() == Kinds{K::EndOfFile});
+  CHECK(lex_text("x").kinds() == Kinds{K::Identifier, K::EndOfFile});
+  CHECK(lex_text("1").kinds() == Kinds{K::Number, K::EndOfFile});
+  CHECK(lex_text("\"s\"").kinds() == Kinds{K::String, K::EndOfFile});
+  CHECK(lex_text("@").kinds() == Kinds{K::Error, K::EndOfFile});
+}
+
+TEST_CASE("block and property names are identifiers, not keywords", "[lexer]") {
+  for (const char* word : {"sphere", "radius", "diffuse", "background", "camera", "steps",
+                           "iff", "Let", "_", "x1_"})
+    CHECK(keyword_kind(word) == K::Identifier);
+  CHECK(keyword_kind("step") == K::KwStep);
+  CHECK(keyword_kind("import") == K::KwImport);
+}
+
+TEST_CASE("token spans and text", "[lexer]") {
+  SourceManager sm;
+  FileId f = sm.add("t.scn", "let x=1.5;\n  sphere");
+  DiagnosticEngine diags(sm);
+  auto toks = lex(sm, f, diags);
+  REQUIRE(toks.size() == 7);
+  CHECK(toks[1].text == "x");
+  CHECK(toks[3].text == "1.5");
+  CHECK(toks[3].number == 1.5);
+  CHECK(toks[5].text == "sphere");
+  LineCol lc = sm.file(f).line_col(toks[5].span.begin);
+  CHECK(lc.line == 2);
+  CHECK(lc.col == 3);
+  CHECK(toks[6].kind == K::EndOfFile);
+}
+
+TEST_CASE("number literals", "[lexer]") {
+  auto value = [](const char* text) {
+    Lexed l = lex_text(text);
+    REQUIRE(l.diags.empty());
+    REQUIRE(l.tokens.size() == 2);
+    REQUIRE(l.tokens[0].kind == K::Number);
+    return l.tokens[0].number;
+  };
+  CHECK(value("12") == 12);
+  CHECK(value("0.5") == 0.5);
+  CHECK(value(".5") == 0.5);
+  CHECK(value("1e3") == 1000);
+  CHECK(value("2.5e-4") == 2.5e-4);
+  CHECK(value("1E+2") == 100);
+  CHECK(value("007") == 7);
+  CHECK(value("1e-999") == 0);  // underflow is a tiny number, not an error
+  // No trailing-dot form: 0..5 is a range, 1.x a component.
+  CHECK(lex_text("0..5").kinds() == Kinds{K::Number, K::DotDot, K::Number, K::EndOfFile});
+  CHECK(lex_text("1.x").kinds() == Kinds{K::Number, K::Dot, K::Identifier, K::EndOfFile});
+  CHECK(lex_text("v.x").kinds() == Kinds{K::Identifier, K::Dot, K::Identifier, K::EndOfFile});
+  CHECK(lex_text("-1").kinds() == Kinds{K::Minus, K::Number, K::EndOfFile});
+}
+
+TEST_CASE("malformed numbers are one diagnostic and still a number token", "[lexer]") {
+  for (const char* text : {"1e999", "12abc", "1e", "1e+", "2ex"}) {
+    CAPTURE(text);
+    Lexed l = lex_text(text);
+    CHECK(l.diags == std::vector<std::string>{"InvalidNumber@1:1"});
+    CHECK(l.kinds() == Kinds{K::Number, K::EndOfFile});
+  }
+}
+
+TEST_CASE("strings and escapes", "[lexer]") {
+  Lexed l = lex_text(R"("a\"b\\c\nd\te")");
+  REQUIRE(l.diags.empty());
+  CHECK(l.tokens[0].string == "a\"b\\c\nd\te");
+  CHECK(lex_text("\"h\xC3\xA9llo\"").tokens[0].string == "h\xC3\xA9llo");  // UTF-8 kept
+
+  Lexed bad = lex_text("let s = \"a\\qb\";");
+  CHECK(bad.diags == std::vector<std::string>{"InvalidEscape@1:11"});
+  CHECK(bad.tokens[3].kind == K::String);
+
+  Lexed open = lex_text("x\n  \"abc\nlet");
+  CHECK(open.diags == std::vector<std::string>{"UnterminatedString@2:3"});
+  CHECK(open.kinds() == Kinds{K::Identifier, K::String, K::KwLet, K::EndOfFile});
+  CHECK(open.tokens[1].string == "abc");
+
+  CHECK(lex_text("\"abc").diags == std::vector<std::string>{"UnterminatedString@1:1"});
+  CHECK(lex_text("\"a\xFF\xFE b\"").diags == std::vector<std::string>{"InvalidUtf8@1:3"});
+  CHECK(lex_text(std::string("\"a\0b\"", 5)).diags == std::vector<std::string>{"NulByte@1:3"});
+}
+
+TEST_CASE("comments", "[lexer]") {
+  CHECK(lex_text("a // b c\nd").kinds() == Kinds{K::Identifier, K::Identifier, K::EndOfFile});
+  CHECK(lex_text("a /* b\n c */ d").kinds() == Kinds{K::Identifier, K::Identifier, K::EndOfFile});
+  // Block comments do not nest: the first */ ends the comment.
+  CHECK(lex_text("/* a /* b */ c */").kinds() ==
+        Kinds{K::Identifier, K::Star, K::Slash, K::EndOfFile});
+  Lexed open = lex_text("x\n /* never closed");
+  CHECK(open.diags == std::vector<std::string>{"UnterminatedComment@2:2"});
+  CHECK(open.kinds() == Kinds{K::Identifier, K::EndOfFile});
+  CHECK(lex_text("// caf\xC3\xA9").diags.empty());
+  CHECK(lex_text("// bad \xC0\xAF here\nx").diags == std::vector<std::string>{"InvalidUtf8@1:8"});
+  CHECK(lex_text("/* \xED\xA0\x80 */").diags == std::vector<std::string>{"InvalidUtf8@1:4"});
+}
+
+TEST_CASE("no >> token: two vectors close", "[lexer]") {
+  CHECK(lex_text("<1, <2, 3>>").kinds() ==
+        Kinds{K::Less, K::Number, K::Comma, K::Less, K::Number, K::Comma, K::Number, K::Greater,
+              K::Greater, K::EndOfFile});
+  CHECK(lex_text("a>=b<=c==d!=e").kinds() ==
+        Kinds{K::Identifier, K::GreaterEqual, K::Identifier, K::LessEqual, K::Identifier,
+              K::EqualEqual, K::Identifier, K::BangEqual, K::Identifier, K::EndOfFile});
+}
+
+TEST_CASE("invalid characters and bytes", "[lexer]") {
+  CHECK(lex_text("a @ b").diags == std::vector<std::string>{"InvalidCharacter@1:3"});
+  CHECK(lex_text("a & b").diags == std::vector<std::string>{"InvalidCharacter@1:3"});
+  CHECK(lex_text("a | b").diags == std::vector<std::string>{"InvalidCharacter@1:3"});
+  CHECK(lex_text("\n  \xC3\xA9").diags == std::vector<std::string>{"InvalidCharacter@2:3"});
+  // A run of bytes that are not UTF-8 is one diagnostic.
+  Lexed run = lex_text("x \xFF\xFE\xFD y");
+  CHECK(run.diags == std::vector<std::string>{"InvalidCharacter@1:3"});
+  CHECK(run.kinds() == Kinds{K::Identifier, K::Error, K::Identifier, K::EndOfFile});
+  Lexed nul = lex_text(std::string("a\0\0b", 4));
+  CHECK(nul.diags == std::vector<std::string>{"NulByte@1:2"});
+}
+
+TEST_CASE("identifier length limit", "[lexer]") {
+  std::string ok(kMaxIdentifierBytes, 'a');
+  CHECK(lex_text(ok).diags.empty());
+  Lexed l = lex_text("let " + std::string(1000000, 'b') + " = 1;");
+  CHECK(l.diags == std::vector<std::string>{"IdentifierTooLong@1:5"});
+  CHECK(l.kinds() == Kinds{K::KwLet, K::Identifier, K::Equal, K::Number, K::Semicolon,
+                           K::EndOfFile});
+}
+
+TEST_CASE("file size limit", "[lexer]") {
+  std::string big(kMaxSourceBytes + 1, ' ');
+  Lexed l = lex_text(std::move(big));
+  CHECK(l.diags == std::vector<std::string>{"FileTooLarge@1:1"});
+  CHECK(l.kinds() == Kinds{K::EndOfFile});
+}
