@@ -28,6 +28,7 @@ std::int32_t Evaluator::intern(const std::string& name) {
   if (inserted) {
     symbol_names_.push_back(name);
     symbol_builtin_.push_back(find_builtin(name));
+    symbol_block_.push_back(find_block(name));
   }
   return it->second;
 }
@@ -148,6 +149,7 @@ void Evaluator::exec_fn(const Stmt& s, const std::shared_ptr<Env>& env) {
   closure->def = &s;
   closure->env = env;  // lexical scope; the function sees itself through it
   closure->name = s.name;
+  for (const std::string& p : s.params) closure->params.push_back(intern(p));
   for (std::size_t i = 0; i < s.params.size(); ++i)
     for (std::size_t j = 0; j < i; ++j)
       if (s.params[i] == s.params[j])
@@ -180,12 +182,19 @@ Evaluator::Flow Evaluator::exec_for(const Stmt& s, const std::shared_ptr<Env>& e
   }
   std::int32_t sym = symbol_of(s);
   // NAME = from + k·step, computed afresh each time so no rounding accumulates.
+  std::shared_ptr<Env> scope;
   for (std::uint64_t k = 0;; ++k) {
     double x = from.n + static_cast<double>(k) * by.n;
     if (by.n > 0 ? !(x < to.n) : !(x > to.n)) break;
     if (!step(s.span)) return Flow::Return;
-    auto scope = std::make_shared<Env>();
-    scope->parent = env;
+    // Each iteration has a fresh scope; the previous one is recycled unless a
+    // closure defined in the body still holds it.
+    if (!scope || scope.use_count() > 1) {
+      scope = std::make_shared<Env>();
+      scope->parent = env;
+    } else {
+      scope->vars.clear();
+    }
     scope->vars.push_back({sym, Value::number(x), s.name_span, false});
     if (exec_block(s.body, scope, frame) == Flow::Return) return Flow::Return;
   }
@@ -251,7 +260,7 @@ void Evaluator::exec_import(const Stmt& s, const std::shared_ptr<Env>& env) {
 }
 
 void Evaluator::exec_item(const Stmt& s, const std::shared_ptr<Env>& env) {
-  const BlockInfo* block = find_block(s.name);
+  const BlockInfo* block = symbol_block_[symbol_of(s)];
   if (!block || block->kind != BlockKind::Item) {
     auto names = block_names(BlockKind::Item);
     names.push_back("background");

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <deque>
 #include <functional>
 #include <memory>
 #include <string>
@@ -14,6 +15,7 @@
 #include <vector>
 
 #include "compiler/lower.hpp"
+#include "compiler/properties.hpp"
 #include "compiler/value.hpp"
 #include "language/ast.hpp"
 #include "language/diagnostics.hpp"
@@ -122,9 +124,12 @@ class Evaluator {
   std::unordered_map<std::string, std::int32_t> symbol_ids_;
   std::vector<std::string> symbol_names_;
   std::vector<int> symbol_builtin_;  // builtin id per symbol, or -1
+  std::vector<const BlockInfo*> symbol_block_;  // block named by the symbol, or null
   // Files already run (import runs each once) with their exported names.
   std::unordered_map<lang::FileId, std::shared_ptr<Env>> imported_;
   std::vector<lang::FileId> running_;  // the import chain, for cycle errors
+  std::deque<std::vector<Value>> args_pool_;  // argument lists of calls in progress
+  std::size_t args_depth_ = 0;
 };
 
 }  // namespace snell::compile

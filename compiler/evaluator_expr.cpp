@@ -46,10 +46,18 @@ Value Evaluator::eval_name(const Expr& e, const std::shared_ptr<Env>& env) {
   for (const Env* s = env.get(); s; s = s->parent.get())
     if (const Binding* b = s->find_local(sym)) return b->value;
   if (int id = symbol_builtin_[sym]; id >= 0) {
-    auto c = std::make_shared<Closure>();
-    c->builtin = id;
-    c->name = e.text;
-    return Value::of_function(std::move(c));
+    // One shared closure per builtin: reading `sqrt` allocates nothing.
+    static const std::vector<Value> builtins = [] {
+      std::vector<Value> all;
+      for (int i = 0; i < builtin_count(); ++i) {
+        auto c = std::make_shared<Closure>();
+        c->builtin = i;
+        c->name = std::string(builtin_info(i).name);
+        all.push_back(Value::of_function(std::move(c)));
+      }
+      return all;
+    }();
+    return builtins[id];
   }
   std::vector<std::string_view> visible;
   for (const Env* s = env.get(); s; s = s->parent.get())
@@ -130,13 +138,13 @@ bool is_arith(TokenKind op) {
 
 Value Evaluator::eval_binary(const Expr& e, const std::shared_ptr<Env>& env) {
   TokenKind op = e.op;
-  std::string spelling(lang::token_spelling(op));
+  std::string_view spelling = lang::token_spelling(op);
   if (op == TokenKind::AmpAmp || op == TokenKind::PipePipe) {
     Value a = eval(*e.args[0], env);
     if (a.is_error()) return a;
     if (a.type != Type::Bool) {
       error(DiagKind::TypeMismatch, e.args[0]->span,
-            "'" + spelling + "' needs bools, not a " + std::string(type_name(a.type)));
+            "'" + std::string(spelling) + "' needs bools, not a " + std::string(type_name(a.type)));
       return Value::error();
     }
     if ((op == TokenKind::AmpAmp) != a.truth()) return a;  // short circuit
@@ -144,7 +152,7 @@ Value Evaluator::eval_binary(const Expr& e, const std::shared_ptr<Env>& env) {
     if (b.is_error()) return b;
     if (b.type != Type::Bool) {
       error(DiagKind::TypeMismatch, e.args[1]->span,
-            "'" + spelling + "' needs bools, not a " + std::string(type_name(b.type)));
+            "'" + std::string(spelling) + "' needs bools, not a " + std::string(type_name(b.type)));
       return Value::error();
     }
     return b;
@@ -154,7 +162,7 @@ Value Evaluator::eval_binary(const Expr& e, const std::shared_ptr<Env>& env) {
   if (a.is_error() || b.is_error()) return Value::error();
   auto mismatch = [&](const char* what) {
     error(DiagKind::TypeMismatch, e.span,
-          "'" + spelling + "' " + what + ", not a " + std::string(type_name(a.type)) + " and a " +
+          "'" + std::string(spelling) + "' " + what + ", not a " + std::string(type_name(a.type)) + " and a " +
               std::string(type_name(b.type)))
         .note(e.args[0]->span, "left operand: " + std::string(type_name(a.type)))
         .note(e.args[1]->span, "right operand: " + std::string(type_name(b.type)));
@@ -162,7 +170,7 @@ Value Evaluator::eval_binary(const Expr& e, const std::shared_ptr<Env>& env) {
   };
   if (is_arith(op)) {
     if (a.type == Type::String && b.type == Type::String && op == TokenKind::Plus)
-      return Value::string(*a.s + *b.s);  // extension: string concatenation
+      return Value::string(a.str() + b.str());  // extension: string concatenation
     bool an = a.type == Type::Number, bn = b.type == Type::Number;
     if ((!an && !a.is_vector()) || (!bn && !b.is_vector())) return mismatch("needs numbers or vectors");
     if (an && bn) return finite_or_error(Value::number(arith(op, a.n, b.n)), e);
@@ -191,7 +199,7 @@ Value Evaluator::eval_binary(const Expr& e, const std::shared_ptr<Env>& env) {
       bool eq;
       if (a.type == Type::Number && b.type == Type::Number) eq = a.n == b.n;
       else if (a.type == Type::Bool && b.type == Type::Bool) eq = a.n == b.n;
-      else if (a.type == Type::String && b.type == Type::String) eq = *a.s == *b.s;
+      else if (a.type == Type::String && b.type == Type::String) eq = a.str() == b.str();
       else if (a.is_vector() && a.type == b.type) eq = a.v == b.v;
       else return mismatch("compares two numbers, bools, strings or vectors of one size");
       return Value::boolean(op == TokenKind::EqualEqual ? eq : !eq);
@@ -221,8 +229,15 @@ Value Evaluator::eval_component(const Expr& e, const std::shared_ptr<Env>& env) 
 
 Value Evaluator::eval_call(const Expr& e, const std::shared_ptr<Env>& env, bool as_statement) {
   Value callee = eval(*e.args[0], env);
-  std::vector<Value> args;
-  args.reserve(e.args.size() - 1);
+  // Argument lists come from a pool indexed by nesting, so a call allocates
+  // nothing once the pool is warm (deque: growing it keeps references valid).
+  if (args_pool_.size() <= args_depth_) args_pool_.emplace_back();
+  std::vector<Value>& args = args_pool_[args_depth_++];
+  args.clear();
+  struct Release {
+    std::size_t& depth;
+    ~Release() { --depth; }
+  } release{args_depth_};
   bool bad = callee.is_error();
   for (std::size_t i = 1; i < e.args.size(); ++i) {
     args.push_back(eval(*e.args[i], env));
@@ -238,7 +253,7 @@ Value Evaluator::eval_call(const Expr& e, const std::shared_ptr<Env>& env, bool 
           "a " + std::string(type_name(callee.type)) + " cannot be called");
     return Value::error();
   }
-  const Closure& fn = *callee.fn;
+  const Closure& fn = callee.func();
   int arity = fn.builtin >= 0 ? builtin_info(fn.builtin).arity
                               : static_cast<int>(fn.def->params.size());
   if (static_cast<int>(args.size()) != arity) {
@@ -280,8 +295,7 @@ Value Evaluator::call_user(const Closure& fn, std::vector<Value>& args, const Ex
   scope->parent = fn.env;
   scope->vars.reserve(args.size());
   for (std::size_t i = 0; i < args.size(); ++i) {
-    std::int32_t sym = intern(def.params[i]);
-    scope->vars.push_back({sym, std::move(args[i]), def.param_spans[i], false});
+    scope->vars.push_back({fn.params[i], std::move(args[i]), def.param_spans[i], false});
   }
   ++depth_;
   Value result;

@@ -27,7 +27,7 @@ double num(const std::vector<EvaluatedProp>& props, std::string_view name) {
 }
 
 ir::Texture texture_of(const Value& v) {
-  if (v.type == Type::Pattern) return *v.pattern;
+  if (v.type == Type::Pattern) return v.pat();
   ir::Texture t;
   t.color = v.v;
   return t;
@@ -46,19 +46,6 @@ ir::Transform transforms(const std::vector<EvaluatedProp>& props) {
     }
   }
   return t;
-}
-
-// A byte key of a material's value, for deduplication.
-std::string material_key(const ir::Material& m) {
-  std::string k(1, static_cast<char>(m.kind));
-  auto put = [&](double d) { k.append(reinterpret_cast<const char*>(&d), sizeof d); };
-  k += static_cast<char>(m.color.kind);
-  put(m.color.color.x), put(m.color.color.y), put(m.color.color.z);
-  if (m.color.kind == ir::Texture::Kind::Checker) {
-    put(m.color.color2.x), put(m.color.color2.y), put(m.color.color2.z), put(m.color.size);
-  }
-  put(m.blur), put(m.ior), put(m.absorb.x), put(m.absorb.y), put(m.absorb.z);
-  return k;
 }
 
 }  // namespace
@@ -115,11 +102,30 @@ bool SceneBuilder::first_of_kind(std::string_view kind, Span span) {
   return false;
 }
 
+std::size_t SceneBuilder::MaterialHash::operator()(std::uint32_t i) const {
+  const ir::Material& m = (*table)[i];
+  std::uint64_t h = 0xcbf29ce484222325ull ^ static_cast<std::uint64_t>(m.kind);
+  auto mix = [&](double d) {
+    if (d == 0) d = 0;  // -0 and +0 compare equal, so they must hash equal
+    std::uint64_t x;
+    std::memcpy(&x, &d, sizeof x);
+    h = (h ^ x) * 0x100000001b3ull;
+  };
+  mix(m.color.color.x), mix(m.color.color.y), mix(m.color.color.z);
+  mix(m.color.color2.x), mix(m.color.color2.y), mix(m.color.color2.z), mix(m.color.size);
+  mix(m.blur), mix(m.ior), mix(m.absorb.x), mix(m.absorb.y), mix(m.absorb.z);
+  h ^= static_cast<std::uint64_t>(m.color.kind) << 7;
+  h = (h ^ (h >> 30)) * 0xBF58476D1CE4E5B9ull;  // SplitMix64 finaliser: spread all bits
+  h = (h ^ (h >> 27)) * 0x94D049BB133111EBull;
+  return static_cast<std::size_t>(h ^ (h >> 31));
+}
+
 std::uint32_t SceneBuilder::material_index(const ir::Material& m) {
-  auto [it, inserted] = material_ids_.try_emplace(material_key(m),
-                                                  static_cast<std::uint32_t>(scene_.materials.size()));
-  if (inserted) scene_.materials.push_back(m);
-  return it->second;
+  auto index = static_cast<std::uint32_t>(scene_.materials.size());
+  scene_.materials.push_back(m);
+  auto [it, inserted] = material_ids_.insert(index);
+  if (!inserted) scene_.materials.pop_back();
+  return *it;
 }
 
 void SceneBuilder::set_background(const Value& color, Span span) {
@@ -185,15 +191,15 @@ void SceneBuilder::override_setting(const PropInfo& prop, const Value& v) {
   } else if (n == "samples") {
     s.samples = static_cast<std::uint32_t>(v.n);
   } else if (n == "sampler") {
-    s.sampler = *v.s == "independent" ? ir::SamplerKind::Independent
-                : *v.s == "sobol"     ? ir::SamplerKind::Sobol
+    s.sampler = v.str() == "independent" ? ir::SamplerKind::Independent
+                : v.str() == "sobol"     ? ir::SamplerKind::Sobol
                                       : ir::SamplerKind::Stratified;
   } else if (n == "max_depth") {
     s.max_depth = static_cast<std::uint32_t>(v.n);
   } else if (n == "min_weight") {
     s.min_weight = v.n;
   } else if (n == "fresnel") {
-    s.fresnel = *v.s == "schlick" ? ir::FresnelMode::Schlick : ir::FresnelMode::Exact;
+    s.fresnel = v.str() == "schlick" ? ir::FresnelMode::Schlick : ir::FresnelMode::Exact;
   } else if (n == "seed") {
     s.seed = static_cast<std::uint64_t>(v.n);
   }
@@ -264,11 +270,11 @@ void SceneBuilder::add_object(const BlockInfo& block, Span kw,
   } else if (n == "mesh") {
     s.kind = ir::ShapeKind::Mesh;
     const EvaluatedProp* f = get(props, "file");
-    if (!load_mesh(*f->value.s, f->value_span, s.mesh)) return;
+    if (!load_mesh(f->value.str(), f->value_span, s.mesh)) return;
   }
   const EvaluatedProp* mat = get(props, "material");
   if (mat) {
-    s.material = material_index(*mat->value.material);
+    s.material = material_index(mat->value.mat());
     scene_.materials[s.material].src = scene_.materials[s.material].src.line
                                            ? scene_.materials[s.material].src
                                            : ref(mat->value_span);

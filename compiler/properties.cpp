@@ -183,13 +183,13 @@ std::string check_value(const PropInfo& p, Value& v) {
     case PropType::String: return v.type == Type::String ? "" : wrong();
     case PropType::Sampler:
       if (v.type != Type::String) return wrong();
-      if (*v.s != "independent" && *v.s != "stratified" && *v.s != "sobol")
-        return "'sampler' takes " + describe(p) + ", not \"" + *v.s + "\"";
+      if (v.str() != "independent" && v.str() != "stratified" && v.str() != "sobol")
+        return "'sampler' takes " + describe(p) + ", not \"" + v.str() + "\"";
       return {};
     case PropType::Fresnel:
       if (v.type != Type::String) return wrong();
-      if (*v.s != "exact" && *v.s != "schlick")
-        return "'fresnel' takes " + describe(p) + ", not \"" + *v.s + "\"";
+      if (v.str() != "exact" && v.str() != "schlick")
+        return "'fresnel' takes " + describe(p) + ", not \"" + v.str() + "\"";
       return {};
     case PropType::Material: return v.type == Type::Material ? "" : wrong();
     case PropType::Block: return wrong();  // blocks are written `motion { ... }`

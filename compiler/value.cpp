@@ -45,12 +45,12 @@ std::string to_string(const Value& v) {
     case Type::Error: return "<error>";
     case Type::Number: return num(v.n);
     case Type::Bool: return v.n != 0 ? "true" : "false";
-    case Type::String: return "\"" + *v.s + "\"";
+    case Type::String: return "\"" + v.str() + "\"";
     case Type::Vec2: return "<" + num(v.v.x) + ", " + num(v.v.y) + ">";
     case Type::Vec3: return "<" + num(v.v.x) + ", " + num(v.v.y) + ", " + num(v.v.z) + ">";
-    case Type::Material: return ir::to_string(*v.material);
-    case Type::Pattern: return ir::to_string(*v.pattern);
-    case Type::Function: return "fn " + v.fn->name;
+    case Type::Material: return ir::to_string(v.mat());
+    case Type::Pattern: return ir::to_string(v.pat());
+    case Type::Function: return "fn " + v.func().name;
   }
   return "?";
 }

@@ -7,6 +7,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "runtime/ir/ir.hpp"
 
@@ -27,6 +28,7 @@ struct Closure {
   const lang::Stmt* def = nullptr;  // the `fn` statement; null for builtins
   std::shared_ptr<Env> env;         // the scope it was defined in
   int builtin = -1;                 // index into the builtin table
+  std::vector<std::int32_t> params; // interned parameter names
   std::string name;
 };
 
@@ -34,10 +36,14 @@ struct Value {
   Type type = Type::None;
   double n = 0;  // Number; Bool as 0/1
   ir::Vec3 v;    // Vec2 uses x, y (z is 0)
-  std::shared_ptr<const std::string> s;
-  std::shared_ptr<const ir::Material> material;
-  std::shared_ptr<const ir::Texture> pattern;
-  std::shared_ptr<const Closure> fn;
+  // String, Material, Pattern, Function: one shared payload keeps Value small
+  // (it is copied on every variable read).
+  std::shared_ptr<const void> obj;
+
+  const std::string& str() const { return *static_cast<const std::string*>(obj.get()); }
+  const ir::Material& mat() const { return *static_cast<const ir::Material*>(obj.get()); }
+  const ir::Texture& pat() const { return *static_cast<const ir::Texture*>(obj.get()); }
+  const Closure& func() const { return *static_cast<const Closure*>(obj.get()); }
 
   static Value none() { return {}; }
   static Value error() { Value r; r.type = Type::Error; return r; }
@@ -46,16 +52,16 @@ struct Value {
   static Value vec2(double x, double y) { Value r; r.type = Type::Vec2; r.v = {x, y, 0}; return r; }
   static Value vec3(ir::Vec3 v3) { Value r; r.type = Type::Vec3; r.v = v3; return r; }
   static Value string(std::string text) {
-    Value r; r.type = Type::String; r.s = std::make_shared<const std::string>(std::move(text)); return r;
+    Value r; r.type = Type::String; r.obj = std::make_shared<const std::string>(std::move(text)); return r;
   }
   static Value of_material(ir::Material m) {
-    Value r; r.type = Type::Material; r.material = std::make_shared<const ir::Material>(std::move(m)); return r;
+    Value r; r.type = Type::Material; r.obj = std::make_shared<const ir::Material>(std::move(m)); return r;
   }
   static Value of_pattern(ir::Texture t) {
-    Value r; r.type = Type::Pattern; r.pattern = std::make_shared<const ir::Texture>(t); return r;
+    Value r; r.type = Type::Pattern; r.obj = std::make_shared<const ir::Texture>(t); return r;
   }
   static Value of_function(std::shared_ptr<const Closure> c) {
-    Value r; r.type = Type::Function; r.fn = std::move(c); return r;
+    Value r; r.type = Type::Function; r.obj = std::move(c); return r;
   }
 
   bool is_error() const { return type == Type::Error; }
