@@ -42,6 +42,17 @@ bool is_constructor_name(std::string_view name) {
 
 ExprPtr Parser::error_expr(Span span) { return make(ExprKind::Error, span); }
 
+// Lists are collected on a stack shared by all nesting levels and moved out with
+// their exact size: the AST is most of the parser's memory, and growth by doubling
+// would leave a quarter of every vector's capacity unused.
+template <typename T>
+void Parser::take_scratch(std::vector<T>& out, std::size_t mark) {
+  std::vector<T>& stack = scratch(static_cast<T*>(nullptr));
+  out.reserve(stack.size() - mark);
+  for (std::size_t i = mark; i < stack.size(); ++i) out.push_back(std::move(stack[i]));
+  stack.resize(mark);
+}
+
 // expr -> unary { INFIX expr' }     where expr' binds tighter than INFIX (Pratt)
 // Inside a vector literal, '>' ends the element (it closes the vector) and the other
 // comparisons are errors unless parenthesised (§3).
@@ -63,6 +74,7 @@ ExprPtr Parser::parse_expr(int min_power) {
     ExprPtr rhs = parse_expr(power + 1);
     auto bin = make(ExprKind::Binary, Span::join(lhs->span, rhs->span));
     bin->op = op;
+    bin->args.reserve(2);
     bin->args.push_back(std::move(lhs));
     bin->args.push_back(std::move(rhs));
     lhs = std::move(bin);
@@ -118,16 +130,18 @@ ExprPtr Parser::parse_postfix(ExprPtr base) {
 ExprPtr Parser::parse_call(ExprPtr callee) {
   Token open = take();
   auto call = make(ExprKind::Call, callee->span);
-  call->args.push_back(std::move(callee));
+  std::size_t mark = scratch_exprs_.size();
+  scratch_exprs_.push_back(std::move(callee));
   bool saved_vector = in_vector_;
   in_vector_ = false;  // (a > b) in an argument list is unambiguous
   if (!at(TokenKind::RParen)) {
     for (;;) {
-      call->args.push_back(parse_expr());
+      scratch_exprs_.push_back(parse_expr());
       if (!accept(TokenKind::Comma)) break;
     }
   }
   in_vector_ = saved_vector;
+  take_scratch(call->args, mark);
   if (!accept(TokenKind::RParen)) missing_closer(open, ")", "the argument list");
   call->span = from(call->span);
   return call;
@@ -211,16 +225,18 @@ ExprPtr Parser::parse_paren() {
 ExprPtr Parser::parse_vector() {
   Token open = take();
   auto vec = make(ExprKind::Vector, open.span);
+  std::size_t mark = scratch_exprs_.size();
   bool saved_vector = in_vector_;
   in_vector_ = true;
   for (;;) {
-    vec->args.push_back(parse_expr());
+    scratch_exprs_.push_back(parse_expr());
     if (accept(TokenKind::Comma)) continue;
     if (accept(TokenKind::Greater)) break;
     missing_closer(open, ">", "the vector literal");
     break;
   }
   in_vector_ = saved_vector;
+  take_scratch(vec->args, mark);
   vec->span = from(open.span);
   return vec;
 }
@@ -240,6 +256,7 @@ BlockPtr Parser::parse_block() {
   }
   bool saved_vector = in_vector_;
   in_vector_ = false;
+  std::size_t mark = scratch_properties_.size();
   for (;;) {
     if (accept(TokenKind::RBrace)) break;
     if (at(TokenKind::EndOfFile) || starts_statement(cur_.kind)) {
@@ -263,7 +280,7 @@ BlockPtr Parser::parse_block() {
                    "expected a value for '" + prop.name + "', found " + describe(cur_));
         prop.value = error_expr(here());
       }
-      block->properties.push_back(std::move(prop));
+      scratch_properties_.push_back(std::move(prop));
       continue;
     }
     error_here(DiagKind::ExpectedProperty,
@@ -281,6 +298,7 @@ BlockPtr Parser::parse_block() {
     }
   }
   in_vector_ = saved_vector;
+  take_scratch(block->properties, mark);
   block->span = from(open.span);
   return block;
 }

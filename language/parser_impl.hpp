@@ -69,6 +69,10 @@ class Parser {
   ExprPtr parse_call(ExprPtr callee);
   ExprPtr parse_constructor();
   ExprPtr error_expr(Span span);
+  template <typename T>
+  void take_scratch(std::vector<T>& out, std::size_t mark);
+  std::vector<ExprPtr>& scratch(ExprPtr*) { return scratch_exprs_; }
+  std::vector<Property>& scratch(Property*) { return scratch_properties_; }
 
   FileId file_;
   DiagnosticEngine& diags_;
@@ -81,6 +85,8 @@ class Parser {
   bool panic_ = false;
   bool in_vector_ = false;  // parsing an element of a vector literal at its top level
   int depth_ = 0;           // nesting of expressions, blocks and chains built so far
+  std::vector<ExprPtr> scratch_exprs_;         // see take_scratch()
+  std::vector<Property> scratch_properties_;
 };
 
 // Counts one level of nesting for the lifetime of a parse function; chains

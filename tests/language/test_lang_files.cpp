@@ -142,7 +142,7 @@ void update(const CaseFile& c, const Outcome& o, bool add_ast) {
   for (const std::string& line : lines) out += line + "\n";
   if (!o.actual.empty()) out += "\n";
   for (const Expectation& x : o.actual) out += std::string(kExpect) + " " + x.str() + "\n";
-  if (c.has_ast || add_ast) out += "\n" + std::string(kAstOpen) + "\n" + o.ast + "*/\n";
+  if (c.has_ast || add_ast) out.append("\n").append(kAstOpen).append("\n").append(o.ast).append("*/\n");
   std::ofstream(c.path, std::ios::binary) << out;
 }
 

@@ -14,7 +14,7 @@ namespace {
 std::string sexpr(const Expr& e) {
   auto args = [&](std::size_t from) {
     std::string s;
-    for (std::size_t i = from; i < e.args.size(); ++i) s += " " + sexpr(*e.args[i]);
+    for (std::size_t i = from; i < e.args.size(); ++i) s.append(" ").append(sexpr(*e.args[i]));
     return s;
   };
   switch (e.kind) {
