@@ -202,14 +202,20 @@ class Driver {
 }  // namespace
 
 std::unique_ptr<Compilation> compile_file(const std::string& path, const CompileOptions& options) {
-  auto c = std::make_unique<Compilation>();
-  c->diags.set_max_errors(options.max_errors);
   std::string text, message;
   if (!read_file(path, text, message)) {
+    auto c = std::make_unique<Compilation>();
     c->status = CompileStatus::IoError;
     c->message = message;
     return c;
   }
+  return compile_source(path, std::move(text), options);
+}
+
+std::unique_ptr<Compilation> compile_source(const std::string& path, std::string text,
+                                            const CompileOptions& options) {
+  auto c = std::make_unique<Compilation>();
+  c->diags.set_max_errors(options.max_errors);
   run_with_large_stack([&] {
     Driver driver(*c, options);
     const lang::Program* program = driver.parse_file(path, text);

@@ -43,6 +43,10 @@ struct Compilation {
 };
 
 std::unique_ptr<Compilation> compile_file(const std::string& path, const CompileOptions& options);
+// The same for text already in memory; `path` names it in diagnostics and
+// anchors relative imports and mesh files.
+std::unique_ptr<Compilation> compile_source(const std::string& path, std::string text,
+                                            const CompileOptions& options);
 
 // Settings keys that --set accepts (for usage messages).
 std::vector<std::string_view> setting_keys();

@@ -289,9 +289,10 @@ bool Evaluator::eval_prop_value(const PropInfo& info, const Expr& expr,
                                 const std::shared_ptr<Env>& env, Value& out) {
   out = eval(expr, env);
   if (out.is_error()) return false;
-  std::string msg = check_value(info, out);
+  bool integral = false;
+  std::string msg = check_value(info, out, &integral);
   if (!msg.empty()) {
-    error(DiagKind::InvalidValue, expr.span, msg);
+    error(integral ? DiagKind::NotAnInteger : DiagKind::InvalidValue, expr.span, msg);
     return false;
   }
   return true;

@@ -314,10 +314,7 @@ Value Evaluator::call_user(const Closure& fn, std::vector<Value>& args, const Ex
 
 Value Evaluator::eval_constructor(const Expr& e, const std::shared_ptr<Env>& env) {
   const BlockInfo* block = find_block(e.text);
-  if (!block || block->kind != BlockKind::Constructor) {
-    error(DiagKind::UnknownConstructor, e.span, "'" + e.text + "' is not a constructor");
-    return Value::error();
-  }
+  if (!block || block->kind != BlockKind::Constructor) return Value::error();  // parser-checked
   bool ok = true;
   std::vector<EvaluatedProp> props;
   if (e.block) {
@@ -338,9 +335,11 @@ Value Evaluator::eval_constructor(const Expr& e, const std::shared_ptr<Env>& env
         if (!eval_prop_value(*p.info, ex, env, p.value)) return false;
       } else {
         p.value = std::move(v);
-        std::string msg = check_value(*p.info, p.value);
+        bool integral = false;
+        std::string msg = check_value(*p.info, p.value, &integral);
         if (!msg.empty()) {
-          error(DiagKind::InvalidValue, ex.span, "'" + e.text + "': " + msg);
+          error(integral ? DiagKind::NotAnInteger : DiagKind::InvalidValue, ex.span,
+                "'" + e.text + "': " + msg);
           return false;
         }
       }

@@ -119,7 +119,8 @@ std::string describe(const PropInfo& p) {
   return "?";
 }
 
-std::string check_value(const PropInfo& p, Value& v) {
+std::string check_value(const PropInfo& p, Value& v, bool* integral) {
+  if (integral) *integral = false;
   auto wrong = [&]() {
     return "'" + std::string(p.name) + "' takes " + describe(p) + ", not a " +
            std::string(type_name(v.type));
@@ -135,8 +136,10 @@ std::string check_value(const PropInfo& p, Value& v) {
     case PropType::Number:
     case PropType::Integer: {
       if (v.type != Type::Number) return wrong();
-      if (p.type == PropType::Integer && !is_integer(v.n))
-        return "'" + std::string(p.name) + "' must be an integer";
+      if (p.type == PropType::Integer && !is_integer(v.n)) {
+        if (integral) *integral = true;
+        return "'" + std::string(p.name) + "' must be an integer, not " + to_string(v);
+      }
       if (p.type == PropType::Integer && std::fabs(v.n) > 4294967295.0)
         return "'" + std::string(p.name) + "' is too large";
       std::string e = check_range(p.check, v.n);
@@ -147,8 +150,10 @@ std::string check_value(const PropInfo& p, Value& v) {
       if (v.type == Type::Number) v = Value::vec2(v.n, v.n);
       if (v.type != Type::Vec2) return wrong();
       if (p.type == PropType::IntVec2) {
-        if (!is_integer(v.v.x) || !is_integer(v.v.y))
-          return "'" + std::string(p.name) + "' must have integer components";
+        if (!is_integer(v.v.x) || !is_integer(v.v.y)) {
+          if (integral) *integral = true;
+          return "'" + std::string(p.name) + "' must have integer components, not " + to_string(v);
+        }
         if (std::fabs(v.v.x) > 1e9 || std::fabs(v.v.y) > 1e9)
           return "'" + std::string(p.name) + "' is too large";
       }

@@ -53,6 +53,7 @@ std::string describe(const PropInfo& prop);
 // Converts `v` in place to the property's canonical type (a number becomes a
 // vector where a vector is expected) and checks its range. Returns an error
 // message naming what the property accepts, or an empty string.
-std::string check_value(const PropInfo& prop, Value& v);
+// `integral` is set when the problem is a non-integral number (NotAnInteger).
+std::string check_value(const PropInfo& prop, Value& v, bool* integral = nullptr);
 
 }  // namespace snell::compile

@@ -1,0 +1,202 @@
+// The snell program end to end: it is run as a user runs it, its images are read
+// back with OIIO, and pixels are checked against values that follow from the
+// scene by formula.
+#include <OpenImageIO/imageio.h>
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+#include "compiler/compile.hpp"
+
+namespace fs = std::filesystem;
+using namespace snell;
+
+namespace {
+
+const std::string kSnell = SNELL_EXE;
+const std::string kSrc = SNELL_SOURCE_DIR;
+
+struct Scratch {
+  fs::path dir;
+  Scratch() {
+    dir = fs::temp_directory_path() / ("snell_e2e_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+  }
+  ~Scratch() { fs::remove_all(dir); }
+  std::string operator/(const std::string& name) const { return (dir / name).string(); }
+};
+
+int run(const std::string& args) {
+  int status = std::system((kSnell + " " + args + " > /dev/null 2>&1").c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+std::vector<float> read_rgb(const std::string& path, int& w, int& h) {
+  auto in = OIIO::ImageInput::open(path);
+  REQUIRE(in);
+  const OIIO::ImageSpec& spec = in->spec();
+  w = spec.width;
+  h = spec.height;
+  std::vector<float> px(std::size_t(w) * h * spec.nchannels);
+  REQUIRE(in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, px.data()));
+  std::vector<float> rgb(std::size_t(w) * h * 3);
+  for (std::size_t i = 0; i < std::size_t(w) * h; ++i)
+    for (int c = 0; c < 3; ++c) rgb[3 * i + c] = px[i * spec.nchannels + c];
+  return rgb;
+}
+
+// Distance along ray (o, d) to the nearest sphere of the scene, or +inf.
+double hit_spheres(const ir::Scene& s, ir::Vec3 o, ir::Vec3 d, double tmax) {
+  double best = INFINITY;
+  for (const ir::Shape& sh : s.shapes) {
+    if (sh.kind != ir::ShapeKind::Sphere) continue;
+    ir::Vec3 oc = o - sh.center;
+    double b = ir::dot(oc, d), c = ir::dot(oc, oc) - sh.radius * sh.radius;
+    double disc = b * b - c;
+    if (disc < 0) continue;
+    double t = -b - std::sqrt(disc);
+    if (t > 1e-9 && t < tmax) best = std::min(best, t);
+  }
+  return best;
+}
+
+}  // namespace
+
+TEST_CASE("hello.scn: the lit floor follows albedo/pi * I cos(theta) / d^2", "[e2e]") {
+  Scratch tmp;
+  const std::string scene = kSrc + "/examples/hello.scn";
+  constexpr int W = 80, H = 50;
+  REQUIRE(run("render " + scene + " --res 80x50 --spp 64 --quiet -o " + (tmp / "h.exr") + " -o " +
+              (tmp / "h.png")) == 0);
+  REQUIRE(fs::file_size(tmp / "h.png") > 0);
+  int w, h;
+  std::vector<float> img = read_rgb(tmp / "h.exr", w, h);
+  REQUIRE(w == W);
+  REQUIRE(h == H);
+
+  // The expected values come from the same scene, compiled here.
+  compile::CompileOptions opts;
+  auto c = compile::compile_file(scene, opts);
+  REQUIRE(c->status == compile::CompileStatus::Ok);
+  const ir::Scene& s = c->scene;
+  REQUIRE(s.point_lights.size() == 1);
+  const ir::PointLight& light = s.point_lights[0];
+  const ir::Shape* floor = nullptr;
+  for (const auto& sh : s.shapes)
+    if (sh.kind == ir::ShapeKind::Plane) floor = &sh;
+  REQUIRE(floor);
+  ir::Vec3 albedo = s.materials[floor->material].color.color;
+
+  // Pinhole camera of spec §6.
+  const ir::Camera& cam = s.camera;
+  ir::Vec3 fwd = ir::normalize(cam.look_at - cam.location);
+  ir::Vec3 right = ir::normalize(ir::cross(fwd, cam.up));
+  ir::Vec3 up = ir::cross(right, fwd);
+  double half_w = std::tan(cam.fov * M_PI / 360);
+  double half_h = half_w * H / W;
+
+  // Each pixel's expected value: the mean over a 12x12 grid of the analytic
+  // radiance. Only pixels whose whole footprint sees the lit floor are kept.
+  int checked = 0;
+  double worst = 0;
+  for (int py = 0; py < H; ++py)
+    for (int px = 0; px < W; ++px) {
+      ir::Vec3 sum{};
+      double lo = INFINITY, hi = 0;
+      bool usable = true;
+      constexpr int N = 12;
+      for (int j = 0; j < N && usable; ++j)
+        for (int i = 0; i < N && usable; ++i) {
+          double u = (px + (i + 0.5) / N) / W * 2 - 1;
+          double v = 1 - (py + (j + 0.5) / N) / H * 2;
+          ir::Vec3 d = ir::normalize(fwd + right * (u * half_w) + up * (v * half_h));
+          double denom = ir::dot(d, floor->normal);
+          if (denom >= 0) { usable = false; break; }
+          double t = (floor->distance - ir::dot(cam.location, floor->normal)) / denom;
+          if (hit_spheres(s, cam.location, d, t) < t) { usable = false; break; }
+          ir::Vec3 p = cam.location + d * t;
+          ir::Vec3 l = light.position - p;
+          double dist = ir::length(l);
+          ir::Vec3 ldir = l / dist;
+          if (hit_spheres(s, p, ldir, dist) < dist) { usable = false; break; }
+          double cos_theta = ir::dot(ldir, floor->normal);
+          double e = cos_theta / (M_PI * dist * dist);
+          lo = std::min(lo, e), hi = std::max(hi, e);
+          sum = sum + albedo * light.intensity * e;
+        }
+      // Near the horizon the radiance changes a lot inside one pixel; there two
+      // estimates of the pixel mean may differ by more than the tolerance below.
+      if (!usable || hi - lo > 0.04 * lo) continue;
+      ir::Vec3 expect = sum / double(N * N);
+      const float* got = &img[3 * (std::size_t(py) * W + px)];
+      for (int ch = 0; ch < 3; ++ch) {
+        double rel = std::fabs(got[ch] - expect[ch]) / expect[ch];
+        worst = std::max(worst, rel);
+        INFO("pixel " << px << "," << py << " channel " << ch << " got " << got[ch]
+                      << " expected " << expect[ch]);
+        // The radiance varies by < 4 % over the pixel, so 64 stratified samples
+        // and a 144-point quadrature of it agree on the mean to well under 1 %.
+        REQUIRE(rel < 0.01);
+      }
+      ++checked;
+    }
+  INFO("worst relative error " << worst);
+  CHECK(checked > 500);
+}
+
+TEST_CASE("exit codes follow spec §10", "[e2e]") {
+  Scratch tmp;
+  std::ofstream(tmp / "bad.scn") << "sphere { radus 1 }\n";
+  std::ofstream(tmp / "ok.scn") << "settings { resolution <8, 8> }\nsphere { }\n";
+  CHECK(run("render " + (tmp / "ok.scn") + " --quiet -o " + (tmp / "ok.png")) == 0);
+  CHECK(run("render " + (tmp / "bad.scn") + " --quiet -o " + (tmp / "x.png")) == 1);
+  CHECK(!fs::exists(tmp / "x.png"));
+  CHECK(run("check " + (tmp / "bad.scn")) == 1);
+  CHECK(run("check " + (tmp / "ok.scn")) == 0);
+  CHECK(run("render " + (tmp / "missing.scn")) == 3);
+  CHECK(run("render") == 2);
+  CHECK(run("render " + (tmp / "ok.scn") + " --bogus") == 2);
+  CHECK(run("render " + (tmp / "ok.scn") + " -o " + (tmp / "out.bmp")) == 2);
+  CHECK(run("render " + (tmp / "ok.scn") + " --set nope=1") == 2);
+  CHECK(run("render " + (tmp / "ok.scn") + " --res 10by10") == 2);
+  CHECK(run("render " + (tmp / "ok.scn") + " --quiet -o " + (tmp / "no/such/dir/x.png")) == 3);
+}
+
+TEST_CASE("a failed write leaves an existing output untouched", "[e2e]") {
+  Scratch tmp;
+  std::ofstream(tmp / "ok.scn") << "settings { resolution <8, 8> }\nsphere { }\n";
+  fs::create_directories(tmp / "ro");
+  std::ofstream(tmp / "ro/keep.png") << "previous contents";
+  fs::permissions(tmp / "ro", fs::perms::owner_read | fs::perms::owner_exec);
+  bool root = ::geteuid() == 0;  // root ignores directory permissions
+  int code = run("render " + (tmp / "ok.scn") + " --quiet -o " + (tmp / "ro/keep.png"));
+  fs::permissions(tmp / "ro", fs::perms::owner_all);
+  if (!root) {
+    CHECK(code == 3);
+    std::ifstream in(tmp / "ro/keep.png");
+    std::string s((std::istreambuf_iterator<char>(in)), {});
+    CHECK(s == "previous contents");
+  }
+  // No temporary file is left behind either way.
+  for (const auto& e : fs::directory_iterator(tmp / "ro"))
+    CHECK(e.path().filename() == "keep.png");
+}
+
+TEST_CASE("snell check lists the effects a scene uses", "[e2e]") {
+  Scratch tmp;
+  std::ofstream(tmp / "fx.scn") << "camera { aperture 0.1 location <0,0,-5> look_at 0 }\n"
+                                   "area_light { corner 0 edge1 <1,0,0> edge2 <0,0,1> radiance 1 }\n"
+                                   "sphere { material dielectric <1.5, 0.2> }\n";
+  std::string cmd = kSnell + " check " + (tmp / "fx.scn") + " > " + (tmp / "out.txt");
+  REQUIRE(std::system(cmd.c_str()) == 0);
+  std::ifstream in(tmp / "out.txt");
+  std::string out((std::istreambuf_iterator<char>(in)), {});
+  CHECK(out.find("depth of field") != std::string::npos);
+  CHECK(out.find("area lights") != std::string::npos);
+  CHECK(out.find("dielectric") != std::string::npos);
+  CHECK(out.find("absorption") != std::string::npos);
+  CHECK(out.find("motion blur:") == std::string::npos);
+}
