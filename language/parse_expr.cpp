@@ -201,7 +201,7 @@ ExprPtr Parser::parse_constructor() {
   e->text = std::string(cur_.text);
   advance();
   if (at(TokenKind::LBrace)) {
-    e->block = parse_block();
+    e->block = parse_block(e->text);
     e->span = Span::join(e->span, e->block->span);
   } else {
     e->args.push_back(parse_expr());
@@ -244,7 +244,7 @@ ExprPtr Parser::parse_vector() {
 // block -> '{' { IDENT ( block | expr ) } '}'
 // Properties have no separators: a value ends where the next property name starts,
 // since no expression can continue with an identifier.
-BlockPtr Parser::parse_block() {
+BlockPtr Parser::parse_block(std::string_view owner) {
   auto block = std::make_unique<Block>();
   block->span = here();
   DepthGuard guard(*this);
@@ -262,7 +262,7 @@ BlockPtr Parser::parse_block() {
     if (at(TokenKind::EndOfFile) || starts_statement(cur_.kind)) {
       // A statement keyword here means the block's '}' is missing.
       panic_ = false;
-      missing_closer(open, "}", "the block");
+      missing_closer(open, "}", "the '" + std::string(owner) + "' block");
       break;
     }
     if (at(TokenKind::Identifier)) {
@@ -272,7 +272,7 @@ BlockPtr Parser::parse_block() {
       prop.name_span = here();
       advance();
       if (at(TokenKind::LBrace)) {
-        prop.block = parse_block();
+        prop.block = parse_block(prop.name);
       } else if (starts_operand(cur_.kind) || at(TokenKind::Error)) {
         prop.value = parse_expr();
       } else {

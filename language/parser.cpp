@@ -101,7 +101,7 @@ DiagBuilder Parser::error_here(DiagKind kind, std::string message) {
 
 // Reported just after the previous token (as clang does), so a missing ';' at the
 // end of a line points at that line, not at the next statement.
-void Parser::expect_semicolon(const char* after) {
+void Parser::expect_semicolon(std::string_view after) {
   if (accept(TokenKind::Semicolon)) return;
   if (at(TokenKind::Error) ||
       (prev_kind_ == TokenKind::String && scanner_.unterminated_string_ends_at(last_end_))) {
@@ -109,7 +109,7 @@ void Parser::expect_semicolon(const char* after) {
     return;
   }
   error(DiagKind::ExpectedToken, {file_, last_end_, last_end_},
-        std::string("expected ';' after ") + after + ", found " + describe(cur_));
+        "expected ';' after " + std::string(after) + ", found " + describe(cur_));
 }
 
 void Parser::missing_closer(const Token& opener, std::string_view closer, std::string_view what) {
@@ -275,7 +275,7 @@ StmtPtr Parser::parse_let() {
     if (accept(TokenKind::Equal)) {
       stmt->kind = StmtKind::Let;
       stmt->exprs.push_back(parse_expr());
-      expect_semicolon("the value of a 'let'");
+      expect_semicolon("the value of '" + stmt->name + "'");
     } else {
       error_here(DiagKind::ExpectedToken,
                  "expected '=' after 'let " + stmt->name + "', found " + describe(cur_));
@@ -424,7 +424,7 @@ StmtPtr Parser::parse_item() {
   stmt->name = std::string(cur_.text);
   stmt->name_span = stmt->span = here();
   advance();
-  stmt->block = parse_block();
+  stmt->block = parse_block(stmt->name);
   accept(TokenKind::Semicolon);
   stmt->span = from(stmt->span);
   return stmt;

@@ -33,7 +33,7 @@ class Parser {
   // lexer already reported, or the end of a file an unclosed comment swallowed.
   DiagBuilder error_here(DiagKind kind, std::string message);
   DiagBuilder dropped() { return DiagBuilder(&diags_, static_cast<std::size_t>(-1)); }
-  void expect_semicolon(const char* after);
+  void expect_semicolon(std::string_view after);
   // Reports a missing closer: UnclosedDelimiter at the opener at end of file,
   // otherwise ExpectedToken here with a note at the opener.
   void missing_closer(const Token& opener, std::string_view closer, std::string_view what);
@@ -59,7 +59,7 @@ class Parser {
   bool expect_name(std::string& name, Span& span, const char* what);
 
   // ---- blocks and expressions (parse_expr.cpp)
-  BlockPtr parse_block();
+  BlockPtr parse_block(std::string_view owner);  // owner: "sphere", "motion", ...
   ExprPtr parse_expr(int min_power = 1);
   ExprPtr parse_unary();
   ExprPtr parse_postfix(ExprPtr base);
