@@ -90,6 +90,8 @@ class Evaluator {
   Value eval_component(const lang::Expr& e, const std::shared_ptr<Env>& env);
   Value eval_constructor(const lang::Expr& e, const std::shared_ptr<Env>& env);
   Value call_user(const Closure& fn, std::vector<Value>& args, const lang::Expr& call);
+  static const Value& builtin_value(int id);
+  static const Closure& builtin_closure(int id);
 
   // Evaluates a block's properties against `block`'s table: unknown, duplicate,
   // missing and invalid properties are reported; `ok` is false after any error.

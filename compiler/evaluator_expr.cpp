@@ -15,6 +15,26 @@ using lang::TokenKind;
 
 Value Evaluator::eval_standalone(const Expr& expr) { return eval(expr, std::make_shared<Env>()); }
 
+namespace {
+// One shared closure per builtin: reading `sqrt` allocates nothing.
+const std::vector<Value>& builtin_values() {
+  static const std::vector<Value> all = [] {
+    std::vector<Value> v;
+    for (int i = 0; i < builtin_count(); ++i) {
+      auto c = std::make_shared<Closure>();
+      c->builtin = i;
+      c->name = std::string(builtin_info(i).name);
+      v.push_back(Value::of_function(std::move(c)));
+    }
+    return v;
+  }();
+  return all;
+}
+}  // namespace
+
+const Value& Evaluator::builtin_value(int id) { return builtin_values()[id]; }
+const Closure& Evaluator::builtin_closure(int id) { return builtin_values()[id].func(); }
+
 Value Evaluator::eval(const Expr& e, const std::shared_ptr<Env>& env) {
   if (!step(e.span)) return Value::error();
   switch (e.kind) {
@@ -45,20 +65,7 @@ Value Evaluator::eval_name(const Expr& e, const std::shared_ptr<Env>& env) {
   std::int32_t sym = symbol_of(e);
   for (const Env* s = env.get(); s; s = s->parent.get())
     if (const Binding* b = s->find_local(sym)) return b->value;
-  if (int id = symbol_builtin_[sym]; id >= 0) {
-    // One shared closure per builtin: reading `sqrt` allocates nothing.
-    static const std::vector<Value> builtins = [] {
-      std::vector<Value> all;
-      for (int i = 0; i < builtin_count(); ++i) {
-        auto c = std::make_shared<Closure>();
-        c->builtin = i;
-        c->name = std::string(builtin_info(i).name);
-        all.push_back(Value::of_function(std::move(c)));
-      }
-      return all;
-    }();
-    return builtins[id];
-  }
+  if (int id = symbol_builtin_[sym]; id >= 0) return builtin_value(id);
   std::vector<std::string_view> visible;
   for (const Env* s = env.get(); s; s = s->parent.get())
     for (const Binding& b : s->vars) visible.push_back(symbol_names_[b.symbol]);
@@ -228,7 +235,27 @@ Value Evaluator::eval_component(const Expr& e, const std::shared_ptr<Env>& env) 
 }
 
 Value Evaluator::eval_call(const Expr& e, const std::shared_ptr<Env>& env, bool as_statement) {
-  Value callee = eval(*e.args[0], env);
+  // A called name is resolved in place: the closure is used where it is bound,
+  // not copied (a copy costs two atomic reference-count updates per call).
+  const Value* callee_ref = nullptr;
+  Value callee_value;
+  const Closure* builtin_fn = nullptr;
+  if (const Expr& f = *e.args[0]; f.kind == ExprKind::Name) {
+    if (!step(f.span)) return Value::error();
+    std::int32_t sym = symbol_of(f);
+    for (const Env* sc = env.get(); sc && !callee_ref; sc = sc->parent.get())
+      if (const Binding* b = sc->find_local(sym)) callee_ref = &b->value;
+    if (!callee_ref && symbol_builtin_[sym] >= 0) builtin_fn = &builtin_closure(symbol_builtin_[sym]);
+  }
+  if (!callee_ref && !builtin_fn) {
+    callee_value = eval(*e.args[0], env);
+    callee_ref = &callee_value;
+  }
+  if (builtin_fn) {
+    callee_value.type = Type::Function;
+    callee_ref = &callee_value;
+  }
+  const Value& callee = *callee_ref;
   // Argument lists come from a pool indexed by nesting, so a call allocates
   // nothing once the pool is warm (deque: growing it keeps references valid).
   if (args_pool_.size() <= args_depth_) args_pool_.emplace_back();
@@ -253,7 +280,7 @@ Value Evaluator::eval_call(const Expr& e, const std::shared_ptr<Env>& env, bool 
           "a " + std::string(type_name(callee.type)) + " cannot be called");
     return Value::error();
   }
-  const Closure& fn = callee.func();
+  const Closure& fn = builtin_fn ? *builtin_fn : callee.func();
   int arity = fn.builtin >= 0 ? builtin_info(fn.builtin).arity
                               : static_cast<int>(fn.def->params.size());
   if (static_cast<int>(args.size()) != arity) {

@@ -102,8 +102,7 @@ bool SceneBuilder::first_of_kind(std::string_view kind, Span span) {
   return false;
 }
 
-std::size_t SceneBuilder::MaterialHash::operator()(std::uint32_t i) const {
-  const ir::Material& m = (*table)[i];
+std::uint64_t SceneBuilder::material_hash(const ir::Material& m) {
   std::uint64_t h = 0xcbf29ce484222325ull ^ static_cast<std::uint64_t>(m.kind);
   auto mix = [&](double d) {
     if (d == 0) d = 0;  // -0 and +0 compare equal, so they must hash equal
@@ -117,15 +116,31 @@ std::size_t SceneBuilder::MaterialHash::operator()(std::uint32_t i) const {
   h ^= static_cast<std::uint64_t>(m.color.kind) << 7;
   h = (h ^ (h >> 30)) * 0xBF58476D1CE4E5B9ull;  // SplitMix64 finaliser: spread all bits
   h = (h ^ (h >> 27)) * 0x94D049BB133111EBull;
-  return static_cast<std::size_t>(h ^ (h >> 31));
+  return h ^ (h >> 31);
 }
 
 std::uint32_t SceneBuilder::material_index(const ir::Material& m) {
-  auto index = static_cast<std::uint32_t>(scene_.materials.size());
+  if (2 * (material_count_ + 1) > material_slots_.size()) {
+    std::vector<std::uint32_t> old = std::move(material_slots_);
+    material_slots_.assign(std::max<std::size_t>(64, old.size() * 2), 0);
+    std::size_t mask = material_slots_.size() - 1;
+    for (std::uint32_t slot : old) {
+      if (slot == 0) continue;
+      std::size_t i = material_hash(scene_.materials[slot - 1]) & mask;
+      while (material_slots_[i] != 0) i = (i + 1) & mask;
+      material_slots_[i] = slot;
+    }
+  }
+  std::size_t mask = material_slots_.size() - 1;
+  std::size_t i = material_hash(m) & mask;
+  while (material_slots_[i] != 0) {
+    if (scene_.materials[material_slots_[i] - 1].same_as(m)) return material_slots_[i] - 1;
+    i = (i + 1) & mask;
+  }
   scene_.materials.push_back(m);
-  auto [it, inserted] = material_ids_.insert(index);
-  if (!inserted) scene_.materials.pop_back();
-  return *it;
+  ++material_count_;
+  material_slots_[i] = static_cast<std::uint32_t>(scene_.materials.size());
+  return material_slots_[i] - 1;
 }
 
 void SceneBuilder::set_background(const Value& color, Span span) {

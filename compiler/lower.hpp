@@ -8,7 +8,6 @@
 #include <cstdint>
 #include <string>
 #include <unordered_map>
-#include <unordered_set>
 #include <vector>
 
 #include "compiler/properties.hpp"
@@ -64,18 +63,13 @@ class SceneBuilder {
   ir::Scene scene_;
   bool focal_distance_set_ = false;
   std::unordered_map<std::string, lang::Span> singletons_;  // settings, camera, background
-  // Indices into scene_.materials, hashed and compared by value: deduplication
-  // without a second copy of every material.
-  struct MaterialHash {
-    const std::vector<ir::Material>* table;
-    std::size_t operator()(std::uint32_t i) const;
-  };
-  struct MaterialEq {
-    const std::vector<ir::Material>* table;
-    bool operator()(std::uint32_t a, std::uint32_t b) const { return (*table)[a].same_as((*table)[b]); }
-  };
-  std::unordered_set<std::uint32_t, MaterialHash, MaterialEq> material_ids_{
-      64, MaterialHash{&scene_.materials}, MaterialEq{&scene_.materials}};
+  // Deduplication of materials by value: an open-addressing table of indices
+  // into scene_.materials (0 = empty slot, else index + 1), linear probing,
+  // kept at most half full. One probe per lookup and no second copy of any
+  // material: a million distinct materials cost 8 MiB here.
+  std::vector<std::uint32_t> material_slots_;
+  std::size_t material_count_ = 0;
+  static std::uint64_t material_hash(const ir::Material& m);
   std::unordered_map<std::string, std::uint32_t> mesh_ids_;
   std::int64_t default_material_ = -1;
 };

@@ -1,0 +1,2 @@
+add_executable(bench_compile ${CMAKE_CURRENT_SOURCE_DIR}/compile/bench_compile.cpp)
+target_link_libraries(bench_compile PRIVATE snell_compiler snell_warnings)
