@@ -37,9 +37,9 @@ lang::DiagBuilder Evaluator::error(DiagKind kind, Span span, std::string message
   return diags_.report(kind, span, std::move(message));
 }
 
-bool Evaluator::step(Span at) {
+bool Evaluator::step_exhausted(Span at) {
   if (aborted_) return false;
-  if (++steps_ > step_budget_) {
+  if (steps_ > step_budget_) {
     error(DiagKind::StepBudget, at,
           "evaluation stopped here after " + std::to_string(step_budget_) +
               " steps; the program runs too long (an endless or very large loop?)")
@@ -60,11 +60,9 @@ void Evaluator::define(const std::shared_ptr<Env>& env, std::int32_t symbol, Val
   env->vars.push_back({symbol, std::move(v), span, false});
 }
 
-Value Evaluator::finite_or_error(Value v, const Expr& e) {
-  if (v.is_error() || v.finite()) return v;
+void Evaluator::report_non_finite(const Value& v, const Expr& e) {
   error(DiagKind::NonFiniteValue, e.span,
         "this expression evaluates to " + to_string(v) + " (not a finite number)");
-  return Value::error();
 }
 
 // ---------------------------------------------------------------------------
@@ -339,7 +337,7 @@ std::vector<EvaluatedProp> Evaluator::eval_props(const BlockInfo& block, const l
         continue;
       }
       ep.value_span = p.block->span;
-      const BlockInfo* nested = find_block(info->name);
+      const BlockInfo* nested = find_block(info->name);  // only `motion`: rare
       ep.nested = eval_props(*nested, *p.block, p.name_span, env, ok);
     } else {
       if (p.block) {
@@ -357,7 +355,8 @@ std::vector<EvaluatedProp> Evaluator::eval_props(const BlockInfo& block, const l
     }
     out.push_back(std::move(ep));
   }
-  const BlockInfo* object = block.is_object ? find_block("object") : nullptr;
+  static const BlockInfo* const object_props = find_block("object");
+  const BlockInfo* object = block.is_object ? object_props : nullptr;
   for (const BlockInfo* b : {&block, object}) {
     if (!b) continue;
     for (const PropInfo* info : b->props) {

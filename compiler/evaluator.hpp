@@ -111,8 +111,21 @@ class Evaluator {
     return s.symbol;
   }
   void define(const std::shared_ptr<Env>& env, std::int32_t symbol, Value v, lang::Span span);
-  bool step(lang::Span at);
-  Value finite_or_error(Value v, const lang::Expr& e);
+  // One evaluation step; false once the budget is spent or evaluation stopped.
+  bool step(lang::Span at) {
+    if (++steps_ <= step_budget_ && !aborted_) [[likely]]
+      return true;
+    return step_exhausted(at);
+  }
+  bool step_exhausted(lang::Span at);
+  // Reports a NaN or infinite result at `e`; true when `v` is fine.
+  bool finite_ok(const Value& v, const lang::Expr& e) {
+    if (v.finite()) [[likely]]
+      return true;
+    report_non_finite(v, e);
+    return false;
+  }
+  void report_non_finite(const Value& v, const lang::Expr& e);
   lang::DiagBuilder error(lang::DiagKind kind, lang::Span span, std::string message);
 
   const lang::SourceManager& sources_;

@@ -145,13 +145,13 @@ bool is_arith(TokenKind op) {
 
 Value Evaluator::eval_binary(const Expr& e, const std::shared_ptr<Env>& env) {
   TokenKind op = e.op;
-  std::string_view spelling = lang::token_spelling(op);
+  auto spelling = [op] { return std::string(lang::token_spelling(op)); };
   if (op == TokenKind::AmpAmp || op == TokenKind::PipePipe) {
     Value a = eval(*e.args[0], env);
     if (a.is_error()) return a;
     if (a.type != Type::Bool) {
       error(DiagKind::TypeMismatch, e.args[0]->span,
-            "'" + std::string(spelling) + "' needs bools, not a " + std::string(type_name(a.type)));
+            "'" + spelling() + "' needs bools, not a " + std::string(type_name(a.type)));
       return Value::error();
     }
     if ((op == TokenKind::AmpAmp) != a.truth()) return a;  // short circuit
@@ -159,17 +159,22 @@ Value Evaluator::eval_binary(const Expr& e, const std::shared_ptr<Env>& env) {
     if (b.is_error()) return b;
     if (b.type != Type::Bool) {
       error(DiagKind::TypeMismatch, e.args[1]->span,
-            "'" + std::string(spelling) + "' needs bools, not a " + std::string(type_name(b.type)));
+            "'" + spelling() + "' needs bools, not a " + std::string(type_name(b.type)));
       return Value::error();
     }
     return b;
   }
   Value a = eval(*e.args[0], env);
   Value b = eval(*e.args[1], env);
+  if (a.type == Type::Number && b.type == Type::Number && is_arith(op)) [[likely]] {
+    double r = arith(op, a.n, b.n);
+    if (std::isfinite(r)) [[likely]]
+      return Value::number(r);
+  }
   if (a.is_error() || b.is_error()) return Value::error();
   auto mismatch = [&](const char* what) {
     error(DiagKind::TypeMismatch, e.span,
-          "'" + std::string(spelling) + "' " + what + ", not a " + std::string(type_name(a.type)) + " and a " +
+          "'" + spelling() + "' " + what + ", not a " + std::string(type_name(a.type)) + " and a " +
               std::string(type_name(b.type)))
         .note(e.args[0]->span, "left operand: " + std::string(type_name(a.type)))
         .note(e.args[1]->span, "right operand: " + std::string(type_name(b.type)));
@@ -180,7 +185,10 @@ Value Evaluator::eval_binary(const Expr& e, const std::shared_ptr<Env>& env) {
       return Value::string(a.str() + b.str());  // extension: string concatenation
     bool an = a.type == Type::Number, bn = b.type == Type::Number;
     if ((!an && !a.is_vector()) || (!bn && !b.is_vector())) return mismatch("needs numbers or vectors");
-    if (an && bn) return finite_or_error(Value::number(arith(op, a.n, b.n)), e);
+    if (an && bn) {
+      Value r = Value::number(arith(op, a.n, b.n));
+      return finite_ok(r, e) ? r : Value::error();
+    }
     if (a.is_vector() && b.is_vector() && a.type != b.type)
       return mismatch("needs vectors of one size");
     Value r = a.is_vector() ? a : b;
@@ -189,7 +197,7 @@ Value Evaluator::eval_binary(const Expr& e, const std::shared_ptr<Env>& env) {
       double y = bn ? b.n : b.v[i];
       r.v[i] = arith(op, x, y);
     }
-    return finite_or_error(r, e);
+    return finite_ok(r, e) ? r : Value::error();
   }
   switch (op) {
     case TokenKind::Less:
@@ -301,7 +309,7 @@ Value Evaluator::eval_call(const Expr& e, const std::shared_ptr<Env>& env, bool 
           .note(std::string(builtin_info(fn.builtin).signature));
       return r;
     }
-    return finite_or_error(r, e);
+    return finite_ok(r, e) ? r : Value::error();
   }
   Value r = call_user(fn, args, e);
   if (as_statement) return r;
@@ -340,7 +348,7 @@ Value Evaluator::call_user(const Closure& fn, std::vector<Value>& args, const Ex
 }
 
 Value Evaluator::eval_constructor(const Expr& e, const std::shared_ptr<Env>& env) {
-  const BlockInfo* block = find_block(e.text);
+  const BlockInfo* block = symbol_block_[symbol_of(e)];
   if (!block || block->kind != BlockKind::Constructor) return Value::error();  // parser-checked
   bool ok = true;
   std::vector<EvaluatedProp> props;

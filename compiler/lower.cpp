@@ -121,26 +121,28 @@ std::uint64_t SceneBuilder::material_hash(const ir::Material& m) {
 
 std::uint32_t SceneBuilder::material_index(const ir::Material& m) {
   if (2 * (material_count_ + 1) > material_slots_.size()) {
-    std::vector<std::uint32_t> old = std::move(material_slots_);
-    material_slots_.assign(std::max<std::size_t>(64, old.size() * 2), 0);
+    std::vector<MaterialSlot> old = std::move(material_slots_);
+    material_slots_.assign(std::max<std::size_t>(64, old.size() * 2), MaterialSlot{});
     std::size_t mask = material_slots_.size() - 1;
-    for (std::uint32_t slot : old) {
-      if (slot == 0) continue;
-      std::size_t i = material_hash(scene_.materials[slot - 1]) & mask;
-      while (material_slots_[i] != 0) i = (i + 1) & mask;
+    for (const MaterialSlot& slot : old) {
+      if (slot.index == 0) continue;
+      std::size_t i = slot.hash & mask;
+      while (material_slots_[i].index != 0) i = (i + 1) & mask;
       material_slots_[i] = slot;
     }
   }
+  std::uint64_t h = material_hash(m);
   std::size_t mask = material_slots_.size() - 1;
-  std::size_t i = material_hash(m) & mask;
-  while (material_slots_[i] != 0) {
-    if (scene_.materials[material_slots_[i] - 1].same_as(m)) return material_slots_[i] - 1;
+  std::size_t i = h & mask;
+  while (material_slots_[i].index != 0) {
+    const MaterialSlot& slot = material_slots_[i];
+    if (slot.hash == h && scene_.materials[slot.index - 1].same_as(m)) return slot.index - 1;
     i = (i + 1) & mask;
   }
   scene_.materials.push_back(m);
   ++material_count_;
-  material_slots_[i] = static_cast<std::uint32_t>(scene_.materials.size());
-  return material_slots_[i] - 1;
+  material_slots_[i] = {h, static_cast<std::uint32_t>(scene_.materials.size())};
+  return material_slots_[i].index - 1;
 }
 
 void SceneBuilder::set_background(const Value& color, Span span) {

@@ -63,11 +63,15 @@ class SceneBuilder {
   ir::Scene scene_;
   bool focal_distance_set_ = false;
   std::unordered_map<std::string, lang::Span> singletons_;  // settings, camera, background
-  // Deduplication of materials by value: an open-addressing table of indices
-  // into scene_.materials (0 = empty slot, else index + 1), linear probing,
-  // kept at most half full. One probe per lookup and no second copy of any
-  // material: a million distinct materials cost 8 MiB here.
-  std::vector<std::uint32_t> material_slots_;
+  // Deduplication of materials by value: an open-addressing table of (hash,
+  // index into scene_.materials) with linear probing, kept at most half full.
+  // The stored hash spares growing from rehashing and probing from touching
+  // materials that cannot match; a million distinct materials cost 32 MiB here.
+  struct MaterialSlot {
+    std::uint64_t hash = 0;
+    std::uint32_t index = 0;  // 0: empty; else index into scene_.materials + 1
+  };
+  std::vector<MaterialSlot> material_slots_;
   std::size_t material_count_ = 0;
   static std::uint64_t material_hash(const ir::Material& m);
   std::unordered_map<std::string, std::uint32_t> mesh_ids_;

@@ -21,15 +21,6 @@ std::string_view type_name(Type t) {
   return "?";
 }
 
-bool Value::finite() const {
-  switch (type) {
-    case Type::Number: return std::isfinite(n);
-    case Type::Vec2: return std::isfinite(v.x) && std::isfinite(v.y);
-    case Type::Vec3: return ir::is_finite(v);
-    default: return true;
-  }
-}
-
 namespace {
 std::string num(double x) {
   if (x == 0) return "0";

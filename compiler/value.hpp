@@ -3,6 +3,7 @@
 // on it yields Error without a new diagnostic, so one mistake reports once.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -69,7 +70,14 @@ struct Value {
   int dims() const { return type == Type::Vec2 ? 2 : type == Type::Vec3 ? 3 : 1; }
   bool truth() const { return n != 0; }
   // True when every numeric component is finite (non-numeric values: true).
-  bool finite() const;
+  bool finite() const {
+    switch (type) {
+      case Type::Number: return std::isfinite(n);
+      case Type::Vec2: return std::isfinite(v.x) && std::isfinite(v.y);
+      case Type::Vec3: return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+      default: return true;
+    }
+  }
 };
 
 // Readable text of a value, as the language would write it (used in messages).
