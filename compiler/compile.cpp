@@ -104,16 +104,27 @@ class Driver {
     dirs.push_back(stdlib_dir(opts_));
     std::error_code ec;
     fs::path found;
+    bool skipped_self = false;
     if (fs::path(name).is_absolute()) {
       if (fs::is_regular_file(name, ec)) found = name;
     } else {
+      // A file never means to import itself: `materials.scn` in a user's folder
+      // that imports "materials.scn" gets the standard library's.
+      std::string self = span.file < c_.sources.size() ? canonical(c_.sources.file(span.file).path()) : "";
       for (const fs::path& d : dirs) {
         fs::path p = d / name;
-        if (fs::is_regular_file(p, ec)) {
-          found = p;
-          break;
+        if (!fs::is_regular_file(p, ec)) continue;
+        if (canonical(p) == self) {
+          skipped_self = true;
+          continue;
         }
+        found = p;
+        break;
       }
+    }
+    if (found.empty() && skipped_self) {
+      c_.diags.report(DiagKind::ImportCycle, span, "'" + name + "' is this file: a file cannot import itself");
+      return nullptr;
     }
     if (found.empty()) {
       auto d = c_.diags.report(DiagKind::ImportNotFound, span, "cannot find '" + name + "'");
@@ -122,8 +133,7 @@ class Driver {
       d.note("searched: " + where);
       return nullptr;
     }
-    std::string key = fs::weakly_canonical(found, ec).string();
-    if (ec) key = found.lexically_normal().string();
+    std::string key = canonical(found);
     if (auto it = cache_.find(key); it != cache_.end()) return it->second.program ? &it->second : nullptr;
     std::string text, message;
     if (!read_file(found.string(), text, message)) {
@@ -137,6 +147,18 @@ class Driver {
     bool ok = c_.diags.error_count() == before;
     cache_[key] = {program->file, ok ? program : nullptr};
     return ok ? &cache_[key] : nullptr;
+  }
+
+  static std::string canonical(const fs::path& p) {
+    std::error_code ec;
+    fs::path c = fs::weakly_canonical(p, ec);
+    return ec ? p.lexically_normal().string() : c.string();
+  }
+
+  // The main file is in the import cache too, so importing it is a cycle, not a
+  // second run.
+  void register_main(const std::string& path, const lang::Program* program) {
+    cache_[canonical(path)] = {program->file, program};
   }
 
   // --set KEY=VALUE: false (status UsageError) when the key or value is bad.
@@ -219,6 +241,7 @@ std::unique_ptr<Compilation> compile_source(const std::string& path, std::string
   run_with_large_stack([&] {
     Driver driver(*c, options);
     const lang::Program* program = driver.parse_file(path, text);
+    driver.register_main(path, program);
     if (c->diags.has_errors()) return;  // syntax errors stop before evaluation
     SceneBuilder builder(c->sources, c->diags);
     Evaluator eval(c->sources, c->diags, builder,
