@@ -217,6 +217,10 @@ void SceneBuilder::override_setting(const PropInfo& prop, const Value& v) {
     s.min_weight = v.n;
   } else if (n == "fresnel") {
     s.fresnel = v.str() == "schlick" ? ir::FresnelMode::Schlick : ir::FresnelMode::Exact;
+  } else if (n == "branching") {
+    s.branching = v.str() == "stochastic" ? ir::Branching::Stochastic : ir::Branching::Split;
+  } else if (n == "termination") {
+    s.termination = v.str() == "roulette" ? ir::Termination::Roulette : ir::Termination::Cutoff;
   } else if (n == "seed") {
     s.seed = static_cast<std::uint64_t>(v.n);
   }

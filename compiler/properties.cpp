@@ -108,6 +108,8 @@ std::string describe(const PropInfo& p) {
     case PropType::String: return "a string";
     case PropType::Sampler: return "\"independent\", \"stratified\" or \"sobol\"";
     case PropType::Fresnel: return "\"exact\" or \"schlick\"";
+    case PropType::Branching: return "\"split\" or \"stochastic\"";
+    case PropType::Termination: return "\"cutoff\" or \"roulette\"";
     case PropType::Material: return "a material (diffuse, mirror, glossy, dielectric, glazed)";
     case PropType::Color: return "a colour (a 3-vector or a number)" + r;
     case PropType::ColorOrPattern: return "a colour (a 3-vector or a number) or a pattern" + r;
@@ -195,6 +197,16 @@ std::string check_value(const PropInfo& p, Value& v, bool* integral) {
       if (v.type != Type::String) return wrong();
       if (v.str() != "exact" && v.str() != "schlick")
         return "'fresnel' takes " + describe(p) + ", not \"" + v.str() + "\"";
+      return {};
+    case PropType::Branching:
+      if (v.type != Type::String) return wrong();
+      if (v.str() != "split" && v.str() != "stochastic")
+        return "'branching' takes " + describe(p) + ", not \"" + v.str() + "\"";
+      return {};
+    case PropType::Termination:
+      if (v.type != Type::String) return wrong();
+      if (v.str() != "cutoff" && v.str() != "roulette")
+        return "'termination' takes " + describe(p) + ", not \"" + v.str() + "\"";
       return {};
     case PropType::Material: return v.type == Type::Material ? "" : wrong();
     case PropType::Block: return wrong();  // blocks are written `motion { ... }`

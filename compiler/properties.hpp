@@ -14,7 +14,7 @@ namespace snell::compile {
 enum class BlockKind { Item, Constructor, Nested };
 
 enum class PropType {
-  Number, Integer, Vec2, IntVec2, Vec3, Bool, String, Sampler, Fresnel,
+  Number, Integer, Vec2, IntVec2, Vec3, Bool, String, Sampler, Fresnel, Branching, Termination,
   Material, Color, ColorOrPattern, Translate, Rotate, Scale, Block,
 };
 

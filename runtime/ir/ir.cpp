@@ -236,6 +236,8 @@ std::string to_string(SamplerKind k) {
 }
 
 std::string to_string(FresnelMode m) { return m == FresnelMode::Exact ? "exact" : "schlick"; }
+std::string to_string(Branching b) { return b == Branching::Split ? "split" : "stochastic"; }
+std::string to_string(Termination t) { return t == Termination::Cutoff ? "cutoff" : "roulette"; }
 
 std::string to_string(const Texture& t) {
   if (t.kind == Texture::Kind::Constant) return to_string(t.color);
@@ -305,7 +307,8 @@ std::string to_string(const Settings& s) {
   return "settings { resolution <" + std::to_string(s.width) + ", " + std::to_string(s.height) +
          "> samples " + std::to_string(s.samples) + " sampler " + quoted(to_string(s.sampler)) +
          " max_depth " + std::to_string(s.max_depth) + " min_weight " + num(s.min_weight) +
-         " fresnel " + quoted(to_string(s.fresnel)) + " seed " + std::to_string(s.seed) + " }";
+         " fresnel " + quoted(to_string(s.fresnel)) + " branching " + quoted(to_string(s.branching)) +
+         " termination " + quoted(to_string(s.termination)) + " seed " + std::to_string(s.seed) + " }";
 }
 
 std::string to_string(const Features& f) {

@@ -116,6 +116,14 @@ struct Camera {
 
 enum class SamplerKind : std::uint8_t { Independent, Stratified, Sobol };
 enum class FresnelMode : std::uint8_t { Exact, Schlick };
+// How a dielectric hit continues the ray tree: trace both the reflected and the
+// refracted ray ("split", the lecture's tree), or one of them chosen with
+// probability R and 1 − R, weighted so the estimate stays unbiased ("stochastic").
+enum class Branching : std::uint8_t { Split, Stochastic };
+// What happens to a branch whose weight falls below min_weight: dropped
+// ("cutoff", biased dark) or continued with probability weight/min_weight and
+// reweighted ("roulette", Russian roulette: unbiased, noisier).
+enum class Termination : std::uint8_t { Cutoff, Roulette };
 
 struct Settings {
   std::uint32_t width = 640, height = 480;
@@ -124,6 +132,8 @@ struct Settings {
   std::uint32_t max_depth = 8;
   double min_weight = 0.001;
   FresnelMode fresnel = FresnelMode::Exact;
+  Branching branching = Branching::Split;
+  Termination termination = Termination::Cutoff;
   std::uint64_t seed = 0;
   SourceRef src;
 };
@@ -175,6 +185,8 @@ std::string to_string(const Settings& s);
 std::string to_string(const Features& f);
 std::string to_string(SamplerKind k);
 std::string to_string(FresnelMode m);
+std::string to_string(Branching b);
+std::string to_string(Termination t);
 std::string to_string(MaterialKind k);
 std::string to_string(ShapeKind k);
 // A stable text dump of the whole scene (`snell render --dump-ir`).
