@@ -11,6 +11,7 @@
 #include <optional>
 
 #include "cli/progress.hpp"
+#include "cli/sweep.hpp"
 #include "compiler/compile.hpp"
 #include "language/parser.hpp"
 #include "runtime/render.hpp"
@@ -240,6 +241,30 @@ int main(int argc, char** argv) {
   check->add_option("--max-errors", o.max_errors, "errors shown at most (0 = all)");
   check->add_option("--max-steps", o.max_steps, "evaluation step budget");
 
+  CLI::App* sweep = app.add_subcommand(
+      "sweep", "render a scene across settings: time and error against a converged reference");
+  cli::SweepOptions so;
+  std::vector<std::string> vary;
+  std::string series;
+  sweep->add_option("scene", o.scene, "the .scn file")->required();
+  sweep->add_option("--vary", vary,
+                    "KEY=V1,V2,... (repeatable): one plot per knob; keys are settings "
+                    "properties, area_samples, kernel")
+      ->required();
+  sweep->add_option("--series", series, "KEY=V1,V2,...: one curve per value in every plot");
+  sweep->add_option("--repeats", so.repeats, "renders per configuration; the median time counts")
+      ->check(CLI::Range(1, 100));
+  sweep->add_option("--reference-spp", so.reference_spp, "samples per pixel of the reference")
+      ->check(CLI::Range(1, 1 << 20));
+  sweep->add_option("--out", so.out_dir, "output folder (CSV, JSON, SVG, images, reference cache)");
+  sweep->add_option("--markdown", so.markdown, "also write a Markdown summary to this file");
+  sweep->add_option("--res", o.res, "resolution WIDTHxHEIGHT for every render");
+  sweep->add_option("--set", o.sets, "override a settings property: KEY=VALUE (repeatable)");
+  sweep->add_option("-I", o.include_dirs, "folder searched by import (repeatable)");
+  sweep->add_option("--threads", so.threads, "worker threads; 0 = every core")->check(CLI::Range(0, 1024));
+  sweep->add_flag("--no-images", [&](std::int64_t) { so.images = false; }, "do not write a PNG per configuration");
+  sweep->add_flag("-q,--quiet", so.quiet, "no progress output");
+
   CLI::App* dump = app.add_subcommand("dump-ast", "print the syntax tree of a .scn file");
   dump->add_option("scene", o.scene, "the .scn file")->required();
 
@@ -252,5 +277,18 @@ int main(int argc, char** argv) {
   if (render->parsed()) return run_render(o);
   if (check->parsed()) return run_check(o);
   if (dump->parsed()) return dump_ast(o.scene);
+  if (sweep->parsed()) {
+    so.scene = o.scene;
+    std::string error;
+    if (!build_compile_options(o, so.compile, error)) return usage_error(error);
+    for (const std::string& v : vary) {
+      cli::SweepAxis axis;
+      if (!cli::parse_axis(v, axis)) return usage_error("--vary takes KEY=V1,V2,..., got '" + v + "'");
+      so.vary.push_back(axis);
+    }
+    if (!series.empty() && !cli::parse_axis(series, so.series))
+      return usage_error("--series takes KEY=V1,V2,..., got '" + series + "'");
+    return cli::run_sweep(so);
+  }
   return kExitUsage;
 }

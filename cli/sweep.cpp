@@ -1,0 +1,416 @@
+#include "cli/sweep.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <sstream>
+
+#include "cli/metrics.hpp"
+#include "cli/plot_svg.hpp"
+#include "runtime/render.hpp"
+
+namespace snell::cli {
+
+namespace fs = std::filesystem;
+
+bool parse_axis(const std::string& text, SweepAxis& axis) {
+  auto eq = text.find('=');
+  if (eq == std::string::npos || eq == 0 || eq + 1 == text.size()) return false;
+  axis.key = text.substr(0, eq);
+  axis.values.clear();
+  // Values are separated by commas outside <...> (a value may be a vector).
+  std::string cur;
+  int depth = 0;
+  for (char c : text.substr(eq + 1)) {
+    if (c == '<') ++depth;
+    if (c == '>') --depth;
+    if (c == ',' && depth == 0) {
+      axis.values.push_back(cur);
+      cur.clear();
+    } else {
+      cur += c;
+    }
+  }
+  axis.values.push_back(cur);
+  for (const std::string& v : axis.values)
+    if (v.empty()) return false;
+  return true;
+}
+
+namespace {
+
+constexpr int kExitOk = 0, kExitScene = 1, kExitUsage = 2, kExitIo = 3;
+
+struct Config {
+  std::vector<std::pair<std::string, std::string>> settings;  // compile overrides
+  int area_samples = 0;                                        // 0: as written
+  bool general_kernel = false;
+};
+
+// Applies one knob value to a configuration; false for an unknown knob value.
+bool apply(Config& c, const std::string& key, const std::string& value, std::string& error) {
+  if (key == "area_samples") {
+    char* end = nullptr;
+    long n = std::strtol(value.c_str(), &end, 10);
+    if (*end || n < 1 || n > 256) {
+      error = "area_samples takes an integer from 1 to 256, not '" + value + "'";
+      return false;
+    }
+    c.area_samples = static_cast<int>(n);
+  } else if (key == "kernel") {
+    if (value != "specialised" && value != "general") {
+      error = "kernel takes 'specialised' or 'general', not '" + value + "'";
+      return false;
+    }
+    c.general_kernel = value == "general";
+  } else {
+    c.settings.push_back({key, value});
+  }
+  return true;
+}
+
+std::string label(const std::string& key, const std::string& value) {
+  if (key == "samples") return value + " spp";
+  if (key == "area_samples") return value + "x" + value;
+  return value;
+}
+
+std::string slug(std::string s) {
+  for (char& c : s)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '.' && c != '-') c = '_';
+  return s;
+}
+
+std::uint64_t fnv1a(const std::string& s) {
+  std::uint64_t h = 0xcbf29ce484222325ull;
+  for (unsigned char c : s) h = (h ^ c) * 0x100000001b3ull;
+  return h;
+}
+
+bool save_raw(const std::string& path, const rt::Image& img) {
+  std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary);
+    out.write("SNELLREF", 8);
+    out.write(reinterpret_cast<const char*>(&img.width), 4);
+    out.write(reinterpret_cast<const char*>(&img.height), 4);
+    out.write(reinterpret_cast<const char*>(img.rgb.data()), std::streamsize(img.rgb.size() * 4));
+    if (!out) return false;
+  }
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  return !ec;
+}
+
+bool load_raw(const std::string& path, rt::Image& img) {
+  std::ifstream in(path, std::ios::binary);
+  char magic[8];
+  if (!in.read(magic, 8) || std::string(magic, 8) != "SNELLREF") return false;
+  in.read(reinterpret_cast<char*>(&img.width), 4);
+  in.read(reinterpret_cast<char*>(&img.height), 4);
+  img.rgb.resize(std::size_t(img.width) * img.height * 3);
+  in.read(reinterpret_cast<char*>(img.rgb.data()), std::streamsize(img.rgb.size() * 4));
+  return bool(in);
+}
+
+class Sweeper {
+ public:
+  explicit Sweeper(const SweepOptions& o) : o_(o) {}
+
+  // Compiles the scene with a configuration's settings; prints diagnostics.
+  bool compile(const Config& c, ir::Scene& out, int& code) {
+    compile::CompileOptions copts = o_.compile;
+    for (const auto& kv : c.settings) copts.overrides.push_back(kv);
+    auto comp = compile::compile_file(o_.scene, copts);
+    comp->diags.print(std::cerr);
+    switch (comp->status) {
+      case compile::CompileStatus::Ok: break;
+      case compile::CompileStatus::SceneErrors: code = kExitScene; return false;
+      case compile::CompileStatus::UsageError:
+        std::cerr << "snell sweep: error: " << comp->message << "\n";
+        code = kExitUsage;
+        return false;
+      case compile::CompileStatus::IoError:
+        std::cerr << "snell sweep: error: " << comp->message << "\n";
+        code = kExitIo;
+        return false;
+    }
+    out = std::move(comp->scene);
+    if (c.area_samples > 0)
+      for (ir::AreaLight& l : out.area_lights)
+        l.samples_u = l.samples_v = static_cast<std::uint32_t>(c.area_samples);
+    return true;
+  }
+
+  rt::RenderResult render(const ir::Scene& scene, bool general, double& seconds) {
+    rt::RenderOptions ro;
+    ro.threads = o_.threads;
+    ro.general_kernel = general;
+    auto t0 = std::chrono::steady_clock::now();
+    rt::RenderResult r = rt::render(scene, ro);
+    seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return r;
+  }
+
+  // The converged reference: many samples, exact Fresnel, the full split tree,
+  // no weight pruning, a deep tree, dense area-light grids, and a seed of its own
+  // so its noise is independent of the renders it judges. Cached by the hash of
+  // its IR dump.
+  bool reference(rt::Image& ref, int& code) {
+    Config c;
+    c.settings = {{"samples", std::to_string(o_.reference_spp)}, {"fresnel", "exact"},
+                  {"branching", "split"},                     {"termination", "cutoff"},
+                  {"min_weight", "0"}};
+    ir::Scene scene;
+    if (!compile(c, scene, code)) return false;
+    scene.settings.max_depth = std::max<std::uint32_t>(scene.settings.max_depth, 16);
+    scene.settings.seed ^= 0x5eed5eedull;
+    for (ir::AreaLight& l : scene.area_lights) {
+      l.samples_u = std::max<std::uint32_t>(l.samples_u, 4);
+      l.samples_v = std::max<std::uint32_t>(l.samples_v, 4);
+    }
+    fs::create_directories(fs::path(o_.out_dir) / "cache");
+    char hex[17];
+    std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(fnv1a(ir::to_string(scene))));
+    std::string path = (fs::path(o_.out_dir) / "cache" / ("ref-" + std::string(hex) + ".bin")).string();
+    if (load_raw(path, ref)) {
+      if (!o_.quiet) std::cerr << "reference: cached " << path << "\n";
+      return true;
+    }
+    if (!o_.quiet)
+      std::cerr << "reference: rendering at " << o_.reference_spp << " spp (cached afterwards)\n";
+    double secs;
+    ref = render(scene, false, secs).image;
+    if (!o_.quiet) std::cerr << "reference: " << secs << " s\n";
+    if (!save_raw(path, ref)) {
+      std::cerr << "snell sweep: error: cannot write " << path << "\n";
+      code = kExitIo;
+      return false;
+    }
+    return true;
+  }
+
+  int run() {
+    int code = kExitOk;
+    rt::Image ref;
+    if (!reference(ref, code)) return code;
+    std::vector<std::string> series_values = o_.series.key.empty() ? std::vector<std::string>{""}
+                                                                   : o_.series.values;
+    fs::create_directories(fs::path(o_.out_dir) / "images");
+    std::string stem = fs::path(o_.scene).stem().string();
+    for (const SweepAxis& axis : o_.vary) {
+      for (const std::string& sv : series_values) {
+        for (const std::string& v : axis.values) {
+          Config c;
+          std::string err;
+          if ((!o_.series.key.empty() && !apply(c, o_.series.key, sv, err)) || !apply(c, axis.key, v, err)) {
+            std::cerr << "snell sweep: error: " << err << "\n";
+            return kExitUsage;
+          }
+          ir::Scene scene;
+          if (!compile(c, scene, code)) return code;
+          SweepRow row;
+          row.knob = axis.key;
+          row.value = v;
+          row.series_value = sv;
+          std::vector<double> times;
+          rt::RenderResult first;
+          for (int rep = 0; rep < std::max(1, o_.repeats); ++rep) {
+            double secs;
+            rt::RenderResult r = render(scene, c.general_kernel, secs);
+            times.push_back(secs);
+            if (rep == 0) first = std::move(r);
+          }
+          std::sort(times.begin(), times.end());
+          row.seconds = times[times.size() / 2];
+          row.seconds_min = times.front();
+          if (first.image.width != ref.width || first.image.height != ref.height) {
+            std::cerr << "snell sweep: error: '" << axis.key
+                      << "' changes the resolution; sweep resolution with --res instead\n";
+            return kExitUsage;
+          }
+          row.rmse = rmse(first.image, ref);
+          row.relmse = relative_mse(first.image, ref);
+          row.dssim = 1 - ssim(first.image, ref);
+          const rt::RenderStats& st = first.stats;
+          row.rays = st.camera_rays + st.shadow_rays + st.reflection_rays + st.refraction_rays +
+                     st.glossy_rays;
+          if (o_.images) {
+            row.image = "images/" + slug(stem + "-" + axis.key + "-" + v + (sv.empty() ? "" : "-" + sv)) + ".png";
+            rt::OutputInfo info;
+            info.scene_path = o_.scene;
+            info.samples = scene.settings.samples;
+            info.seed = scene.settings.seed;
+            std::string e = rt::write_image((fs::path(o_.out_dir) / row.image).string(), first.image, info, "");
+            if (!e.empty()) {
+              std::cerr << "snell sweep: error: " << e << "\n";
+              return kExitIo;
+            }
+          }
+          if (!o_.quiet)
+            std::fprintf(stderr, "%-14s %-12s %-12s %8.3f s  rmse %.5f  relmse %.5f  dssim %.5f\n",
+                         axis.key.c_str(), v.c_str(), sv.c_str(), row.seconds, row.rmse, row.relmse,
+                         row.dssim);
+          rows_.push_back(row);
+        }
+      }
+    }
+    return write_outputs(stem) ? kExitOk : kExitIo;
+  }
+
+ private:
+  bool write_outputs(const std::string& stem);
+  std::string reading(const SweepAxis& axis) const;
+
+  const SweepOptions& o_;
+  std::vector<SweepRow> rows_;
+};
+
+std::string pct(double x) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.0f %%", x * 100);
+  return b;
+}
+
+std::string num(double x, const char* f = "%.3g") {
+  char b[32];
+  std::snprintf(b, sizeof b, f, x);
+  return b;
+}
+
+// A plain reading of one knob's rows, computed from the numbers.
+std::string Sweeper::reading(const SweepAxis& axis) const {
+  std::vector<const SweepRow*> rows;
+  for (const SweepRow& r : rows_)
+    if (r.knob == axis.key) rows.push_back(&r);
+  std::string out;
+  if (!o_.series.key.empty() && o_.series.values.size() >= 2) {
+    // Each later series value against the first, value by value.
+    const std::string& base = o_.series.values[0];
+    for (std::size_t s = 1; s < o_.series.values.size(); ++s) {
+      const std::string& other = o_.series.values[s];
+      double tr = 0, er = 0;
+      int n = 0;
+      for (const SweepRow* a : rows)
+        for (const SweepRow* b : rows)
+          if (a->series_value == base && b->series_value == other && a->value == b->value &&
+              a->seconds > 0 && a->rmse > 0) {
+            tr += std::log(b->seconds / a->seconds);
+            er += std::log(b->rmse / a->rmse);
+            ++n;
+          }
+      if (n == 0) continue;
+      double t = std::exp(tr / n), e = std::exp(er / n);
+      out += "- `" + o_.series.key + " " + other + "` against `" + base + "` (geometric mean over the " +
+             std::to_string(n) + " values of `" + axis.key + "`): " +
+             (t < 1 ? pct(1 - t) + " less time" : pct(t - 1) + " more time") + ", RMSE × " + num(e) + ".\n";
+    }
+  }
+  // Slope of log error against log time along each curve.
+  std::map<std::string, std::vector<const SweepRow*>> curves;
+  for (const SweepRow* r : rows) curves[r->series_value].push_back(r);
+  for (const auto& [sv, pts] : curves) {
+    if (pts.size() < 3) continue;
+    double sx = 0, sy = 0, sxx = 0, sxy = 0;
+    int n = 0;
+    for (const SweepRow* r : pts) {
+      if (!(r->seconds > 0) || !(r->rmse > 0)) continue;
+      double x = std::log(r->seconds), y = std::log(r->rmse);
+      sx += x, sy += y, sxx += x * x, sxy += x * y, ++n;
+    }
+    if (n < 3 || sxx * n - sx * sx <= 0) continue;
+    double k = (n * sxy - sx * sy) / (n * sxx - sx * sx);
+    out += "- " + (sv.empty() ? std::string("Along `") + axis.key + "`" : "`" + o_.series.key + " " + sv + "`") +
+           ": RMSE ∝ time^" + num(k, "%.2f") +
+           (std::fabs(k + 0.5) < 0.15 ? " (the Monte Carlo rate, 1/√time)" : "") + ".\n";
+  }
+  // Monte Carlo efficiency is 1 / (MSE × time): halving the error by averaging
+  // costs four times the time, so this ranks configurations fairly.
+  const SweepRow* best = nullptr;
+  auto cost = [](const SweepRow* r) { return r->rmse * r->rmse * r->seconds; };
+  for (const SweepRow* r : rows)
+    if (!best || cost(r) < cost(best)) best = r;
+  if (best)
+    out += "- Most efficient (lowest MSE × time): `" + axis.key + " " + best->value + "`" +
+           (best->series_value.empty() ? "" : " with `" + o_.series.key + " " + best->series_value + "`") +
+           " (" + num(best->seconds) + " s, RMSE " + num(best->rmse) + ").\n";
+  return out;
+}
+
+bool Sweeper::write_outputs(const std::string& stem) {
+  fs::path dir(o_.out_dir);
+  std::ofstream csv(dir / (stem + ".csv"));
+  csv << "scene,knob,value,series_key,series_value,seconds_median,seconds_min,rays,rmse,relmse,dssim,image\n";
+  for (const SweepRow& r : rows_)
+    csv << o_.scene << ',' << r.knob << ",\"" << r.value << "\"," << o_.series.key << ',' << r.series_value << ','
+        << r.seconds << ',' << r.seconds_min << ',' << r.rays << ',' << r.rmse << ',' << r.relmse << ','
+        << r.dssim << ',' << r.image << '\n';
+  std::ofstream json(dir / (stem + ".json"));
+  json << "{\n  \"scene\": \"" << o_.scene << "\",\n  \"reference_spp\": " << o_.reference_spp
+       << ",\n  \"repeats\": " << o_.repeats << ",\n  \"rows\": [\n";
+  for (std::size_t i = 0; i < rows_.size(); ++i) {
+    const SweepRow& r = rows_[i];
+    json << "    {\"knob\": \"" << r.knob << "\", \"value\": \"" << r.value << "\", \"series\": \""
+         << r.series_value << "\", \"seconds\": " << r.seconds << ", \"seconds_min\": " << r.seconds_min
+         << ", \"rays\": " << r.rays << ", \"rmse\": " << r.rmse << ", \"relmse\": " << r.relmse
+         << ", \"dssim\": " << r.dssim << ", \"image\": \"" << r.image << "\"}"
+         << (i + 1 < rows_.size() ? ",\n" : "\n");
+  }
+  json << "  ]\n}\n";
+  std::ostringstream md;
+  for (const SweepAxis& axis : o_.vary) {
+    Plot plot;
+    plot.title = stem + ": error versus time, varying " + axis.key;
+    plot.x_label = "render time (s, median of " + std::to_string(o_.repeats) + ")";
+    plot.y_label = "RMSE against the reference";
+    std::vector<std::string> svs = o_.series.key.empty() ? std::vector<std::string>{""} : o_.series.values;
+    for (const std::string& sv : svs) {
+      PlotSeries s;
+      s.name = sv.empty() ? axis.key : o_.series.key + " " + sv;
+      // Points are labelled on the first curve only: curves often lie close.
+      bool first = plot.series.empty();
+      for (const SweepRow& r : rows_)
+        if (r.knob == axis.key && r.series_value == sv)
+          s.points.push_back({r.seconds, r.rmse, first ? label(axis.key, r.value) : ""});
+      plot.series.push_back(std::move(s));
+    }
+    std::string svg_name = slug(stem + "-" + axis.key) + ".svg";
+    std::ofstream(dir / svg_name) << render_svg(plot);
+    md << "### " << stem << ": " << axis.key << (o_.series.key.empty() ? "" : " × " + o_.series.key) << "\n\n";
+    md << "![" << plot.title << "](" << svg_name << ")\n\n";
+    md << "| " << axis.key << " |" << (o_.series.key.empty() ? "" : " " + o_.series.key + " |")
+       << " time (s) | RMSE | relMSE | 1 − SSIM | rays |\n|---|" << (o_.series.key.empty() ? "" : "---|")
+       << "---|---|---|---|---|\n";
+    for (const SweepRow& r : rows_)
+      if (r.knob == axis.key)
+        md << "| " << r.value << " |" << (o_.series.key.empty() ? "" : " " + r.series_value + " |") << " "
+           << num(r.seconds) << " | " << num(r.rmse) << " | " << num(r.relmse) << " | " << num(r.dssim) << " | "
+           << r.rays << " |\n";
+    md << "\n" << reading(axis) << "\n";
+  }
+  if (!o_.markdown.empty()) {
+    std::ofstream out(o_.markdown);
+    out << md.str();
+    if (!out) return false;
+  }
+  if (!o_.quiet) std::cerr << "wrote " << (dir / (stem + ".csv")).string() << ", .json and plots\n";
+  return bool(csv) && bool(json);
+}
+
+}  // namespace
+
+int run_sweep(const SweepOptions& options) {
+  if (options.vary.empty()) {
+    std::cerr << "snell sweep: error: give at least one --vary KEY=V1,V2,...\n";
+    return kExitUsage;
+  }
+  Sweeper s(options);
+  return s.run();
+}
+
+}  // namespace snell::cli
