@@ -1,8 +1,16 @@
-// The pinhole camera of §6. The world is camera-relative (camera at the origin).
-// forward = normalize(look_at - location), right = normalize(cross(forward, up)),
-// true up = cross(right, forward); horizontal field of view; square pixels;
-// pixel (0, 0) is the top-left. Depth of field (aperture > 0) will add a lens
-// sample (dimension kDimLens) to `generate`; the signature already takes it.
+// The camera of §6: a pinhole, or a thin lens when aperture > 0. The world is
+// camera-relative (camera at the origin). forward = normalize(look_at - location),
+// right = normalize(cross(forward, up)), true up = cross(right, forward);
+// horizontal field of view; square pixels; pixel (0, 0) is the top-left.
+//
+// Thin lens (pbrt's model): the pinhole ray through a film point meets the focal
+// plane — the plane at `focal_distance` along `forward` — at pFocus; the lens ray
+// starts at a point of the lens disk (diameter `aperture`, in the right/up plane
+// through the camera) and aims at pFocus. Points on the focal plane are therefore
+// sharp whatever the lens sample; a point at depth z spreads over a disk of diameter
+// aperture·|z − focal_distance|/z measured on the focal plane.
+// With aperture 0 `generate` ignores the lens sample and returns the pinhole ray bit
+// for bit (the specialised kernel does not even draw the sample).
 #pragma once
 
 #include <cmath>
@@ -14,9 +22,31 @@
 
 namespace snell::rt {
 
-class PinholeCamera {
+// Shirley–Chiu concentric map of [0,1)² onto the unit disk: uniform in area, and
+// it keeps strata compact (better than the polar map for stratified samplers).
+// (0.5, 0.5) maps to the centre without dividing 0 by 0.
+inline void concentric_disk(float u, float v, float& x, float& y) {
+  float a = 2 * u - 1, b = 2 * v - 1;
+  if (a == 0 && b == 0) {
+    x = y = 0;
+    return;
+  }
+  constexpr float kQuarterPi = 0.785398163397448309616f;
+  float r, phi;
+  if (std::fabs(a) > std::fabs(b)) {
+    r = a;
+    phi = kQuarterPi * (b / a);
+  } else {
+    r = b;
+    phi = 2 * kQuarterPi - kQuarterPi * (a / b);
+  }
+  x = r * std::cos(phi);
+  y = r * std::sin(phi);
+}
+
+class Camera {
  public:
-  PinholeCamera(const ir::Camera& c, std::uint32_t width, std::uint32_t height) {
+  Camera(const ir::Camera& c, std::uint32_t width, std::uint32_t height) {
     ir::Vec3 f = ir::normalize(c.look_at - c.location);
     ir::Vec3 r = ir::normalize(ir::cross(f, c.up));
     ir::Vec3 u = ir::cross(r, f);
@@ -28,16 +58,29 @@ class PinholeCamera {
     tan_y_ = width ? tx * double(height) / double(width) : tx;
     width_ = width;
     height_ = height;
+    lens_radius_ = c.aperture > 0 ? float(c.aperture * 0.5) : 0.0f;
+    focal_distance_ = float(c.focal_distance);
   }
 
+  bool has_lens() const { return lens_radius_ > 0; }
+
   // (fx, fy): film position in pixels, (0, 0) the top-left corner of the image.
-  // `lens` is unused by the pinhole (reserved for depth of field).
-  Ray generate(double fx, double fy, float /*lens_u*/ = 0, float /*lens_v*/ = 0) const {
+  // (lens_u, lens_v): the lens sample, used only when the camera has a lens.
+  Ray generate(double fx, double fy, float lens_u = 0.5f, float lens_v = 0.5f) const {
     double sx = (2 * fx / width_ - 1) * tan_x_;
     double sy = (1 - 2 * fy / height_) * tan_y_;
+    Vec3f d = forward_ + right_ * float(sx) + up_ * float(sy);  // forward component 1
     Ray r;
+    if (lens_radius_ > 0) {
+      float lx, ly;
+      concentric_disk(lens_u, lens_v, lx, ly);
+      Vec3f focus = d * focal_distance_;
+      r.org = right_ * (lx * lens_radius_) + up_ * (ly * lens_radius_);
+      r.dir = normalize(focus - r.org);
+      return r;
+    }
     r.org = Vec3f(0, 0, 0);
-    r.dir = normalize(forward_ + right_ * float(sx) + up_ * float(sy));
+    r.dir = normalize(d);
     return r;
   }
 
@@ -47,6 +90,9 @@ class PinholeCamera {
   Vec3f forward_, right_, up_;
   double tan_x_ = 1, tan_y_ = 1;
   std::uint32_t width_ = 1, height_ = 1;
+  float lens_radius_ = 0, focal_distance_ = 1;
 };
+
+using PinholeCamera = Camera;  // the name before depth of field
 
 }  // namespace snell::rt

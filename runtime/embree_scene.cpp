@@ -9,147 +9,172 @@
 
 #include <fmt/format.h>
 
+#include "runtime/shapes.hpp"
+
 namespace snell::rt {
 
 namespace {
 
 using ir::Vec3;
+using namespace shapes;
 
-// A sphere prepared for object-space intersection from camera-relative rays.
-struct SphereData {
-  ir::Mat4 object_from_rel;  // camera-relative world -> object space
-  Vec3 center;
-  double radius = 1;
-  // A similarity transform (rotation, uniform scale, translation) keeps a sphere a
-  // sphere: then it is intersected directly in camera-relative space, skipping the
-  // per-ray matrix products (most scenes' spheres).
-  bool similarity = false;
-  Vec3 rel_center;
-  double rel_radius = 1;
-  std::uint32_t shape = 0;
-};
-
-struct PlaneData {
-  Vec3 n;       // unit world normal
-  double d = 0; // dot(n, x) = d for camera-relative x
-  std::uint32_t shape = 0;
-};
-
-Vec3 xform_point(const ir::Mat4& m, Vec3 p) {
-  return {m(0, 0) * p.x + m(0, 1) * p.y + m(0, 2) * p.z + m(0, 3),
-          m(1, 0) * p.x + m(1, 1) * p.y + m(1, 2) * p.z + m(1, 3),
-          m(2, 0) * p.x + m(2, 1) * p.y + m(2, 2) * p.z + m(2, 3)};
-}
-Vec3 xform_vector(const ir::Mat4& m, Vec3 v) {
-  return {m(0, 0) * v.x + m(0, 1) * v.y + m(0, 2) * v.z,
-          m(1, 0) * v.x + m(1, 1) * v.y + m(1, 2) * v.z,
-          m(2, 0) * v.x + m(2, 1) * v.y + m(2, 2) * v.z};
-}
-// Normal to world: inverse transpose of world_from_object = transpose of object_from_world.
-Vec3 xform_normal_by_inverse(const ir::Mat4& inv, Vec3 n) {
-  return {inv(0, 0) * n.x + inv(1, 0) * n.y + inv(2, 0) * n.z,
-          inv(0, 1) * n.x + inv(1, 1) * n.y + inv(2, 1) * n.z,
-          inv(0, 2) * n.x + inv(1, 2) * n.y + inv(2, 2) * n.z};
-}
-double det3(const ir::Mat4& m) {
-  return m(0, 0) * (m(1, 1) * m(2, 2) - m(1, 2) * m(2, 1)) -
-         m(0, 1) * (m(1, 0) * m(2, 2) - m(1, 2) * m(2, 0)) +
-         m(0, 2) * (m(1, 0) * m(2, 1) - m(1, 1) * m(2, 0));
-}
-
-// Smallest and largest roots of |o + t d - c|² = r² in double, with the
-// discriminant in the cancellation-free form of Haines et al. (RTG ch. 7).
-bool sphere_roots(Vec3 o, Vec3 d, Vec3 c, double r, double& t0, double& t1) {
-  Vec3 f = o - c;
-  double a = ir::dot(d, d);
-  double b = ir::dot(f, d);  // half of the usual b
-  Vec3 v = f - d * (b / a);
-  double lv = ir::length(v);
-  double disc = (r + lv) * (r - lv);  // r² - |v|², i.e. the discriminant / (4a)
-  if (!(disc >= 0)) return false;
-  double cc = ir::dot(f, f) - r * r;
-  double q = -b - std::copysign(std::sqrt(a * disc), b);
-  if (q == 0) {  // ray through the centre aimed... degenerate only for a = 0 or o = c
-    double s = std::sqrt(disc / a);
-    t0 = -s, t1 = s;
-    return a > 0;
-  }
-  t0 = cc / q;
-  t1 = q / a;
-  if (t0 > t1) std::swap(t0, t1);
-  return true;
+// Outward rounding so float bounds never cut the double surface.
+void store_bounds(const double lo[3], const double hi[3], RTCBounds* b) {
+  auto down = [](double v) { return std::nextafter(float(v), -INFINITY); };
+  auto up = [](double v) { return std::nextafter(float(v), INFINITY); };
+  b->lower_x = down(lo[0]), b->lower_y = down(lo[1]), b->lower_z = down(lo[2]);
+  b->upper_x = up(hi[0]), b->upper_y = up(hi[1]), b->upper_z = up(hi[2]);
 }
 
 struct SphereSet {
   std::vector<SphereData> spheres;
+  std::vector<ir::Mat4> rel_from_object;  // for the bounds
 };
 
-// Intersects sphere `s` with a camera-relative float ray; returns the nearest t in
-// (tnear, tfar) and the outward unit world normal.
-bool hit_sphere(const SphereData& s, float ox, float oy, float oz, float dx, float dy, float dz,
-                float tnear, float tfar, float& t_out, Vec3f& n_out) {
-  double t0, t1;
-  if (s.similarity) {
-    Vec3 o(ox, oy, oz), d(dx, dy, dz);
-    if (!sphere_roots(o, d, s.rel_center, s.rel_radius, t0, t1)) return false;
-    double t = t0 > tnear ? t0 : t1;
-    if (!(t > tnear) || !(t < tfar)) return false;
-    t_out = static_cast<float>(t);
-    if (!(t_out > tnear && t_out < tfar)) return false;
-    Vec3 n = (o + d * t - s.rel_center) / s.rel_radius;
-    n = ir::normalize(n);
-    n_out = to_float(n.x, n.y, n.z);
-    return true;
+// A sphere that moves during the open shutter: user geometry whose static bounds
+// hold the whole sweep; the intersector places the sphere at the ray's time
+// (Motion::at, exact rotation) and intersects it in object space in double.
+struct MovingSphere {
+  const ir::Shape* shape = nullptr;
+  Vec3 origin;
+  std::uint32_t index = 0;
+};
+struct MovingSphereSet {
+  std::vector<MovingSphere> spheres;
+};
+
+// The object's transform at shutter fraction u, camera-relative.
+ir::Transform rel_at(const ir::Shape& s, Vec3 origin, double u) {
+  return ir::Transform::translate(-origin) * (s.motion.at(u) * s.world_from_object);
+}
+
+SphereData sphere_at(const MovingSphere& m, float time) {
+  double u = std::fmin(1.0, std::fmax(0.0, double(time)));  // robustness #32: clamp
+  ir::Transform t = rel_at(*m.shape, m.origin, u);
+  SphereData d;
+  d.object_from_rel = t.inv;
+  d.center = m.shape->center;
+  d.radius = m.shape->radius;
+  d.shape = m.index;
+  return d;
+}
+
+// Bounds of the sweep: the union of the sphere's boxes at kSweepSteps + 1 times,
+// grown by the largest distance a box corner moves between two neighbouring times
+// (a point's path between two samples stays within its chord length of either end,
+// as long as the path is no longer than twice the chord; true for these steps).
+constexpr int kSweepSteps = 64;
+void moving_sphere_bounds(const RTCBoundsFunctionArguments* args) {
+  auto* set = static_cast<const MovingSphereSet*>(args->geometryUserPtr);
+  const MovingSphere& m = set->spheres[args->primID];
+  const ir::Shape& s = *m.shape;
+  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  double pad = 0;
+  Vec3 prev[8];
+  for (int i = 0; i <= kSweepSteps; ++i) {
+    ir::Transform t = rel_at(s, m.origin, double(i) / kSweepSteps);
+    sphere_box(t.m, s.center, s.radius, lo, hi);
+    for (int c = 0; c < 8; ++c) {
+      Vec3 q = s.center + Vec3(c & 1 ? s.radius : -s.radius, c & 2 ? s.radius : -s.radius,
+                               c & 4 ? s.radius : -s.radius);
+      Vec3 w = xform_point(t.m, q);
+      if (i > 0) pad = std::fmax(pad, ir::length(w - prev[c]));
+      prev[c] = w;
+    }
   }
-  Vec3 o = xform_point(s.object_from_rel, Vec3(ox, oy, oz));
-  Vec3 d = xform_vector(s.object_from_rel, Vec3(dx, dy, dz));
-  if (!sphere_roots(o, d, s.center, s.radius, t0, t1)) return false;
-  double t = t0 > tnear ? t0 : t1;
-  if (!(t > tnear) || !(t < tfar)) return false;
-  Vec3 no = (o + d * t - s.center) / s.radius;
-  Vec3 nw = ir::normalize(xform_normal_by_inverse(s.object_from_rel, no));
-  t_out = static_cast<float>(t);
-  if (!(t_out > tnear && t_out < tfar)) return false;
-  n_out = to_float(nw.x, nw.y, nw.z);
-  return true;
+  for (int k = 0; k < 3; ++k) lo[k] -= pad, hi[k] += pad;
+  store_bounds(lo, hi, args->bounds_o);
+}
+
+void moving_sphere_intersect(const RTCIntersectFunctionNArguments* args) {
+  auto* set = static_cast<const MovingSphereSet*>(args->geometryUserPtr);
+  const MovingSphere& m = set->spheres[args->primID];
+  RTCRayN* ray = RTCRayHitN_RayN(args->rayhit, args->N);
+  RTCHitN* hit = RTCRayHitN_HitN(args->rayhit, args->N);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (!args->valid[i]) continue;
+    SphereData s = sphere_at(m, RTCRayN_time(ray, args->N, i));
+    float t;
+    Vec3f n;
+    if (!hit_sphere(s, RTCRayN_org_x(ray, args->N, i), RTCRayN_org_y(ray, args->N, i),
+                    RTCRayN_org_z(ray, args->N, i), RTCRayN_dir_x(ray, args->N, i),
+                    RTCRayN_dir_y(ray, args->N, i), RTCRayN_dir_z(ray, args->N, i),
+                    RTCRayN_tnear(ray, args->N, i), RTCRayN_tfar(ray, args->N, i), t, n))
+      continue;
+    RTCRayN_tfar(ray, args->N, i) = t;
+    RTCHitN_Ng_x(hit, args->N, i) = n.x;
+    RTCHitN_Ng_y(hit, args->N, i) = n.y;
+    RTCHitN_Ng_z(hit, args->N, i) = n.z;
+    RTCHitN_u(hit, args->N, i) = 0;
+    RTCHitN_v(hit, args->N, i) = 0;
+    RTCHitN_primID(hit, args->N, i) = args->primID;
+    RTCHitN_geomID(hit, args->N, i) = args->geomID;
+    RTCHitN_instID(hit, args->N, i, 0) = args->context->instID[0];
+  }
+}
+
+void moving_sphere_occluded(const RTCOccludedFunctionNArguments* args) {
+  auto* set = static_cast<const MovingSphereSet*>(args->geometryUserPtr);
+  const MovingSphere& m = set->spheres[args->primID];
+  RTCRayN* ray = args->ray;
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (!args->valid[i]) continue;
+    SphereData s = sphere_at(m, RTCRayN_time(ray, args->N, i));
+    float t;
+    Vec3f n;
+    if (hit_sphere(s, RTCRayN_org_x(ray, args->N, i), RTCRayN_org_y(ray, args->N, i),
+                   RTCRayN_org_z(ray, args->N, i), RTCRayN_dir_x(ray, args->N, i),
+                   RTCRayN_dir_y(ray, args->N, i), RTCRayN_dir_z(ray, args->N, i),
+                   RTCRayN_tnear(ray, args->N, i), RTCRayN_tfar(ray, args->N, i), t, n))
+      RTCRayN_tfar(ray, args->N, i) = -INFINITY;
+  }
+}
+
+// Triangle soup of one shape in object space, with its winding already outward.
+struct Soup {
+  std::vector<Vec3> verts;  // three per triangle
+};
+
+// Time steps for a moving triangle shape: Embree interpolates vertices linearly
+// between steps, exact for pure translation (2 steps). Rotation and scale bend the
+// paths, so segments are doubled until every checked vertex's mid-segment position
+// is within 1e-4 of the shape's size of the linear interpolation, at most 128
+// segments (129 steps, Embree's limit): a 90° turn takes 64 segments; a turn beyond
+// ~230° keeps a chord error above 1e-4 (documented limit).
+unsigned motion_segments(const ir::Shape& s, const Soup& soup, Vec3 origin) {
+  if (soup.verts.empty()) return 1;
+  std::vector<Vec3> probe;
+  std::size_t stride = std::max<std::size_t>(1, soup.verts.size() / 64);
+  for (std::size_t i = 0; i < soup.verts.size(); i += stride) probe.push_back(soup.verts[i]);
+  ir::Transform t0 = rel_at(s, origin, 0);
+  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  for (const Vec3& v : soup.verts) {
+    Vec3 w = t0.point(v);
+    for (int k = 0; k < 3; ++k) lo[k] = std::fmin(lo[k], w[k]), hi[k] = std::fmax(hi[k], w[k]);
+  }
+  double size = ir::length(Vec3(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]));
+  double tol = 1e-4 * (size > 0 ? size : 1);
+  unsigned segs = 1;
+  for (; segs < 128; segs *= 2) {
+    double err = 0;
+    for (unsigned i = 0; i < segs; ++i) {
+      ir::Transform a = rel_at(s, origin, double(i) / segs);
+      ir::Transform b = rel_at(s, origin, double(i + 1) / segs);
+      ir::Transform m = rel_at(s, origin, (i + 0.5) / segs);
+      for (const Vec3& v : probe)
+        err = std::fmax(err, ir::length(m.point(v) - (a.point(v) + b.point(v)) * 0.5));
+    }
+    if (err <= tol) break;
+  }
+  return segs;
 }
 
 void sphere_bounds(const RTCBoundsFunctionArguments* args) {
   auto* set = static_cast<const SphereSet*>(args->geometryUserPtr);
   const SphereData& s = set->spheres[args->primID];
-  // World-relative bounds of the transformed object-space box around the sphere.
-  ir::Mat4 rel_from_object;
-  {
-    // Invert the affine object_from_rel through its 3x3 adjugate.
-    const ir::Mat4& m = s.object_from_rel;
-    double det = det3(m);
-    ir::Mat4 inv;
-    inv(0, 0) = (m(1, 1) * m(2, 2) - m(1, 2) * m(2, 1)) / det;
-    inv(0, 1) = (m(0, 2) * m(2, 1) - m(0, 1) * m(2, 2)) / det;
-    inv(0, 2) = (m(0, 1) * m(1, 2) - m(0, 2) * m(1, 1)) / det;
-    inv(1, 0) = (m(1, 2) * m(2, 0) - m(1, 0) * m(2, 2)) / det;
-    inv(1, 1) = (m(0, 0) * m(2, 2) - m(0, 2) * m(2, 0)) / det;
-    inv(1, 2) = (m(0, 2) * m(1, 0) - m(0, 0) * m(1, 2)) / det;
-    inv(2, 0) = (m(1, 0) * m(2, 1) - m(1, 1) * m(2, 0)) / det;
-    inv(2, 1) = (m(0, 1) * m(2, 0) - m(0, 0) * m(2, 1)) / det;
-    inv(2, 2) = (m(0, 0) * m(1, 1) - m(0, 1) * m(1, 0)) / det;
-    for (int r = 0; r < 3; ++r)
-      inv(r, 3) = -(inv(r, 0) * m(0, 3) + inv(r, 1) * m(1, 3) + inv(r, 2) * m(2, 3));
-    rel_from_object = inv;
-  }
   double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-  for (int i = 0; i < 8; ++i) {
-    Vec3 c = s.center + Vec3(i & 1 ? s.radius : -s.radius, i & 2 ? s.radius : -s.radius,
-                             i & 4 ? s.radius : -s.radius);
-    Vec3 w = xform_point(rel_from_object, c);
-    for (int k = 0; k < 3; ++k) lo[k] = std::fmin(lo[k], w[k]), hi[k] = std::fmax(hi[k], w[k]);
-  }
-  // Round outward so float bounds never cut the double surface.
-  auto down = [](double v) { return std::nextafter(float(v), -INFINITY); };
-  auto up = [](double v) { return std::nextafter(float(v), INFINITY); };
-  RTCBounds* b = args->bounds_o;
-  b->lower_x = down(lo[0]), b->lower_y = down(lo[1]), b->lower_z = down(lo[2]);
-  b->upper_x = up(hi[0]), b->upper_y = up(hi[1]), b->upper_z = up(hi[2]);
+  sphere_box(set->rel_from_object[args->primID], s.center, s.radius, lo, hi);
+  store_bounds(lo, hi, args->bounds_o);
 }
 
 void sphere_intersect(const RTCIntersectFunctionNArguments* args) {
@@ -206,12 +231,15 @@ struct EmbreeScene::Impl {
   RTCScene scene = nullptr;
   std::string error;
   SphereSet spheres;
+  MovingSphereSet moving_spheres;
   std::vector<PlaneData> planes;
-  // Triangle geometry: per-primitive owner (shape index); area lights: prim / 2.
+  // Triangle geometry: per-primitive owner (shape index); area lights: prim / 2;
+  // a moving triangle shape has a geometry of its own (geom_shape[geomID]).
   unsigned tri_geom = RTC_INVALID_GEOMETRY_ID, sphere_geom = RTC_INVALID_GEOMETRY_ID,
-           light_geom = RTC_INVALID_GEOMETRY_ID;
+           moving_sphere_geom = RTC_INVALID_GEOMETRY_ID, light_geom = RTC_INVALID_GEOMETRY_ID;
   std::vector<std::uint32_t> tri_owner;
-  std::size_t triangle_count = 0;
+  std::vector<std::int64_t> geom_shape;  // by geomID: the moving shape, or -1
+  std::size_t triangle_count = 0, moving_shapes = 0, motion_steps = 0;
 
   ~Impl() {
     if (scene) rtcReleaseScene(scene);
@@ -219,7 +247,7 @@ struct EmbreeScene::Impl {
   }
 
   void add_triangles(const std::vector<Vec3>& verts, const std::vector<std::uint32_t>& idx,
-                     const std::vector<std::uint32_t>& owner, unsigned& geom_id) {
+                     unsigned& geom_id) {
     if (idx.empty()) return;
     RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
     auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(
@@ -234,9 +262,90 @@ struct EmbreeScene::Impl {
     rtcCommitGeometry(g);
     geom_id = rtcAttachGeometry(scene, g);
     rtcReleaseGeometry(g);
-    (void)owner;
+  }
+
+  // A moving box/triangle/mesh: Embree motion blur, one vertex buffer per time step,
+  // the vertices placed exactly (Motion::at) at each step.
+  void add_moving_triangles(const ir::Shape& s, std::uint32_t shape, const Soup& soup,
+                            Vec3 origin) {
+    if (soup.verts.empty()) return;
+    unsigned segs = motion_segments(s, soup, origin);
+    RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    rtcSetGeometryTimeStepCount(g, segs + 1);
+    for (unsigned step = 0; step <= segs; ++step) {
+      ir::Transform t = rel_at(s, origin, double(step) / segs);
+      auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, step,
+                                                             RTC_FORMAT_FLOAT3,
+                                                             3 * sizeof(float),
+                                                             soup.verts.size()));
+      for (std::size_t i = 0; i < soup.verts.size(); ++i) {
+        Vec3 w = t.point(soup.verts[i]);
+        vb[3 * i] = float(w.x), vb[3 * i + 1] = float(w.y), vb[3 * i + 2] = float(w.z);
+      }
+    }
+    auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+        g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
+        soup.verts.size() / 3));
+    for (std::size_t i = 0; i < soup.verts.size(); ++i) ib[i] = unsigned(i);
+    rtcCommitGeometry(g);
+    unsigned id = rtcAttachGeometry(scene, g);
+    rtcReleaseGeometry(g);
+    if (geom_shape.size() <= id) geom_shape.resize(id + 1, -1);
+    geom_shape[id] = shape;
+    ++moving_shapes;
+    motion_steps += segs + 1;
   }
 };
+
+namespace {
+// The triangles of a box, triangle or mesh in object space, three vertices each,
+// wound so that Ng points outward after a transform whose determinant has the sign
+// of `flip` (mirroring transforms reverse the winding).
+Soup object_triangles(const ir::Scene& sc, const ir::Shape& s, bool flip) {
+  Soup out;
+  auto tri = [&](Vec3 a, Vec3 b, Vec3 c, bool f) {
+    out.verts.push_back(a);
+    out.verts.push_back(f ? c : b);
+    out.verts.push_back(f ? b : c);
+  };
+  switch (s.kind) {
+    case ir::ShapeKind::Box: {
+      Vec3 lo = s.min, hi = s.max;
+      auto corner = [&](int i) {
+        return Vec3(i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z);
+      };
+      for (int axis = 0; axis < 3; ++axis)
+        for (int side = 0; side < 2; ++side) {
+          // The face's four corners in cyclic order, then wound outward.
+          int bit = 1 << axis, b1 = 1 << ((axis + 1) % 3), b2 = 1 << ((axis + 2) % 3);
+          int f = side ? bit : 0;
+          Vec3 q[4] = {corner(f), corner(f | b1), corner(f | b1 | b2), corner(f | b2)};
+          Vec3 outward;
+          outward[axis] = side ? 1 : -1;
+          bool wrong = ir::dot(ir::cross(q[1] - q[0], q[2] - q[0]), outward) < 0;
+          tri(q[0], q[1], q[2], flip != wrong);
+          tri(q[0], q[2], q[3], flip != wrong);
+        }
+      break;
+    }
+    case ir::ShapeKind::Triangle: tri(s.a, s.b, s.c, flip); break;
+    case ir::ShapeKind::Mesh: {
+      if (s.mesh >= sc.meshes.size()) break;
+      const ir::Mesh& m = sc.meshes[s.mesh];
+      for (std::size_t i = 0; i + 2 < m.indices.size(); i += 3) {
+        if (m.indices[i] >= m.positions.size() || m.indices[i + 1] >= m.positions.size() ||
+            m.indices[i + 2] >= m.positions.size())
+          continue;
+        tri(m.positions[m.indices[i]], m.positions[m.indices[i + 1]],
+            m.positions[m.indices[i + 2]], flip);
+      }
+      break;
+    }
+    default: break;
+  }
+  return out;
+}
+}  // namespace
 
 EmbreeScene::EmbreeScene(const ir::Scene& sc, ir::Vec3 origin)
     : origin_(origin), impl_(std::make_unique<Impl>()) {
@@ -246,27 +355,24 @@ EmbreeScene::EmbreeScene(const ir::Scene& sc, ir::Vec3 origin)
   rtcSetDeviceErrorFunction(im.device, embree_error, &im.error);
   im.scene = rtcNewScene(im.device);
   rtcSetSceneBuildQuality(im.scene, RTC_BUILD_QUALITY_HIGH);
+  // §6/§8: objects move only while the shutter is open; with a closed shutter they
+  // stand where their transforms place them (the shutter-open placement).
+  bool shutter_open = sc.camera.shutter_close > sc.camera.shutter_open;
 
   std::vector<Vec3> tv;  // camera-relative vertices (double until the float store)
   std::vector<std::uint32_t> ti;
-  auto add_tri = [&](const ir::Transform& xf, bool flip, Vec3 a, Vec3 b, Vec3 c,
-                     std::uint32_t shape) {
-    auto base = static_cast<std::uint32_t>(tv.size());
-    tv.push_back(xf.point(a) - origin);
-    tv.push_back(xf.point(b) - origin);
-    tv.push_back(xf.point(c) - origin);
-    ti.push_back(base);
-    ti.push_back(flip ? base + 2 : base + 1);
-    ti.push_back(flip ? base + 1 : base + 2);
-    im.tri_owner.push_back(shape);
-  };
-
   for (std::uint32_t si = 0; si < sc.shapes.size(); ++si) {
     const ir::Shape& s = sc.shapes[si];
     const ir::Transform& xf = s.world_from_object;
+    bool moving = shutter_open && s.motion.moves();
     bool flip = det3(xf.m) < 0;  // mirroring transforms reverse the winding
     switch (s.kind) {
       case ir::ShapeKind::Sphere: {
+        if (moving) {
+          im.moving_spheres.spheres.push_back({&s, origin, si});
+          ++im.moving_shapes;
+          break;
+        }
         SphereData d;
         d.object_from_rel = xf.inv * ir::Transform::translate(origin).m;
         d.center = s.center;
@@ -286,68 +392,57 @@ EmbreeScene::EmbreeScene(const ir::Scene& sc, ir::Vec3 origin)
           d.rel_radius = s.radius * std::sqrt(l0);
         }
         im.spheres.spheres.push_back(d);
+        im.spheres.rel_from_object.push_back((ir::Transform::translate(-origin) * xf).m);
         break;
       }
       case ir::ShapeKind::Plane: {
         Vec3 p0 = xf.point(s.normal * s.distance) - origin;
         Vec3 n = ir::normalize(xf.normal(s.normal));
-        im.planes.push_back({n, ir::dot(n, p0), si});
+        im.planes.push_back({n, ir::dot(n, p0), si, moving ? &s : nullptr});
+        if (moving) ++im.moving_shapes;
         break;
       }
-      case ir::ShapeKind::Box: {
-        Vec3 lo = s.min, hi = s.max;
-        auto corner = [&](int i) {
-          return Vec3(i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z);
-        };
-        for (int axis = 0; axis < 3; ++axis)
-          for (int side = 0; side < 2; ++side) {
-            // The face's four corners in cyclic order, then wound outward.
-            int bit = 1 << axis, b1 = 1 << ((axis + 1) % 3), b2 = 1 << ((axis + 2) % 3);
-            int f = side ? bit : 0;
-            Vec3 q[4] = {corner(f), corner(f | b1), corner(f | b1 | b2), corner(f | b2)};
-            Vec3 outward;
-            outward[axis] = side ? 1 : -1;
-            bool wrong = ir::dot(ir::cross(q[1] - q[0], q[2] - q[0]), outward) < 0;
-            add_tri(xf, flip != wrong, q[0], q[1], q[2], si);
-            add_tri(xf, flip != wrong, q[0], q[2], q[3], si);
-          }
-        break;
-      }
+      case ir::ShapeKind::Box:
       case ir::ShapeKind::Triangle:
-        add_tri(xf, flip, s.a, s.b, s.c, si);
-        break;
       case ir::ShapeKind::Mesh: {
-        if (s.mesh >= sc.meshes.size()) break;
-        const ir::Mesh& m = sc.meshes[s.mesh];
-        for (std::size_t i = 0; i + 2 < m.indices.size(); i += 3) {
-          if (m.indices[i] >= m.positions.size() || m.indices[i + 1] >= m.positions.size() ||
-              m.indices[i + 2] >= m.positions.size())
-            continue;
-          add_tri(xf, flip, m.positions[m.indices[i]], m.positions[m.indices[i + 1]],
-                  m.positions[m.indices[i + 2]], si);
+        Soup soup = object_triangles(sc, s, flip);
+        if (moving) {
+          im.add_moving_triangles(s, si, soup, origin);
+          break;
+        }
+        for (std::size_t i = 0; i < soup.verts.size(); ++i) {
+          tv.push_back(xf.point(soup.verts[i]) - origin);
+          ti.push_back(std::uint32_t(tv.size() - 1));
+          if (i % 3 == 0) im.tri_owner.push_back(si);
         }
         break;
       }
     }
   }
   im.triangle_count = ti.size() / 3;
-  im.add_triangles(tv, ti, im.tri_owner, im.tri_geom);
+  im.add_triangles(tv, ti, im.tri_geom);
 
-  if (!im.spheres.spheres.empty()) {
+  auto add_user = [&](void* data, std::size_t n, RTCBoundsFunction bounds,
+                      RTCIntersectFunctionN isect, RTCOccludedFunctionN occl, unsigned& id) {
+    if (n == 0) return;
     RTCGeometry g = rtcNewGeometry(im.device, RTC_GEOMETRY_TYPE_USER);
-    rtcSetGeometryUserPrimitiveCount(g, static_cast<unsigned>(im.spheres.spheres.size()));
-    rtcSetGeometryUserData(g, &im.spheres);
-    rtcSetGeometryBoundsFunction(g, sphere_bounds, nullptr);
-    rtcSetGeometryIntersectFunction(g, sphere_intersect);
-    rtcSetGeometryOccludedFunction(g, sphere_occluded);
+    rtcSetGeometryUserPrimitiveCount(g, static_cast<unsigned>(n));
+    rtcSetGeometryUserData(g, data);
+    rtcSetGeometryBoundsFunction(g, bounds, nullptr);
+    rtcSetGeometryIntersectFunction(g, isect);
+    rtcSetGeometryOccludedFunction(g, occl);
     rtcCommitGeometry(g);
-    im.sphere_geom = rtcAttachGeometry(im.scene, g);
+    id = rtcAttachGeometry(im.scene, g);
     rtcReleaseGeometry(g);
-  }
+  };
+  add_user(&im.spheres, im.spheres.spheres.size(), sphere_bounds, sphere_intersect,
+           sphere_occluded, im.sphere_geom);
+  add_user(&im.moving_spheres, im.moving_spheres.spheres.size(), moving_sphere_bounds,
+           moving_sphere_intersect, moving_sphere_occluded, im.moving_sphere_geom);
 
   if (!sc.area_lights.empty()) {
     std::vector<Vec3> lv;
-    std::vector<std::uint32_t> li, lo;
+    std::vector<std::uint32_t> li;
     for (std::uint32_t k = 0; k < sc.area_lights.size(); ++k) {
       const ir::AreaLight& l = sc.area_lights[k];
       auto base = static_cast<std::uint32_t>(lv.size());
@@ -357,25 +452,37 @@ EmbreeScene::EmbreeScene(const ir::Scene& sc, ir::Vec3 origin)
       lv.push_back(c + l.edge1 + l.edge2);
       lv.push_back(c + l.edge2);
       for (std::uint32_t j : {0u, 1u, 2u, 0u, 2u, 3u}) li.push_back(base + j);
-      lo.push_back(k);
-      lo.push_back(k);
     }
-    im.add_triangles(lv, li, lo, im.light_geom);
+    im.add_triangles(lv, li, im.light_geom);
   }
   rtcCommitScene(im.scene);
   if (!im.error.empty()) throw std::runtime_error(im.error);
 }
+
+bool EmbreeScene::has_motion() const { return impl_->moving_shapes > 0; }
 
 EmbreeScene::~EmbreeScene() = default;
 
 namespace {
 // Planes in double from the float ray; the float origin was already offset by the
 // caller, so the sign of (d - n·o) is reliable.
-bool hit_plane(const PlaneData& p, const Ray& r, double tmax, double& t) {
+// A moving plane is placed at the ray's time first.
+bool hit_plane(const PlaneData& p, const Ray& r, double tmax, Vec3 origin, double& t,
+               Vec3& n_out) {
   Vec3 o(r.org.x, r.org.y, r.org.z), d(r.dir.x, r.dir.y, r.dir.z);
-  double denom = ir::dot(p.n, d);
+  Vec3 n = p.n;
+  double pd = p.d;
+  if (p.moving) {
+    double u = std::fmin(1.0, std::fmax(0.0, double(r.time)));
+    ir::Transform xf = rel_at(*p.moving, origin, u);
+    Vec3 p0 = xf.point(p.moving->normal * p.moving->distance);
+    n = ir::normalize(xf.normal(p.moving->normal));
+    pd = ir::dot(n, p0);
+  }
+  n_out = n;
+  double denom = ir::dot(n, d);
   if (denom == 0) return false;
-  t = (p.d - ir::dot(p.n, o)) / denom;
+  t = (pd - ir::dot(n, o)) / denom;
   return t > 0 && t < tmax && static_cast<float>(t) > 0;
 }
 
@@ -410,6 +517,12 @@ bool EmbreeScene::intersect(const Ray& r, Hit& hit) const {
     if (rh.hit.geomID == im.sphere_geom) {
       hit.kind = Hit::Kind::Shape;
       hit.index = im.spheres.spheres[rh.hit.primID].shape;
+    } else if (rh.hit.geomID == im.moving_sphere_geom) {
+      hit.kind = Hit::Kind::Shape;
+      hit.index = im.moving_spheres.spheres[rh.hit.primID].index;
+    } else if (rh.hit.geomID < im.geom_shape.size() && im.geom_shape[rh.hit.geomID] >= 0) {
+      hit.kind = Hit::Kind::Shape;
+      hit.index = std::uint32_t(im.geom_shape[rh.hit.geomID]);
     } else if (rh.hit.geomID == im.light_geom) {
       hit.kind = Hit::Kind::AreaLight;
       hit.index = rh.hit.primID / 2;
@@ -421,11 +534,12 @@ bool EmbreeScene::intersect(const Ray& r, Hit& hit) const {
   double tmax = found ? double(hit.t) : double(r.tmax);
   for (const PlaneData& p : im.planes) {
     double t;
-    if (hit_plane(p, r, tmax, t)) {
+    Vec3 n;
+    if (hit_plane(p, r, tmax, origin_, t, n)) {
       tmax = t;
       found = true;
       hit.t = static_cast<float>(t);
-      hit.ng = to_float(p.n.x, p.n.y, p.n.z);
+      hit.ng = to_float(n.x, n.y, n.z);
       hit.kind = Hit::Kind::Shape;
       hit.index = p.shape;
     }
@@ -437,7 +551,8 @@ bool EmbreeScene::occluded(const Ray& r) const {
   const Impl& im = *impl_;
   for (const PlaneData& p : im.planes) {
     double t;
-    if (hit_plane(p, r, r.tmax, t)) return true;
+    Vec3 n;
+    if (hit_plane(p, r, r.tmax, origin_, t, n)) return true;
   }
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
@@ -458,9 +573,11 @@ std::string to_string(const Hit& h) {
 
 std::string EmbreeScene::to_string() const {
   return fmt::format(
-      "embree_scene {{ origin {} spheres {} planes {} triangles {} area_light_tris {} }}",
+      "embree_scene {{ origin {} spheres {} planes {} triangles {} area_light_tris {} "
+      "moving_shapes {} motion_steps {} }}",
       ir::to_string(origin_), impl_->spheres.spheres.size(), impl_->planes.size(),
-      impl_->triangle_count, impl_->light_geom == RTC_INVALID_GEOMETRY_ID ? 0 : 2);
+      impl_->triangle_count, impl_->light_geom == RTC_INVALID_GEOMETRY_ID ? 0 : 2,
+      impl_->moving_shapes, impl_->motion_steps);
 }
 
 }  // namespace snell::rt

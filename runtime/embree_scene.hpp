@@ -13,6 +13,12 @@
 //   and they block shadow rays of other lights (an area light is a surface).
 // - planes: infinite, so they stay outside the BVH (an infinite box would ruin its
 //   quality) and are tested analytically after the Embree query.
+// - motion (§8, only for objects that move while the shutter is open; everything
+//   else is static geometry): a moving sphere is user geometry bounded by its sweep
+//   and intersected at the ray's time; a moving plane is placed at the ray's time; a
+//   moving box/triangle/mesh is an Embree motion-blur geometry with enough time
+//   steps that linear interpolation follows rotations (embree_scene.cpp). Ray times
+//   are shutter fractions in [0, 1], Embree's convention.
 // The scene is built without RTC_SCENE_FLAG_ROBUST: with Wächter–Binder offsets the
 // self-intersection property test (tests/runtime/test_robust.cpp, scales 1e-2..1e5)
 // sees 0 re-hits without it. Watertightness on shared mesh edges is the flag's other
@@ -32,7 +38,7 @@ namespace snell::rt {
 struct Ray {
   Vec3f org, dir;  // dir need not be unit length; t is in units of |dir|
   float tmax = INFINITY;
-  float time = 0;  // shutter fraction in [0, 1]; reserved for motion blur
+  float time = 0;  // shutter fraction in [0, 1): 0 = shutter open, Embree's ray time
 };
 
 struct Hit {
@@ -59,6 +65,8 @@ class EmbreeScene {
   bool occluded(const Ray& ray) const;
 
   ir::Vec3 origin() const { return origin_; }
+  // True when some object moves during the open shutter (ray times matter).
+  bool has_motion() const;
   std::string to_string() const;
 
   struct Impl;

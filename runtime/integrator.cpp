@@ -1,10 +1,12 @@
 #include "runtime/integrator.hpp"
 
+#include <chrono>
 #include <cmath>
 
 #include <fmt/format.h>
 
 #include "runtime/fresnel.hpp"
+#include "runtime/scatter.hpp"
 
 namespace snell::rt {
 
@@ -30,6 +32,13 @@ struct TraceEntry {
 };
 
 }  // namespace
+
+double CostClock::now_ns() {
+  return double(std::chrono::duration_cast<std::chrono::nanoseconds>(
+                    std::chrono::steady_clock::now().time_since_epoch())
+                    .count());
+}
+double CostClock::since(double t0) const { return std::fmax(0.0, now_ns() - t0 - overhead_ns); }
 
 std::string to_string(RayKind k) {
   switch (k) {
@@ -108,8 +117,9 @@ Color Integrator::emitted(const LightF& l, Vec3f dir) const {
 // each sample L·cosθ_surf·cosθ_light·A/(d²·nu·nv) (area-to-solid-angle factor).
 // Shadow rays leave from the offset hit point and end at the offset light sample, so
 // the light's own surface never blocks them; everything else does (§7).
-Color Integrator::direct(Vec3f p, Vec3f nf, std::uint64_t key, const SampleContext& sc,
-                         RenderStats& stats) const {
+template <class K>
+Color Integrator::direct(Vec3f p, Vec3f nf, float time, std::uint64_t key,
+                         const SampleContext& sc, RenderStats& stats) const {
   Color e(0);
   Vec3f o = offset_ray_origin(p, nf);
   for (const PointF& l : points_) {
@@ -117,12 +127,13 @@ Color Integrator::direct(Vec3f p, Vec3f nf, std::uint64_t key, const SampleConte
     float d2 = dot(to, to);
     float cos_s = dot(nf, to);
     if (!(cos_s > 0)) continue;
-    Ray shadow{o, l.pos - o, 1.0f, 0};
+    Ray shadow{o, l.pos - o, 1.0f, time};
     ++stats.shadow_rays;
     if (embree_.occluded(shadow)) continue;
     float d = std::sqrt(d2);
     e += l.intensity * (cos_s / (d * d2));
   }
+  if constexpr (!K::area) return e;
   for (std::size_t li = 0; li < area_.size(); ++li) {
     const LightF& l = area_[li];
     if (l.radiance.x == 0 && l.radiance.y == 0 && l.radiance.z == 0) continue;
@@ -141,7 +152,7 @@ Color Integrator::direct(Vec3f p, Vec3f nf, std::uint64_t key, const SampleConte
         if (!l.two_sided && !(cos_l > 0)) continue;
         Vec3f side = cos_l > 0 ? l.n : -l.n;  // the light's face towards p
         Vec3f target = offset_ray_origin(q, side);
-        Ray shadow{o, target - o, 1.0f, 0};
+        Ray shadow{o, target - o, 1.0f, time};
         ++stats.shadow_rays;
         if (embree_.occluded(shadow)) continue;
         float g = cos_s * std::fabs(cos_l) / (d2 * d2) * l.area * inv_n;
@@ -151,8 +162,9 @@ Color Integrator::direct(Vec3f p, Vec3f nf, std::uint64_t key, const SampleConte
   return e;
 }
 
+template <class K>
 Color Integrator::li(const Ray& camera_ray, const SampleContext& sc, RenderStats& stats,
-                     std::vector<Node>& stack, std::string* trace) const {
+                     std::vector<Node>& stack, std::string* trace, CostClock* cost) const {
   Color total(0);
   std::vector<TraceEntry> entries;
   stack.clear();
@@ -166,6 +178,17 @@ Color Integrator::li(const Ray& camera_ray, const SampleContext& sc, RenderStats
   while (!stack.empty()) {
     Node node = stack.back();
     stack.pop_back();
+    double t_node = cost ? CostClock::now_ns() : 0, nested = 0;
+    // Direct light is timed as shadow cost and taken out of the node's own time.
+    auto direct_timed = [&](Vec3f p, Vec3f nf) {
+      if (!cost) return direct<K>(p, nf, node.ray.time, node.key, sc, stats);
+      double t0 = CostClock::now_ns();
+      Color e = direct<K>(p, nf, node.ray.time, node.key, sc, stats);
+      double dt = cost->since(t0);
+      cost->ns[kCostShadow] += dt;
+      nested += dt + cost->overhead_ns;
+      return e;
+    };
     switch (node.kind) {
       case RayKind::Camera: ++stats.camera_rays; break;
       case RayKind::Reflection: ++stats.reflection_rays; break;
@@ -226,7 +249,7 @@ Color Integrator::li(const Ray& camera_ray, const SampleContext& sc, RenderStats
       switch (m.kind) {
         case ir::MaterialKind::Diffuse: {
           Color albedo = texture(m.color, p, ng);
-          contrib = w * albedo * direct(p, nf, node.key, sc, stats) * kInvPi;
+          contrib = w * albedo * direct_timed(p, nf) * kInvPi;
           break;
         }
         case ir::MaterialKind::Mirror:
@@ -234,25 +257,17 @@ Color Integrator::li(const Ray& camera_ray, const SampleContext& sc, RenderStats
                 w * texture(m.color, p, ng), 1);
           break;
         case ir::MaterialKind::Glossy: {
-          // Perturb the mirror direction inside a square of side `blur` perpendicular
-          // to it, then renormalise. A direction that falls below the surface is
-          // mirrored back above it (its normal component flipped): energy is kept and
-          // no sample is wasted; the limit is a slight bias towards grazing angles.
           Vec3f r = normalize(refl);
-          if (m.blur > 0) {
-            Vec3f b1, b2;
-            orthonormal_basis(r, b1, b2);
+          if (m.blur > 0) {  // blur 0: the mirror, and no sample drawn
             Sample2 s = sample2(sc.spec, sc.px, sc.py, sc.index, node_dim(node.key, 7));
-            float a = float(m.blur);
-            r = normalize(r + b1 * ((s.u - 0.5f) * a) + b2 * ((s.v - 0.5f) * a));
-            float below = dot(r, nf);
-            if (below < 0) r = normalize(r - nf * (2 * below));
+            r = glossy_direction(r, nf, float(m.blur), s.u, s.v);
           }
           spawn(RayKind::Glossy, offset_ray_origin(p, nf), r, w * texture(m.color, p, ng), 1);
           break;
         }
         case ir::MaterialKind::Dielectric: {
-          if (!entering) {
+          if constexpr (!K::dielectric) break;  // not compiled in: no dielectric here
+          if (K::absorption && !entering) {
             // Beer over the path inside this object (nested media are not modelled),
             // measured from the surface point the ray left, not its offset origin:
             // near the origin the offset is 2^-16 absolute, visible in thin slabs.
@@ -277,13 +292,14 @@ Color Integrator::li(const Ray& camera_ray, const SampleContext& sc, RenderStats
           Interface f = make_interface(cos_i, m.ior);
           double R = reflectance(f, fresnel_);
           Color albedo = texture(m.color, p, ng);
-          contrib = w * albedo * direct(p, nf, node.key, sc, stats) * (kInvPi * float(1 - R));
+          contrib = w * albedo * direct_timed(p, nf) * (kInvPi * float(1 - R));
           spawn(RayKind::Reflection, offset_ray_origin(p, nf), normalize(refl), w * float(R), 1);
           break;
         }
       }
     }
     total += contrib;
+    if (cost) cost->ns[int(node.kind)] += std::fmax(0.0, cost->since(t_node) - nested);
     if (trace) {
       entries.push_back({node.depth, fmt::format("{} depth {} weight {}: {} -> contribution {}",
                                                  rt::to_string(node.kind), node.depth,
@@ -299,6 +315,25 @@ Color Integrator::li(const Ray& camera_ray, const SampleContext& sc, RenderStats
   }
   return total;
 }
+
+template Color Integrator::li<ShadeFlags<false, false, false>>(
+    const Ray&, const SampleContext&, RenderStats&, std::vector<Node>&, std::string*,
+    CostClock*) const;
+template Color Integrator::li<ShadeFlags<false, true, false>>(
+    const Ray&, const SampleContext&, RenderStats&, std::vector<Node>&, std::string*,
+    CostClock*) const;
+template Color Integrator::li<ShadeFlags<false, true, true>>(
+    const Ray&, const SampleContext&, RenderStats&, std::vector<Node>&, std::string*,
+    CostClock*) const;
+template Color Integrator::li<ShadeFlags<true, false, false>>(
+    const Ray&, const SampleContext&, RenderStats&, std::vector<Node>&, std::string*,
+    CostClock*) const;
+template Color Integrator::li<ShadeFlags<true, true, false>>(
+    const Ray&, const SampleContext&, RenderStats&, std::vector<Node>&, std::string*,
+    CostClock*) const;
+template Color Integrator::li<ShadeFlags<true, true, true>>(
+    const Ray&, const SampleContext&, RenderStats&, std::vector<Node>&, std::string*,
+    CostClock*) const;
 
 std::string Integrator::to_string() const {
   return fmt::format(

@@ -2,6 +2,13 @@
 // shadow rays from point and area lights onto diffuse and glazed surfaces, plus
 // recursive mirror, glossy and dielectric rays. Traversal uses an explicit stack,
 // so the tree depth (max_depth) never touches the C++ call stack.
+//
+// Specialisation (architecture: "simulate only the effects a scene calls for"):
+// `li` is a template on ShadeFlags. Without area lights the direct-light loop is a
+// single shadow ray per point light; without dielectrics the refraction path is not
+// compiled in; without absorption no Beer factor is computed. The general kernel is
+// ShadeFlags<true, true, true>. Every decision draws the same sampler dimensions in
+// every kernel, so a specialised kernel renders the general kernel's picture.
 #pragma once
 
 #include <cstdint>
@@ -18,6 +25,33 @@ namespace snell::rt {
 
 enum class RayKind : std::uint8_t { Camera, Reflection, Refraction, Glossy };
 std::string to_string(RayKind k);
+
+template <bool Area, bool Dielectric, bool Absorption>
+struct ShadeFlags {
+  static constexpr bool area = Area;
+  static constexpr bool dielectric = Dielectric;
+  static constexpr bool absorption = Dielectric && Absorption;
+};
+using GeneralShade = ShadeFlags<true, true, true>;
+
+// Per-effect time, measured on a subset of camera samples (render.cpp picks which;
+// docs/effects.md). Indexed by CostKind; nanoseconds of one thread.
+enum CostKind : int {
+  kCostCamera = 0,  // same order as RayKind
+  kCostReflection,
+  kCostRefraction,
+  kCostGlossy,
+  kCostShadow,
+  kCostLens,
+  kCostTime,
+  kCostKinds
+};
+struct CostClock {
+  double overhead_ns = 0;  // one now_ns() pair, subtracted from every interval
+  double ns[kCostKinds] = {};
+  static double now_ns();
+  double since(double t0) const;  // now - t0 - overhead, never negative
+};
 
 // Where a camera sample comes from: the sampler inputs the tree draws dimensions from.
 struct SampleContext {
@@ -43,9 +77,17 @@ class Integrator {
   Integrator(const ir::Scene& scene, const EmbreeScene& embree);
 
   // Radiance along a camera ray. `stack` is scratch owned by the caller (one per
-  // thread). `trace`, when not null, receives the readable ray tree.
+  // thread). `trace`, when not null, receives the readable ray tree. `cost`, when
+  // not null, receives the time of each ray by kind. Child and shadow rays keep
+  // the camera ray's time.
+  template <class K>
   Color li(const Ray& camera_ray, const SampleContext& sc, RenderStats& stats,
-           std::vector<Node>& stack, std::string* trace) const;
+           std::vector<Node>& stack, std::string* trace, CostClock* cost) const;
+  // The general kernel.
+  Color li(const Ray& camera_ray, const SampleContext& sc, RenderStats& stats,
+           std::vector<Node>& stack, std::string* trace) const {
+    return li<GeneralShade>(camera_ray, sc, stats, stack, trace, nullptr);
+  }
 
   std::string to_string() const;
 
@@ -63,7 +105,8 @@ class Integrator {
   };
 
   Color texture(const ir::Texture& t, Vec3f p, Vec3f n_out) const;
-  Color direct(Vec3f p, Vec3f n_facing, std::uint64_t key, const SampleContext& sc,
+  template <class K>
+  Color direct(Vec3f p, Vec3f n_facing, float time, std::uint64_t key, const SampleContext& sc,
                RenderStats& stats) const;
   Color emitted(const LightF& l, Vec3f dir) const;
 

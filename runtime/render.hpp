@@ -39,6 +39,18 @@ struct RenderStats {
   std::uint64_t pruned_by_depth = 0, pruned_by_weight = 0, tir_events = 0;
   std::uint64_t nonfinite_samples = 0;  // dropped, never written to the film
   double build_seconds = 0, render_seconds = 0;
+  // Distribution effects: camera samples that drew a lens / a time sample.
+  std::uint64_t lens_samples = 0, time_samples = 0;
+  // Cost by effect, in thread-seconds: measured with a steady clock on a fixed,
+  // deterministic subset of camera samples (1 in `cost_stride`) and scaled up by the
+  // ratio of all camera samples to timed ones (docs/effects.md). Each ray's time is
+  // its query plus its shading; direct light (all its shadow rays) is shadow time;
+  // lens and time are the sample draw plus, for the lens, the thin-lens ray setup.
+  double camera_seconds = 0, shadow_seconds = 0, reflection_seconds = 0,
+         refraction_seconds = 0, glossy_seconds = 0, lens_seconds = 0, time_seconds = 0;
+  std::uint64_t timed_samples = 0;  // camera samples that were timed
+  std::uint32_t cost_stride = 0;
+  std::string kernel;  // the render kernel that ran, e.g. "specialised: pinhole, static, ..."
   std::string to_string() const;
 };
 

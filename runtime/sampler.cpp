@@ -124,6 +124,19 @@ Sample2 sample2(const SamplerSpec& spec, std::uint32_t px, std::uint32_t py,
   return {};
 }
 
+float sample1(const SamplerSpec& spec, std::uint32_t px, std::uint32_t py, std::uint32_t index,
+              std::uint32_t dim) {
+  if (spec.kind != ir::SamplerKind::Stratified) return sample2(spec, px, py, index, dim).u;
+  // 1-D jitter over spp strata, the sample-to-stratum map a hashed permutation.
+  std::uint64_t pixel_key =
+      hash_combine(hash_combine(spec.seed, (std::uint64_t(py) << 32) | px), dim ^ 0x1d1du);
+  std::uint32_t n = spec.spp == 0 ? 1 : spec.spp;
+  std::uint32_t cell = index < n ? permute(index, n, std::uint32_t(pixel_key))
+                                 : std::uint32_t(hash_combine(pixel_key, index) % n);
+  float j = to_unit_float(std::uint32_t(hash_combine(pixel_key ^ 0x5bd1e995u, index)));
+  return unit((cell + double(j)) / n);
+}
+
 std::string to_string(Sample2 s) { return fmt::format("({}, {})", s.u, s.v); }
 
 std::string to_string(const SamplerSpec& s) {

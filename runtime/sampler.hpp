@@ -12,7 +12,14 @@
 //   (seed, pixel, dimension) and with a shuffled index (Burley 2020, "Practical
 //   Hash-based Owen Scrambling"). Best with power-of-two sample counts.
 //
-// Dimensions are requested in pairs (`sample2`); `sample1` is the first component.
+// Dimensions are requested in pairs (`sample2`) or alone (`sample1`). A 1-D request
+// is stratified on its own axis: the stratified sampler uses spp strata (not the
+// columns of the 2-D grid) and sobol uses its first, (0,1)-sequence dimension.
+//
+// Allocation (the same for every sampler kind and every kernel, so specialising on
+// ir::Features never changes which numbers a decision gets, docs/effects.md):
+//   0 pixel (2-D), 1 lens (2-D), 2 time (1-D), then per ray-tree node dimensions
+//   hashed from the node's path key: glossy jitter, and each area-light grid cell.
 #pragma once
 
 #include <cstdint>
@@ -30,8 +37,8 @@ struct Sample2 {
 // hashed per-node keys (integrator.cpp).
 enum : std::uint32_t {
   kDimPixel = 0,   // film position inside the pixel
-  kDimLens = 1,    // reserved: depth of field
-  kDimTime = 2,    // reserved: motion blur
+  kDimLens = 1,    // lens position (depth of field)
+  kDimTime = 2,    // shutter fraction (motion blur), 1-D
   kDimFirstFree = 3,
 };
 
@@ -43,10 +50,8 @@ struct SamplerSpec {
 
 Sample2 sample2(const SamplerSpec& spec, std::uint32_t px, std::uint32_t py,
                 std::uint32_t index, std::uint32_t dim);
-inline float sample1(const SamplerSpec& spec, std::uint32_t px, std::uint32_t py,
-                     std::uint32_t index, std::uint32_t dim) {
-  return sample2(spec, px, py, index, dim).u;
-}
+float sample1(const SamplerSpec& spec, std::uint32_t px, std::uint32_t py, std::uint32_t index,
+              std::uint32_t dim);
 
 // Helpers, exposed for the integrator and tests.
 std::uint64_t hash64(std::uint64_t x);

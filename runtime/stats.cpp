@@ -1,0 +1,45 @@
+// RenderStats::to_string: the text of `snell render --stats`.
+#include <fmt/format.h>
+
+#include "runtime/render.hpp"
+
+namespace snell::rt {
+
+namespace {
+std::string seconds_line(const char* name, double s, double total) {
+  double pct = total > 0 ? 100.0 * s / total : 0;
+  return fmt::format("  {:<11} {:9.3f} s  {:5.1f} %\n", name, s, pct);
+}
+}  // namespace
+
+std::string RenderStats::to_string() const {
+  std::uint64_t total =
+      camera_rays + shadow_rays + reflection_rays + refraction_rays + glossy_rays;
+  double mrays = render_seconds > 0 ? double(total) / render_seconds * 1e-6 : 0;
+  std::string s = fmt::format(
+      "kernel: {}\n"
+      "rays: {} total ({} camera, {} shadow, {} reflection, {} refraction, {} glossy)\n"
+      "samples drawn: {} lens, {} time\n"
+      "pruned branches: {} by depth, {} by weight\n"
+      "total internal reflections: {}\n"
+      "non-finite samples dropped: {}\n"
+      "time: build {:.3f} s, render {:.3f} s, {:.2f} Mrays/s\n",
+      kernel.empty() ? "?" : kernel, total, camera_rays, shadow_rays, reflection_rays,
+      refraction_rays, glossy_rays, lens_samples, time_samples, pruned_by_depth,
+      pruned_by_weight, tir_events, nonfinite_samples, build_seconds, render_seconds, mrays);
+  double cost = camera_seconds + shadow_seconds + reflection_seconds + refraction_seconds +
+                glossy_seconds + lens_seconds + time_seconds;
+  s += fmt::format(
+      "cost by effect (thread-seconds, estimated from {} of the camera samples, 1 in {}):\n",
+      timed_samples, cost_stride);
+  s += seconds_line("camera", camera_seconds, cost);
+  s += seconds_line("shadow", shadow_seconds, cost);
+  s += seconds_line("reflection", reflection_seconds, cost);
+  s += seconds_line("refraction", refraction_seconds, cost);
+  s += seconds_line("glossy", glossy_seconds, cost);
+  s += seconds_line("lens", lens_seconds, cost);
+  s += seconds_line("time", time_seconds, cost);
+  return s;
+}
+
+}  // namespace snell::rt
