@@ -258,6 +258,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 1 << 20));
   sweep->add_option("--out", so.out_dir, "output folder (CSV, JSON, SVG, images, reference cache)");
   sweep->add_option("--markdown", so.markdown, "also write a Markdown summary to this file");
+  sweep->add_option("--name", so.name, "prefix of the output files (default: the scene's stem)");
   sweep->add_option("--res", o.res, "resolution WIDTHxHEIGHT for every render");
   sweep->add_option("--set", o.sets, "override a settings property: KEY=VALUE (repeatable)");
   sweep->add_option("-I", o.include_dirs, "folder searched by import (repeatable)");

@@ -202,7 +202,7 @@ class Sweeper {
     std::vector<std::string> series_values = o_.series.key.empty() ? std::vector<std::string>{""}
                                                                    : o_.series.values;
     fs::create_directories(fs::path(o_.out_dir) / "images");
-    std::string stem = fs::path(o_.scene).stem().string();
+    std::string stem = o_.name.empty() ? fs::path(o_.scene).stem().string() : o_.name;
     for (const SweepAxis& axis : o_.vary) {
       for (const std::string& sv : series_values) {
         for (const std::string& v : axis.values) {
@@ -310,6 +310,25 @@ std::string Sweeper::reading(const SweepAxis& axis) const {
              std::to_string(n) + " values of `" + axis.key + "`): " +
              (t < 1 ? pct(1 - t) + " less time" : pct(t - 1) + " more time") + ", RMSE × " + num(e) + ".\n";
     }
+  }
+  // An equal-time comparison: the pair (first curve, other curve) whose times
+  // are closest, among the slowest configurations, shown side by side.
+  if (o_.images && !o_.series.key.empty() && o_.series.values.size() >= 2) {
+    const SweepRow *pa = nullptr, *pb = nullptr;
+    double best = 1e300;
+    for (const SweepRow* a : rows)
+      for (const SweepRow* b : rows)
+        if (a->series_value == o_.series.values[0] && b->series_value == o_.series.values[1] &&
+            a->seconds > 0 && b->seconds > 0) {
+          // Prefer close times, then long renders (less timing noise).
+          double score = std::fabs(std::log(a->seconds / b->seconds)) - 0.01 * std::log(a->seconds);
+          if (score < best) best = score, pa = a, pb = b;
+        }
+    if (pa && pb && !pa->image.empty() && !pb->image.empty())
+      out += "- Equal time (" + num(pa->seconds) + " s and " + num(pb->seconds) + " s): left `" +
+             o_.series.key + " " + pa->series_value + "`, `" + axis.key + " " + pa->value + "` (RMSE " +
+             num(pa->rmse) + "); right `" + o_.series.key + " " + pb->series_value + "`, `" + axis.key + " " +
+             pb->value + "` (RMSE " + num(pb->rmse) + ").\n\n  ![](" + pa->image + ") ![](" + pb->image + ")\n";
   }
   // Slope of log error against log time along each curve.
   std::map<std::string, std::vector<const SweepRow*>> curves;

@@ -32,6 +32,7 @@ struct SweepOptions {
   int repeats = 3;
   std::uint32_t reference_spp = 1024;
   std::string out_dir = "sweep";
+  std::string name;      // prefix of every output file; empty: the scene's stem
   std::string markdown;  // empty: none
   int threads = 0;
   bool quiet = false;
