@@ -1,0 +1,43 @@
+// Helpers shared by the distribution-effect tests (glossy, lens, motion, kernels).
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+
+#include "runtime/render.hpp"
+#include "tests/runtime/scene_util.hpp"
+
+namespace snell::test {
+
+inline ir::Material glossy(ir::Vec3 c, double blur) {
+  ir::Material m = diffuse(c);
+  m.kind = ir::MaterialKind::Glossy;
+  m.blur = blur;
+  return m;
+}
+
+inline ir::Shape moving(ir::Shape s, ir::TransformOp::Kind kind, ir::Vec3 v) {
+  s.motion.ops.push_back({kind, v});
+  return s;
+}
+
+inline rt::RenderResult render_with(const ir::Scene& s, int threads = 1, bool general = false) {
+  rt::RenderOptions o;
+  o.threads = threads;
+  o.general_kernel = general;
+  return rt::render(s, o);
+}
+
+inline double mean_abs_diff(const rt::Image& a, const rt::Image& b) {
+  double sum = 0;
+  for (std::size_t i = 0; i < a.rgb.size(); ++i) sum += std::fabs(double(a.rgb[i]) - b.rgb[i]);
+  return a.rgb.empty() ? 0 : sum / double(a.rgb.size());
+}
+
+// Fraction of the unit-radius disk with x > -h (h clamped to [-1, 1]).
+inline double disk_fraction_right_of(double h) {
+  h = std::fmax(-1.0, std::fmin(1.0, h));
+  return 1 - (std::acos(h) - h * std::sqrt(1 - h * h)) / 3.14159265358979323846;
+}
+
+}  // namespace snell::test

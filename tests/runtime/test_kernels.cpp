@@ -1,0 +1,144 @@
+// Kernel specialisation: every specialised kernel renders the general kernel's
+// picture bit for bit (sample dimensions do not depend on the kernel), every
+// effect on at once is bit-identical across thread counts, and --stats attributes
+// samples and time to the effects.
+#include <catch2/catch.hpp>
+
+#include "tests/runtime/effects_util.hpp"
+
+using namespace snell;
+using namespace snell::test;
+using K = ir::TransformOp::Kind;
+
+namespace {
+ir::Scene base_effects(ir::SamplerKind kind) {
+  ir::Scene s = base_scene(40, 30, 4);
+  s.settings.sampler = kind;
+  s.settings.seed = 9;
+  s.background = {0.2, 0.3, 0.4};
+  ir::Material check = diffuse({0.9, 0.9, 0.9});
+  check.color.kind = ir::Texture::Kind::Checker;
+  check.color.color2 = {0.1, 0.1, 0.1};
+  check.color.size = 0.5;
+  s.shapes.push_back(plane({0, 1, 0}, 0, add_material(s, check)));
+  s.shapes.push_back(sphere({0.8, 0.5, 0.5}, 0.5, add_material(s, glazed({0.8, 0.1, 0.1}, 1.5))));
+  s.point_lights.push_back({{2, 5, -3}, {30, 30, 30}, {}});
+  look(s, {0, 1.5, -4}, {0, 0.5, 0}, 50);
+  return s;
+}
+void add_area(ir::Scene& s) {
+  ir::AreaLight l;
+  l.corner = {-1, 3, -1};
+  l.edge1 = {2, 0, 0};
+  l.edge2 = {0, 0, 2};
+  l.radiance = {5, 5, 5};
+  l.samples_u = l.samples_v = 2;
+  s.area_lights.push_back(l);
+}
+void add_glass(ir::Scene& s, ir::Vec3 absorb) {
+  s.shapes.push_back(sphere({-0.8, 0.7, 0}, 0.7, add_material(s, dielectric(1.5, absorb))));
+}
+void add_glossy(ir::Scene& s) {
+  s.shapes.push_back(sphere({0, 0.4, 1.5}, 0.4, add_material(s, glossy({0.9, 0.8, 0.6}, 0.3))));
+}
+void add_lens(ir::Scene& s) {
+  s.camera.aperture = 0.15;
+  s.camera.focal_distance = 4;
+}
+void add_motion(ir::Scene& s) {
+  s.camera.shutter_close = 1;
+  s.shapes.push_back(moving(sphere({1.5, 0.3, -1}, 0.3, 0), K::Translate, {0.6, 0.3, 0}));
+  s.shapes.push_back(moving(box({-2, 0, 1}, {-1.4, 0.6, 1.6}, 0), K::Rotate, {0, 30, 0}));
+}
+
+ir::Scene every_effect(ir::SamplerKind kind) {
+  ir::Scene s = base_effects(kind);
+  add_area(s);
+  add_glass(s, {0.3, 0.1, 0});
+  add_glossy(s);
+  add_lens(s);
+  add_motion(s);
+  return s;
+}
+}  // namespace
+
+TEST_CASE("specialised kernels render the general kernel's picture bit for bit", "[kernels]") {
+  for (auto kind : {ir::SamplerKind::Independent, ir::SamplerKind::Stratified,
+                    ir::SamplerKind::Sobol}) {
+    std::vector<std::pair<const char*, ir::Scene>> scenes;
+    scenes.push_back({"point lights only", base_effects(kind)});
+    {
+      ir::Scene s = base_effects(kind);
+      add_area(s);
+      add_glass(s, {});
+      scenes.push_back({"area light and clear glass", s});
+    }
+    {
+      ir::Scene s = base_effects(kind);
+      add_glass(s, {0.5, 0.2, 0});
+      add_glossy(s);
+      scenes.push_back({"absorbing glass and glossy", s});
+    }
+    {
+      ir::Scene s = base_effects(kind);
+      add_lens(s);
+      scenes.push_back({"depth of field", s});
+    }
+    {
+      ir::Scene s = base_effects(kind);
+      add_motion(s);
+      scenes.push_back({"motion blur", s});
+    }
+    scenes.push_back({"every effect", every_effect(kind)});
+    for (auto& [name, s] : scenes) {
+      INFO(name << " sampler " << ir::to_string(kind));
+      rt::RenderResult spec = render_with(s), gen = render_with(s, 1, true);
+      CHECK(spec.image.rgb == gen.image.rgb);
+      CHECK(spec.stats.shadow_rays == gen.stats.shadow_rays);
+      CHECK(gen.stats.kernel.rfind("general", 0) == 0);
+      CHECK(spec.stats.kernel.rfind("specialised", 0) == 0);
+      CHECK(spec.stats.nonfinite_samples == 0);
+    }
+  }
+}
+
+TEST_CASE("every effect on: the same image with 1 and 2 threads", "[kernels][determinism]") {
+  for (auto kind : {ir::SamplerKind::Independent, ir::SamplerKind::Stratified,
+                    ir::SamplerKind::Sobol}) {
+    ir::Scene s = every_effect(kind);
+    for (bool general : {false, true}) {
+      rt::RenderResult a = render_with(s, 1, general), b = render_with(s, 2, general);
+      CHECK(a.image.rgb == b.image.rgb);
+      CHECK(a.stats.camera_rays == b.stats.camera_rays);
+      CHECK(a.stats.glossy_rays == b.stats.glossy_rays);
+      CHECK(a.stats.nonfinite_samples == 0);
+    }
+  }
+}
+
+TEST_CASE("stats count lens and time samples and attribute time to effects", "[kernels][stats]") {
+  ir::Scene s = every_effect(ir::SamplerKind::Sobol);
+  rt::RenderResult r = render_with(s);
+  const rt::RenderStats& st = r.stats;
+  std::uint64_t n = 40 * 30 * 4;
+  CHECK(st.camera_rays == n);
+  CHECK(st.lens_samples == n);
+  CHECK(st.time_samples == n);
+  CHECK(st.timed_samples > n / 32);
+  CHECK(st.timed_samples < n / 8);
+  CHECK(st.camera_seconds > 0);
+  CHECK(st.shadow_seconds > 0);
+  CHECK(st.refraction_seconds > 0);
+  CHECK(st.glossy_seconds > 0);
+  double sum = st.camera_seconds + st.shadow_seconds + st.reflection_seconds +
+               st.refraction_seconds + st.glossy_seconds + st.lens_seconds + st.time_seconds;
+  CHECK(sum < 3 * st.render_seconds + 0.01);  // an estimate, but of the right size
+  std::string text = st.to_string();
+  CHECK(text.find("cost by effect") != std::string::npos);
+  CHECK(text.find("lens") != std::string::npos);
+  // A pinhole, static scene draws neither.
+  rt::RenderResult p = render_with(base_effects(ir::SamplerKind::Sobol));
+  CHECK(p.stats.lens_samples == 0);
+  CHECK(p.stats.time_samples == 0);
+  CHECK(p.stats.kernel.find("pinhole") != std::string::npos);
+}

@@ -1,0 +1,142 @@
+// Motion blur (§6 shutter, §8 motion): analytic streaks for a moving sphere (user
+// geometry at the ray time) and a moving box (Embree time steps), exact rotation at
+// mid-shutter, child rays keeping their parent's time, and static scenes that do not
+// care about the shutter.
+#include <catch2/catch.hpp>
+
+#include "runtime/embree_scene.hpp"
+#include "tests/runtime/effects_util.hpp"
+
+using namespace snell;
+using namespace snell::test;
+using K = ir::TransformOp::Kind;
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+
+// One row of 61 pixels spanning x in [-2, 2] at depth 10, black object on white.
+ir::Scene streak_scene(ir::Shape s) {
+  ir::Scene sc = base_scene(61, 1, 256);
+  sc.settings.sampler = ir::SamplerKind::Sobol;
+  sc.background = {1, 1, 1};
+  s.material = add_material(sc, diffuse({0, 0, 0}));
+  sc.shapes.push_back(s);
+  look(sc, {0, 0, 0}, {0, 0, 1}, 2 * std::atan(0.2) * 180 / kPi);
+  sc.camera.shutter_open = 0;
+  sc.camera.shutter_close = 1;
+  return sc;
+}
+
+// 1 - (fraction of the shutter during which the ray at slope sx is covered),
+// averaged over the pixel footprint; `cover(sx)` gives the covered u-interval.
+template <class F>
+double expected_streak(std::uint32_t x, F cover) {
+  double sum = 0;
+  const int n = 64;
+  for (int k = 0; k < n; ++k) {
+    // World x slope of the ray: the image's right is cross(forward, up) = -x.
+    double sx = -((x + (k + 0.5) / n) / 61.0 * 2 - 1) * 0.2;
+    auto [a, b] = cover(sx);
+    a = std::fmax(a, 0.0), b = std::fmin(b, 1.0);
+    sum += 1 - std::fmax(0.0, b - a);
+  }
+  return sum / n;
+}
+}  // namespace
+
+TEST_CASE("motion streak of a black sphere: pixel = 1 - covered shutter fraction", "[motion][scene]") {
+  const double r = 0.6;
+  ir::Scene s = streak_scene(moving(sphere({-3, 0, 10}, r, 0), K::Translate, {6, 0, 0}));
+  rt::RenderResult res = render_with(s);
+  CHECK(res.stats.time_samples == 61u * 256u);
+  double worst = 0, mid = 0;
+  for (std::uint32_t x = 0; x < 61; ++x) {
+    double e = expected_streak(x, [&](double sx) {
+      double h = r * std::sqrt(1 + sx * sx);  // distance from the centre to the ray <= r
+      return std::pair{(3 + 10 * sx - h) / 6, (3 + 10 * sx + h) / 6};
+    });
+    worst = std::fmax(worst, std::fabs(res.image.at(x, 0)[0] - e));
+    if (x == 30) mid = res.image.at(x, 0)[0];
+  }
+  INFO("worst pixel error " << worst);
+  CHECK(worst < 0.01);
+  CHECK(mid == Approx(0.8).margin(0.01));  // 1 - 2r/6
+}
+
+TEST_CASE("motion streak of a black box through Embree time steps", "[motion][scene]") {
+  // A thin square 1 wide moving 6 along x: mid-streak pixels 1 - 1/6.
+  ir::Scene s =
+      streak_scene(moving(box({-3.5, -0.5, 10}, {-2.5, 0.5, 10.01}, 0), K::Translate, {6, 0, 0}));
+  rt::RenderResult res = render_with(s);
+  double worst = 0;
+  for (std::uint32_t x = 0; x < 61; ++x) {
+    double e = expected_streak(x, [&](double sx) {
+      double x0 = std::fmin(10 * sx, 10.01 * sx), x1 = std::fmax(10 * sx, 10.01 * sx);
+      return std::pair{(x0 + 2.5) / 6, (x1 + 3.5) / 6};
+    });
+    worst = std::fmax(worst, std::fabs(res.image.at(x, 0)[0] - e));
+  }
+  INFO("worst pixel error " << worst);
+  CHECK(worst < 0.01);
+  CHECK(res.image.at(30, 0)[0] == Approx(1 - 1.0 / 6).margin(0.01));
+}
+
+TEST_CASE("rotating objects are placed exactly at the ray time", "[motion]") {
+  ir::Scene s = base_scene(4, 4);
+  s.camera.shutter_close = 1;
+  s.shapes.push_back(moving(box({-1, -1, -1}, {1, 1, 1}, 0), K::Rotate, {0, 0, 90}));
+  s.shapes.push_back(moving(sphere({3, 0, 20}, 0.5, 0), K::Rotate, {0, 0, 90}));
+  rt::EmbreeScene e(s, {0, 0, 0});
+  CHECK(e.has_motion());
+  rt::Hit h;
+  auto ray = [](rt::Vec3f o, rt::Vec3f d, float time) { return rt::Ray{o, d, INFINITY, time}; };
+  // Box, a diamond at 45 degrees: its corner reaches y = sqrt 2.
+  CHECK_FALSE(e.intersect(ray({5, 1.2f, 0}, {-1, 0, 0}, 0), h));
+  REQUIRE(e.intersect(ray({5, 1.2f, 0}, {-1, 0, 0}, 0.5f), h));
+  CHECK(h.t == Approx(5 - (std::sqrt(2.0) - 1.2)).epsilon(2e-4));
+  CHECK_FALSE(e.intersect(ray({5, 1.2f, 0}, {-1, 0, 0}, 1), h));
+  REQUIRE(e.intersect(ray({5, 0.5f, 0}, {-1, 0, 0}, 1), h));
+  CHECK(h.t == Approx(4).epsilon(1e-5));  // a quarter turn: the square again
+  // Sphere orbiting the z axis: at mid-shutter its centre is at 45 degrees.
+  float c = float(3 * std::sqrt(0.5));
+  CHECK_FALSE(e.intersect(ray({c, c, 0}, {0, 0, 1}, 0), h));
+  REQUIRE(e.intersect(ray({c, c, 0}, {0, 0, 1}, 0.5f), h));
+  CHECK(h.t == Approx(19.5).epsilon(1e-6));
+  CHECK(e.occluded(ray({c, c, 0}, {0, 0, 1}, 0.5f)));
+  CHECK_FALSE(e.occluded(ray({c, c, 0}, {0, 0, 1}, 0.f)));
+}
+
+TEST_CASE("shadow rays keep the camera ray's time", "[motion][scene]") {
+  // A sphere receding from a point light at the camera: the lit point is at distance
+  // 9 + 2u at time u, so the pixel is rho/pi * I * mean 1/(9+2u)^2 = rho/pi * I / 99.
+  // A shadow ray at any other time would start inside the sphere and be blocked.
+  ir::Scene s = base_scene(1, 1, 256);
+  s.shapes.push_back(moving(sphere({0, 0, 10}, 1, 0), K::Translate, {0, 0, 2}));
+  s.point_lights.push_back({{0, 0, 0}, {99 * kPi, 99 * kPi, 99 * kPi}, {}});
+  look(s, {0, 0, 0}, {0, 0, 1}, 0.01);
+  s.camera.shutter_close = 1;
+  for (bool general : {false, true}) {
+    rt::RenderResult r = render_with(s, 1, general);
+    CHECK(r.image.at(0, 0)[0] == Approx(0.8).epsilon(1e-3));
+  }
+}
+
+TEST_CASE("a static scene renders the same whatever the shutter", "[motion][scene]") {
+  ir::Scene s = base_scene(40, 30, 4);
+  s.shapes.push_back(plane({0, 1, 0}, 0, 0));
+  s.shapes.push_back(sphere({0, 1, 0}, 1, add_material(s, glossy({0.9, 0.9, 0.9}, 0.2))));
+  s.point_lights.push_back({{2, 5, -3}, {40, 40, 40}, {}});
+  look(s, {0, 1.5, -4}, {0, 0.8, 0}, 50);
+  rt::Image ref = render_with(s).image;
+  for (double close : {0.0, 0.5, 1.0})
+    for (bool general : {false, true}) {
+      ir::Scene t = s;
+      t.camera.shutter_close = close;
+      CHECK(render_with(t, 1, general).image.rgb == ref.rgb);
+    }
+  // Motion with the shutter closed: the object stands at its open placement.
+  ir::Scene m = s;
+  m.shapes[1] = moving(m.shapes[1], K::Translate, {3, 0, 0});
+  CHECK(render_with(m).image.rgb == ref.rgb);
+  CHECK(render_with(m, 1, true).image.rgb == ref.rgb);
+}
