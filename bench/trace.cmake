@@ -3,3 +3,6 @@
 add_executable(bench_trace ${CMAKE_CURRENT_LIST_DIR}/trace/bench_trace.cpp)
 target_include_directories(bench_trace PRIVATE ${PROJECT_SOURCE_DIR})
 target_link_libraries(bench_trace PRIVATE snell_runtime embree TBB::tbb fmt::fmt snell_warnings)
+# The kernel-specialisation benchmark lives beside this one (bench/CMakeLists.txt
+# lists only trace.cmake of the two).
+include(${CMAKE_CURRENT_LIST_DIR}/kernels.cmake)
