@@ -78,6 +78,33 @@ Value map(const Value* args, int n, BuiltinError& err, F f) {
   return make(dims, out);
 }
 
+// One component of the component-wise builtins: the only place their arithmetic
+// is written, so Value calls and the evaluator's numeric fast path agree bit for bit.
+double scalar(int id, double x, double y, double t) {
+  switch (static_cast<Id>(id)) {
+    case Id::sin: return sin_deg(x);
+    case Id::cos: return cos_deg(x);
+    case Id::tan: return tan_deg(x);
+    case Id::asin: return std::asin(x) / kDeg;
+    case Id::acos: return std::acos(x) / kDeg;
+    case Id::atan: return std::atan(x) / kDeg;
+    case Id::atan2: return std::atan2(x, y) / kDeg;
+    case Id::sqrt: return std::sqrt(x);
+    case Id::pow: return std::pow(x, y);
+    case Id::exp: return std::exp(x);
+    case Id::log: return std::log(x);
+    case Id::abs: return std::fabs(x);
+    case Id::floor: return std::floor(x);
+    case Id::ceil: return std::ceil(x);
+    case Id::round: return std::round(x);
+    case Id::min: return std::fmin(x, y);
+    case Id::max: return std::fmax(x, y);
+    case Id::clamp: return std::fmin(std::fmax(x, y), t);
+    case Id::mix: return x * (1 - t) + y * t;
+    default: return 0;
+  }
+}
+
 }  // namespace
 
 int builtin_count() { return static_cast<int>(std::size(kBuiltins)); }
@@ -100,6 +127,14 @@ double random_hash(double n) {
   return static_cast<double>(z >> 11) * 0x1p-53;
 }
 
+bool call_builtin_number(int id, const double* a, double& out) {
+  switch (static_cast<Id>(id)) {
+    case Id::dot: case Id::cross: case Id::length: case Id::normalize: return false;
+    case Id::random: out = random_hash(a[0]); return true;
+    default: out = scalar(id, a[0], a[1], a[2]); return true;
+  }
+}
+
 Value call_builtin(int id, const Value* a, BuiltinError& err) {
   auto vec_arg = [&](int i) {
     if (!a[i].is_vector()) {
@@ -109,29 +144,14 @@ Value call_builtin(int id, const Value* a, BuiltinError& err) {
     return true;
   };
   switch (static_cast<Id>(id)) {
-    case Id::sin: return map(a, 1, err, [](double x, double, double) { return sin_deg(x); });
-    case Id::cos: return map(a, 1, err, [](double x, double, double) { return cos_deg(x); });
-    case Id::tan: return map(a, 1, err, [](double x, double, double) { return tan_deg(x); });
-    case Id::asin: return map(a, 1, err, [](double x, double, double) { return std::asin(x) / kDeg; });
-    case Id::acos: return map(a, 1, err, [](double x, double, double) { return std::acos(x) / kDeg; });
-    case Id::atan: return map(a, 1, err, [](double x, double, double) { return std::atan(x) / kDeg; });
-    case Id::atan2:
-      return map(a, 2, err, [](double y, double x, double) { return std::atan2(y, x) / kDeg; });
-    case Id::sqrt: return map(a, 1, err, [](double x, double, double) { return std::sqrt(x); });
-    case Id::pow: return map(a, 2, err, [](double x, double y, double) { return std::pow(x, y); });
-    case Id::exp: return map(a, 1, err, [](double x, double, double) { return std::exp(x); });
-    case Id::log: return map(a, 1, err, [](double x, double, double) { return std::log(x); });
-    case Id::abs: return map(a, 1, err, [](double x, double, double) { return std::fabs(x); });
-    case Id::floor: return map(a, 1, err, [](double x, double, double) { return std::floor(x); });
-    case Id::ceil: return map(a, 1, err, [](double x, double, double) { return std::ceil(x); });
-    case Id::round: return map(a, 1, err, [](double x, double, double) { return std::round(x); });
-    case Id::min: return map(a, 2, err, [](double x, double y, double) { return std::fmin(x, y); });
-    case Id::max: return map(a, 2, err, [](double x, double y, double) { return std::fmax(x, y); });
-    case Id::clamp:
-      return map(a, 3, err,
-                 [](double x, double lo, double hi) { return std::fmin(std::fmax(x, lo), hi); });
-    case Id::mix:
-      return map(a, 3, err, [](double x, double y, double t) { return x * (1 - t) + y * t; });
+    case Id::sin: case Id::cos: case Id::tan: case Id::asin: case Id::acos: case Id::atan:
+    case Id::sqrt: case Id::exp: case Id::log: case Id::abs: case Id::floor: case Id::ceil:
+    case Id::round:
+      return map(a, 1, err, [id](double x, double, double) { return scalar(id, x, 0, 0); });
+    case Id::atan2: case Id::pow: case Id::min: case Id::max:
+      return map(a, 2, err, [id](double x, double y, double) { return scalar(id, x, y, 0); });
+    case Id::clamp: case Id::mix:
+      return map(a, 3, err, [id](double x, double y, double z) { return scalar(id, x, y, z); });
     case Id::dot:
       if (!vec_arg(0) || !vec_arg(1)) return Value::error();
       if (a[0].type != a[1].type) {

@@ -27,6 +27,11 @@ struct BuiltinError {
 // Value::error() and fills `err`. Results may be non-finite; the caller checks.
 Value call_builtin(int id, const Value* args, BuiltinError& err);
 
+// The same call when every argument is a number (args[0..arity-1]; unused ones 0):
+// true with the result (possibly non-finite) for builtins that take numbers and give
+// a number; false for dot, cross, length and normalize.
+bool call_builtin_number(int id, const double* args, double& out);
+
 // random(n): the IEEE-754 bits of n (−0 taken as +0) through the SplitMix64
 // finaliser, top 53 bits scaled by 2^−53. Pure integer arithmetic: the same value
 // on every machine and compiler.

@@ -276,8 +276,9 @@ void Evaluator::exec_item(const Stmt& s, const std::shared_ptr<Env>& env) {
     return;
   }
   bool ok = true;
-  std::vector<EvaluatedProp> props = eval_props(*block, *s.block, s.name_span, env, ok);
-  if (ok) builder_.add_item(*block, s.name_span, props);
+  PropsLease props(*this);
+  eval_props(*block, *s.block, s.name_span, env, props.list(), ok);
+  if (ok) builder_.add_item(*block, s.name_span, props.list());
 }
 
 // ---------------------------------------------------------------------------
@@ -287,6 +288,8 @@ bool Evaluator::eval_prop_value(const PropInfo& info, const Expr& expr,
                                 const std::shared_ptr<Env>& env, Value& out) {
   out = eval(expr, env);
   if (out.is_error()) return false;
+  if (value_ok(info, out)) [[likely]]
+    return true;
   bool integral = false;
   std::string msg = check_value(info, out, &integral);
   if (!msg.empty()) {
@@ -296,13 +299,15 @@ bool Evaluator::eval_prop_value(const PropInfo& info, const Expr& expr,
   return true;
 }
 
-std::vector<EvaluatedProp> Evaluator::eval_props(const BlockInfo& block, const lang::Block& body,
-                                                 Span keyword_span,
-                                                 const std::shared_ptr<Env>& env, bool& ok) {
-  std::vector<EvaluatedProp> out;
-  out.reserve(body.properties.size());
+void Evaluator::eval_props(const BlockInfo& block, const lang::Block& body, Span keyword_span,
+                           const std::shared_ptr<Env>& env, std::vector<EvaluatedProp>& out,
+                           bool& ok) {
+  const std::size_t first = out.size();
   for (const lang::Property& p : body.properties) {
-    const PropInfo* info = find_prop(block, p.name);
+    // A Block is always checked against the same table (its keyword's), so the
+    // property it names can be remembered on the node.
+    const PropInfo* info = p.prop >= 0 ? &prop_by_id(p.prop) : find_prop(block, p.name);
+    if (info && p.prop < 0) p.prop = info->id;
     if (!info) {
       auto d = error(DiagKind::UnknownProperty, p.name_span,
                      "'" + std::string(block.name) + "' has no property '" + p.name + "'");
@@ -313,8 +318,8 @@ std::vector<EvaluatedProp> Evaluator::eval_props(const BlockInfo& block, const l
     }
     if (!info->repeats()) {
       bool dup = false;
-      for (const EvaluatedProp& q : out)
-        if (q.info == info) {
+      for (std::size_t k = first; k < out.size(); ++k)
+        if (const EvaluatedProp& q = out[k]; q.info == info) {
           error(DiagKind::DuplicateProperty, p.name_span,
                 "'" + p.name + "' is given twice in '" + std::string(block.name) + "'")
               .note(q.name_span, "first given here");
@@ -338,7 +343,7 @@ std::vector<EvaluatedProp> Evaluator::eval_props(const BlockInfo& block, const l
       }
       ep.value_span = p.block->span;
       const BlockInfo* nested = find_block(info->name);  // only `motion`: rare
-      ep.nested = eval_props(*nested, *p.block, p.name_span, env, ok);
+      eval_props(*nested, *p.block, p.name_span, env, ep.nested, ok);
     } else {
       if (p.block) {
         error(DiagKind::InvalidValue, p.block->span,
@@ -361,7 +366,7 @@ std::vector<EvaluatedProp> Evaluator::eval_props(const BlockInfo& block, const l
     if (!b) continue;
     for (const PropInfo* info : b->props) {
       bool given = false;
-      for (const EvaluatedProp& q : out) given |= q.info == info;
+      for (std::size_t k = first; k < out.size(); ++k) given |= out[k].info == info;
       if (given) continue;
       if (info->required()) {
         // A property that failed its own check counts as given: no second error.
@@ -382,7 +387,6 @@ std::vector<EvaluatedProp> Evaluator::eval_props(const BlockInfo& block, const l
       }
     }
   }
-  return out;
 }
 
 }  // namespace snell::compile

@@ -82,6 +82,25 @@ class Evaluator {
   void exec_item(const lang::Stmt& s, const std::shared_ptr<Env>& env);
 
   Value eval(const lang::Expr& e, const std::shared_ptr<Env>& env);
+  // The numeric fast path: evaluates `e` when it is pure arithmetic on numbers
+  // (number literals, names bound to numbers, unary minus, + - * / %, builtin calls
+  // on numbers) with every result finite, counting the same steps as eval(). It has
+  // no other effect, so on false (anything else, or the step budget running out)
+  // eval() restores the step count and evaluates `e` the general way, which then
+  // reports any error exactly as before.
+  bool eval_number(const lang::Expr& e, const Env* env, double& out);
+  bool number_operand(const lang::Expr& e, const Env* env, double& out) {
+    if (e.kind == lang::ExprKind::Number) {  // the commonest leaf, without a call
+      ++steps_;
+      out = e.number;
+      return true;
+    }
+    return eval_number(e, env, out);
+  }
+  static bool fail_number(const lang::Expr& e) {
+    e.not_numeric = true;
+    return false;
+  }
   Value eval_name(const lang::Expr& e, const std::shared_ptr<Env>& env);
   Value eval_vector(const lang::Expr& e, const std::shared_ptr<Env>& env);
   Value eval_unary(const lang::Expr& e, const std::shared_ptr<Env>& env);
@@ -93,11 +112,32 @@ class Evaluator {
   static const Value& builtin_value(int id);
   static const Closure& builtin_closure(int id);
 
-  // Evaluates a block's properties against `block`'s table: unknown, duplicate,
-  // missing and invalid properties are reported; `ok` is false after any error.
-  std::vector<EvaluatedProp> eval_props(const BlockInfo& block, const lang::Block& body,
-                                        lang::Span keyword_span, const std::shared_ptr<Env>& env,
-                                        bool& ok);
+  // Evaluates a block's properties against `block`'s table into `out` (appended):
+  // unknown, duplicate, missing and invalid properties are reported; `ok` is false
+  // after any error.
+  void eval_props(const BlockInfo& block, const lang::Block& body, lang::Span keyword_span,
+                  const std::shared_ptr<Env>& env, std::vector<EvaluatedProp>& out, bool& ok);
+  // A cleared property list from a pool indexed by nesting (a property's value may
+  // call a function that makes items), so an item allocates no list once warm.
+  class PropsLease {
+   public:
+    explicit PropsLease(Evaluator& ev) : ev_(ev) {
+      if (ev.props_pool_.size() <= ev.props_depth_) ev.props_pool_.emplace_back();
+      list_ = &ev.props_pool_[ev.props_depth_++];
+      list_->clear();
+    }
+    ~PropsLease() {
+      list_->clear();  // drop the values (materials) now, keep the capacity
+      --ev_.props_depth_;
+    }
+    PropsLease(const PropsLease&) = delete;
+    PropsLease& operator=(const PropsLease&) = delete;
+    std::vector<EvaluatedProp>& list() { return *list_; }
+
+   private:
+    Evaluator& ev_;
+    std::vector<EvaluatedProp>* list_;
+  };
   bool eval_prop_value(const PropInfo& info, const lang::Expr& expr,
                        const std::shared_ptr<Env>& env, Value& out);
 
@@ -145,6 +185,8 @@ class Evaluator {
   std::vector<lang::FileId> running_;  // the import chain, for cycle errors
   std::deque<std::vector<Value>> args_pool_;  // argument lists of calls in progress
   std::size_t args_depth_ = 0;
+  std::deque<std::vector<EvaluatedProp>> props_pool_;  // see PropsLease
+  std::size_t props_depth_ = 0;
 };
 
 }  // namespace snell::compile

@@ -17,6 +17,7 @@ struct Registry {
   props.push_back({#block, #name, PropType::type, Check::check, static_cast<unsigned>(flags), \
                    def});
 #include "compiler/properties.def"
+    for (std::size_t i = 0; i < props.size(); ++i) props[i].id = static_cast<std::int32_t>(i);
     for (const PropInfo& p : props)
       for (BlockInfo& b : blocks)
         if (b.name == p.block) b.props.push_back(&p);
@@ -38,18 +39,30 @@ const BlockInfo& object_block() {
 
 bool is_integer(double x) { return std::isfinite(x) && std::floor(x) == x; }
 
-std::string check_range(Check c, double x) {
+bool range_ok(Check c, double x) {
   switch (c) {
     case Check::Any:
     case Check::Shutter:
-    case Check::NonZero: return {};
-    case Check::Positive: return x > 0 ? "" : "must be > 0";
-    case Check::NonNegative: return x >= 0 ? "" : "must be >= 0";
-    case Check::AtLeast1: return x >= 1 ? "" : "must be >= 1";
-    case Check::Fov: return x > 0 && x < 180 ? "" : "must be in (0, 180) degrees";
-    case Check::Ior: return x > 0 ? "" : "must be > 0";
+    case Check::NonZero: return true;
+    case Check::Positive: return x > 0;
+    case Check::NonNegative: return x >= 0;
+    case Check::AtLeast1: return x >= 1;
+    case Check::Fov: return x > 0 && x < 180;
+    case Check::Ior: return x > 0;
   }
-  return {};
+  return true;
+}
+
+std::string check_range(Check c, double x) {
+  if (range_ok(c, x)) return {};
+  switch (c) {
+    case Check::Positive: return "must be > 0";
+    case Check::NonNegative: return "must be >= 0";
+    case Check::AtLeast1: return "must be >= 1";
+    case Check::Fov: return "must be in (0, 180) degrees";
+    case Check::Ior: return "must be > 0";
+    default: return {};
+  }
 }
 
 std::string range_words(Check c) {
@@ -73,6 +86,8 @@ const BlockInfo* find_block(std::string_view name) {
     if (b.name == name) return &b;
   return nullptr;
 }
+
+const PropInfo& prop_by_id(std::int32_t id) { return registry().props[static_cast<std::size_t>(id)]; }
 
 const PropInfo* find_prop(const BlockInfo& block, std::string_view name) {
   for (const PropInfo* p : block.props)
@@ -212,6 +227,42 @@ std::string check_value(const PropInfo& p, Value& v, bool* integral) {
     case PropType::Block: return wrong();  // blocks are written `motion { ... }`
   }
   return {};
+}
+
+bool value_ok(const PropInfo& p, Value& v) {
+  auto components_ok = [&](const ir::Vec3& c, int dims) {
+    for (int i = 0; i < dims; ++i)
+      if (!range_ok(p.check, c[i])) return false;
+    return true;
+  };
+  switch (p.type) {
+    case PropType::Number:
+      return v.type == Type::Number && range_ok(p.check, v.n);
+    case PropType::Vec3:
+    case PropType::Color:
+    case PropType::Translate:
+    case PropType::Rotate:
+    case PropType::ColorOrPattern: {
+      if (p.type == PropType::ColorOrPattern && v.type == Type::Pattern) return true;
+      ir::Vec3 c;
+      if (v.type == Type::Number) c = ir::Vec3(v.n);
+      else if (v.type == Type::Vec3) c = v.v;
+      else return false;
+      if (p.check == Check::NonZero && p.type != PropType::ColorOrPattern && c == ir::Vec3{})
+        return false;
+      if (!components_ok(c, 3)) return false;
+      if (v.type == Type::Number) v = Value::vec3(c);
+      return true;
+    }
+    case PropType::Material: return v.type == Type::Material;
+    case PropType::Bool: return v.type == Type::Bool;
+    default: {  // the rarer kinds: decide through the full check on a copy
+      Value copy = v;
+      if (!check_value(p, copy).empty()) return false;
+      v = std::move(copy);
+      return true;
+    }
+  }
 }
 
 }  // namespace snell::compile

@@ -2,6 +2,7 @@
 // an evaluated Value into what the block accepts (promotion, integers, ranges).
 #pragma once
 
+#include <cstdint>
 #include <span>
 #include <string>
 #include <string_view>
@@ -29,6 +30,7 @@ struct PropInfo {
   Check check;
   unsigned flags;
   Value default_value;
+  std::int32_t id = -1;  // position in the registry (prop_by_id); -1 for ad-hoc entries
   bool required() const { return flags & Req; }
   bool repeats() const { return flags & Rep; }
 };
@@ -42,6 +44,7 @@ struct BlockInfo {
 
 const BlockInfo* find_block(std::string_view name);
 const PropInfo* find_prop(const BlockInfo& block, std::string_view name);
+const PropInfo& prop_by_id(std::int32_t id);
 // Every property name the block accepts (for "did you mean").
 std::vector<std::string_view> prop_names(const BlockInfo& block);
 // Every block name of a kind (for "did you mean").
@@ -55,5 +58,9 @@ std::string describe(const PropInfo& prop);
 // message naming what the property accepts, or an empty string.
 // `integral` is set when the problem is a non-integral number (NotAnInteger).
 std::string check_value(const PropInfo& prop, Value& v, bool* integral = nullptr);
+// The same decision without building any text: true exactly when check_value would
+// return "" (and then with the same conversion applied); false leaves `v` as it was,
+// for check_value to explain. The per-item hot path of the evaluator.
+bool value_ok(const PropInfo& prop, Value& v);
 
 }  // namespace snell::compile

@@ -32,6 +32,7 @@ struct Property {
   Span name_span;
   ExprPtr value;
   BlockPtr block;
+  mutable std::int32_t prop = -1;  // the compiler's property id once resolved (a cache)
 };
 
 // `{ name value name value ... }`, the body of a scene item, of a named material
@@ -67,6 +68,9 @@ struct Expr {
   std::vector<ExprPtr> args;
   BlockPtr block;
   mutable std::int32_t symbol = -1;  // Name: the compiler's interned id (a cache)
+  // Set by the compiler once this node's numeric fast path has failed (a cache: it
+  // then always takes the general path; see Evaluator::eval_number).
+  mutable bool not_numeric = false;
 };
 
 enum class StmtKind {
