@@ -89,6 +89,8 @@ Integrator::Integrator(const ir::Scene& scene, const EmbreeScene& embree)
   max_depth_ = scene.settings.max_depth;
   min_weight_ = float(scene.settings.min_weight);
   fresnel_ = scene.settings.fresnel;
+  stochastic_branching_ = scene.settings.branching == ir::Branching::Stochastic;
+  roulette_ = scene.settings.termination == ir::Termination::Roulette;
 }
 
 // §8 checker: p (world space) moved inward by S/100 along the outward normal, cell
@@ -210,8 +212,16 @@ Color Integrator::li(const Ray& camera_ray, const SampleContext& sc, RenderStats
         return;
       }
       if (min_weight_ > 0 && max_component(w) < min_weight_) {
-        ++stats.pruned_by_weight;
-        return;
+        // Cutoff drops the branch (biased dark). Russian roulette keeps it with
+        // probability q = weight / min_weight and divides its weight by q, so
+        // its expected contribution is unchanged.
+        float q = max_component(w) / min_weight_;
+        if (!roulette_ ||
+            sample1(sc.spec, sc.px, sc.py, sc.index, node_dim(child_key(node.key, slot), 11)) >= q) {
+          ++stats.pruned_by_weight;
+          return;
+        }
+        w = w * (1 / q);
       }
       Node& k = kids[nkids++];
       k.ray = Ray{org, dir, INFINITY, node.ray.time};
@@ -279,11 +289,24 @@ Color Integrator::li(const Ray& camera_ray, const SampleContext& sc, RenderStats
           Interface f = make_interface(cos_i, eta);
           double R = reflectance(f, fresnel_);
           if (f.tir) ++stats.tir_events;
-          spawn(RayKind::Reflection, offset_ray_origin(p, nf), normalize(refl), w * float(R), 1);
-          if (!f.tir) {
+          // Split: both children, weighted R and 1 - R (the lecture's tree).
+          // Stochastic: one child, reflection with probability R, at full weight;
+          // the same expectation, one path instead of a tree. Under total
+          // internal reflection R is 1, so both agree exactly.
+          bool reflect = true, transmit = !f.tir;
+          float wr = float(R), wt = float(1 - R);
+          if (stochastic_branching_ && !f.tir) {
+            float u = sample1(sc.spec, sc.px, sc.py, sc.index, node_dim(node.key, 9));
+            reflect = u < float(R);
+            transmit = !reflect;
+            wr = wt = 1;
+          }
+          if (reflect)
+            spawn(RayKind::Reflection, offset_ray_origin(p, nf), normalize(refl), w * wr, 1);
+          if (transmit) {
             Vec3d t = refract({d.x, d.y, d.z}, {nf.x, nf.y, nf.z}, f);
             spawn(RayKind::Refraction, offset_ray_origin(p, -nf),
-                  normalize(to_float(t.x, t.y, t.z)), w * float(1 - R), 2);
+                  normalize(to_float(t.x, t.y, t.z)), w * wt, 2);
           }
           break;
         }
@@ -338,8 +361,9 @@ template Color Integrator::li<ShadeFlags<true, true, true>>(
 std::string Integrator::to_string() const {
   return fmt::format(
       "integrator {{ whitted point_lights {} area_lights {} max_depth {} min_weight {} "
-      "fresnel {} }}",
-      points_.size(), area_.size(), max_depth_, min_weight_, ir::to_string(fresnel_));
+      "fresnel {} branching {} termination {} }}",
+      points_.size(), area_.size(), max_depth_, min_weight_, ir::to_string(fresnel_),
+      stochastic_branching_ ? "stochastic" : "split", roulette_ ? "roulette" : "cutoff");
 }
 
 }  // namespace snell::rt

@@ -118,6 +118,8 @@ class Integrator {
   std::uint32_t max_depth_;
   float min_weight_;
   ir::FresnelMode fresnel_;
+  bool stochastic_branching_ = false;  // settings.branching "stochastic"
+  bool roulette_ = false;              // settings.termination "roulette"
 };
 
 }  // namespace snell::rt
