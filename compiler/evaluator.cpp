@@ -1,5 +1,6 @@
 #include "compiler/evaluator.hpp"
 
+#include <bitset>
 #include <cmath>
 
 #include "compiler/builtins.hpp"
@@ -179,6 +180,7 @@ Evaluator::Flow Evaluator::exec_for(const Stmt& s, const std::shared_ptr<Env>& e
     return Flow::Normal;
   }
   std::int32_t sym = symbol_of(s);
+  hint_objects(s, from.n, to.n, by.n);
   // NAME = from + k·step, computed afresh each time so no rounding accumulates.
   std::shared_ptr<Env> scope;
   for (std::uint64_t k = 0;; ++k) {
@@ -197,6 +199,23 @@ Evaluator::Flow Evaluator::exec_for(const Stmt& s, const std::shared_ptr<Env>& e
     if (exec_block(s.body, scope, frame) == Flow::Return) return Flow::Return;
   }
   return Flow::Normal;
+}
+
+// Tells the builder how many objects a loop is about to make when its body
+// makes some directly (not under an `if` or in a call): iterations times the
+// object items of the body. Only a hint for memory; see expect_objects.
+void Evaluator::hint_objects(const Stmt& loop, double from, double to, double by) {
+  double trips = by > 0 ? std::ceil((to - from) / by) : std::ceil((from - to) / -by);
+  if (!(trips >= 1024)) return;  // small loops (and NaN) grow the vector as usual
+  std::size_t items = 0;
+  for (const lang::StmtPtr& st : loop.body) {
+    if (st->kind != StmtKind::Item) continue;
+    const BlockInfo* b = symbol_block_[symbol_of(*st)];
+    items += b && b->is_object;
+  }
+  if (items == 0) return;
+  double n = std::min(trips * static_cast<double>(items), static_cast<double>(kMaxSceneObjects));
+  builder_.expect_objects(static_cast<std::size_t>(n));
 }
 
 Evaluator::Flow Evaluator::exec_if(const Stmt& s, const std::shared_ptr<Env>& env, Frame& frame) {
@@ -303,6 +322,7 @@ void Evaluator::eval_props(const BlockInfo& block, const lang::Block& body, Span
                            const std::shared_ptr<Env>& env, std::vector<EvaluatedProp>& out,
                            bool& ok) {
   const std::size_t first = out.size();
+  std::bitset<kPropCount> given;  // the properties in out[first..] (by id)
   for (const lang::Property& p : body.properties) {
     // A Block is always checked against the same table (its keyword's), so the
     // property it names can be remembered on the node.
@@ -316,24 +336,17 @@ void Evaluator::eval_props(const BlockInfo& block, const lang::Block& body, Span
       ok = false;
       continue;
     }
-    if (!info->repeats()) {
-      bool dup = false;
+    if (!info->repeats() && given.test(static_cast<std::size_t>(info->id))) {
       for (std::size_t k = first; k < out.size(); ++k)
         if (const EvaluatedProp& q = out[k]; q.info == info) {
           error(DiagKind::DuplicateProperty, p.name_span,
                 "'" + p.name + "' is given twice in '" + std::string(block.name) + "'")
               .note(q.name_span, "first given here");
-          dup = true;
           break;
         }
-      if (dup) {
-        ok = false;
-        continue;
-      }
+      ok = false;
+      continue;
     }
-    EvaluatedProp ep;
-    ep.info = info;
-    ep.name_span = p.name_span;
     if (info->type == PropType::Block) {
       if (!p.block) {
         error(DiagKind::InvalidValue, p.value ? p.value->span : p.name_span,
@@ -341,9 +354,6 @@ void Evaluator::eval_props(const BlockInfo& block, const lang::Block& body, Span
         ok = false;
         continue;
       }
-      ep.value_span = p.block->span;
-      const BlockInfo* nested = find_block(info->name);  // only `motion`: rare
-      eval_props(*nested, *p.block, p.name_span, env, ep.nested, ok);
     } else {
       if (p.block) {
         error(DiagKind::InvalidValue, p.block->span,
@@ -352,22 +362,32 @@ void Evaluator::eval_props(const BlockInfo& block, const lang::Block& body, Span
         continue;
       }
       if (!p.value) continue;  // a syntax error, already reported
+    }
+    // Built in place; taken back out if its value fails. Nothing else appends to
+    // `out` meanwhile (nested items and constructors lease their own lists).
+    EvaluatedProp& ep = out.emplace_back();
+    ep.info = info;
+    ep.name_span = p.name_span;
+    if (info->type == PropType::Block) {
+      ep.value_span = p.block->span;
+      const BlockInfo* nested = find_block(info->name);  // only `motion`: rare
+      eval_props(*nested, *p.block, p.name_span, env, ep.nested, ok);
+    } else {
       ep.value_span = p.value->span;
       if (!eval_prop_value(*info, *p.value, env, ep.value)) {
+        out.pop_back();
         ok = false;
         continue;
       }
     }
-    out.push_back(std::move(ep));
+    given.set(static_cast<std::size_t>(info->id));
   }
   static const BlockInfo* const object_props = find_block("object");
   const BlockInfo* object = block.is_object ? object_props : nullptr;
   for (const BlockInfo* b : {&block, object}) {
     if (!b) continue;
     for (const PropInfo* info : b->props) {
-      bool given = false;
-      for (std::size_t k = first; k < out.size(); ++k) given |= out[k].info == info;
-      if (given) continue;
+      if (given.test(static_cast<std::size_t>(info->id))) continue;
       if (info->required()) {
         // A property that failed its own check counts as given: no second error.
         bool attempted = false;
@@ -378,12 +398,11 @@ void Evaluator::eval_props(const BlockInfo& block, const lang::Block& body, Span
                     describe(*info) + ")");
         ok = false;
       } else if (info->default_value.type != Type::None) {
-        EvaluatedProp d;
+        EvaluatedProp& d = out.emplace_back();
         d.info = info;
         d.name_span = keyword_span;
         d.value_span = keyword_span;
         d.value = info->default_value;
-        out.push_back(std::move(d));
       }
     }
   }

@@ -77,6 +77,7 @@ class Evaluator {
   void exec_let(const lang::Stmt& s, const std::shared_ptr<Env>& env);
   void exec_fn(const lang::Stmt& s, const std::shared_ptr<Env>& env);
   Flow exec_for(const lang::Stmt& s, const std::shared_ptr<Env>& env, Frame& frame);
+  void hint_objects(const lang::Stmt& loop, double from, double to, double by);
   Flow exec_if(const lang::Stmt& s, const std::shared_ptr<Env>& env, Frame& frame);
   void exec_import(const lang::Stmt& s, const std::shared_ptr<Env>& env);
   void exec_item(const lang::Stmt& s, const std::shared_ptr<Env>& env);

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <new>
 #include <tiny_obj_loader.h>
 
 namespace snell::compile {
@@ -89,8 +90,13 @@ SceneBuilder::SceneBuilder(const lang::SourceManager& sources, lang::DiagnosticE
 
 ir::SourceRef SceneBuilder::ref(Span span) const {
   if (span.file >= sources_.size()) return {};
+  for (const RefCache& c : ref_cache_)
+    if (c.span.file == span.file && c.span.begin == span.begin) return c.ref;
   lang::LineCol lc = sources_.file(span.file).line_col(span.begin);
-  return {span.file, lc.line, lc.col};
+  RefCache& c = ref_cache_[ref_next_++ & 1];
+  c.span = span;
+  c.ref = {span.file, lc.line, lc.col};
+  return c.ref;
 }
 
 bool SceneBuilder::first_of_kind(std::string_view kind, Span span) {
@@ -143,6 +149,26 @@ std::uint32_t SceneBuilder::material_index(const ir::Material& m) {
   ++material_count_;
   material_slots_[i] = {h, static_cast<std::uint32_t>(scene_.materials.size())};
   return material_slots_[i].index - 1;
+}
+
+namespace {
+template <class T>
+void reserve_for(std::vector<T>& v, std::size_t n) {
+  std::size_t want = std::min(v.size() + n, kMaxSceneObjects);
+  if (want <= v.capacity()) return;
+  try {
+    v.reserve(std::max(want, 2 * v.capacity()));
+  } catch (const std::bad_alloc&) {
+    // No address space for the hint (strict overcommit): grow as usual instead.
+  }
+}
+}  // namespace
+
+void SceneBuilder::expect_objects(std::size_t n) {
+  reserve_for(scene_.shapes, n);
+  // Each object may bring a new material (distinct colours); one that reuses a
+  // material leaves this room untouched.
+  reserve_for(scene_.materials, n);
 }
 
 void SceneBuilder::set_background(const Value& color, Span span) {

@@ -5,11 +5,15 @@
 #include <memory>
 
 namespace snell::compile {
+
+const PropInfo* const* detail::prop_index = nullptr;
+
 namespace {
 
 struct Registry {
   std::deque<PropInfo> props;
   std::deque<BlockInfo> blocks;
+  std::vector<const PropInfo*> by_id;
 
   Registry() {
 #define SNELL_BLOCK(name, kind) blocks.push_back({#name, BlockKind::kind, {}, false});
@@ -17,7 +21,11 @@ struct Registry {
   props.push_back({#block, #name, PropType::type, Check::check, static_cast<unsigned>(flags), \
                    def});
 #include "compiler/properties.def"
-    for (std::size_t i = 0; i < props.size(); ++i) props[i].id = static_cast<std::int32_t>(i);
+    for (std::size_t i = 0; i < props.size(); ++i) {
+      props[i].id = static_cast<std::int32_t>(i);
+      by_id.push_back(&props[i]);
+    }
+    detail::prop_index = by_id.data();
     for (const PropInfo& p : props)
       for (BlockInfo& b : blocks)
         if (b.name == p.block) b.props.push_back(&p);
@@ -86,8 +94,6 @@ const BlockInfo* find_block(std::string_view name) {
     if (b.name == name) return &b;
   return nullptr;
 }
-
-const PropInfo& prop_by_id(std::int32_t id) { return registry().props[static_cast<std::size_t>(id)]; }
 
 const PropInfo* find_prop(const BlockInfo& block, std::string_view name) {
   for (const PropInfo* p : block.props)

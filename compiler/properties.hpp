@@ -44,7 +44,17 @@ struct BlockInfo {
 
 const BlockInfo* find_block(std::string_view name);
 const PropInfo* find_prop(const BlockInfo& block, std::string_view name);
-const PropInfo& prop_by_id(std::int32_t id);
+// The number of properties in properties.def (ids are 0 .. kPropCount-1).
+inline constexpr int kPropCount = 0
+#define SNELL_BLOCK(name, kind)
+#define SNELL_PROP(block, name, type, check, flags, def) +1
+#include "compiler/properties.def"
+    ;
+namespace detail {
+extern const PropInfo* const* prop_index;  // set when the registry is built
+}
+// Only for ids taken from a PropInfo (so the registry exists).
+inline const PropInfo& prop_by_id(std::int32_t id) { return *detail::prop_index[id]; }
 // Every property name the block accepts (for "did you mean").
 std::vector<std::string_view> prop_names(const BlockInfo& block);
 // Every block name of a kind (for "did you mean").
