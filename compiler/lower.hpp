@@ -92,6 +92,14 @@ class SceneBuilder {
   static std::uint64_t material_hash(const ir::Material& m);
   std::unordered_map<std::string, std::uint32_t> mesh_ids_;
   std::int64_t default_material_ = -1;
+  // Prefaulting of the reserved room of the two big vectors (see prefault()).
+  struct Prefault {
+    const void* base = nullptr;  // the vector's storage when `done` was measured
+    std::size_t done = 0;        // bytes from base already prefaulted
+  };
+  Prefault shapes_prefault_, materials_prefault_;
+  template <class T>
+  void prefault(const std::vector<T>& v, Prefault& pf);
 };
 
 }  // namespace snell::compile
