@@ -107,6 +107,11 @@ double scalar(int id, double x, double y, double t) {
 
 }  // namespace
 
+const unsigned char detail::kBuiltinArity[] = {
+#define SNELL_BUILTIN(name, arity, sig) arity,
+#include "compiler/builtins.def"
+};
+
 int builtin_count() { return static_cast<int>(std::size(kBuiltins)); }
 
 int find_builtin(std::string_view name) {

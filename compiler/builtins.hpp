@@ -17,6 +17,11 @@ struct BuiltinInfo {
 int find_builtin(std::string_view name);  // -1 when `name` is no builtin
 const BuiltinInfo& builtin_info(int id);
 int builtin_count();
+// builtin_info(id).arity, inline for the evaluator's fast path.
+namespace detail {
+extern const unsigned char kBuiltinArity[];
+}
+inline std::size_t builtin_arity(int id) { return detail::kBuiltinArity[id]; }
 
 struct BuiltinError {
   int arg = -1;  // the offending argument, or -1 for the call as a whole

@@ -134,7 +134,7 @@ bool Evaluator::eval_number(const Expr& e, const Env* env, double& out) {
       for (const Env* s = env; s; s = s->parent.get())
         if (s->find_local(sym)) return fail_number(e);  // a user binding shadows the builtin
       std::size_t n = e.args.size() - 1;
-      if (n != static_cast<std::size_t>(builtin_info(id).arity) || n > 3) break;
+      if (n != builtin_arity(id) || n > 3) break;
       double a[3] = {0, 0, 0};
       for (std::size_t i = 0; i < n; ++i)
         if (!number_operand(*e.args[i + 1], env, a[i])) return fail_number(e);
@@ -168,6 +168,13 @@ Value Evaluator::eval_vector(const Expr& e, const std::shared_ptr<Env>& env) {
   double c[3] = {0, 0, 0};
   bool bad = false;
   for (std::size_t i = 0; i < e.args.size(); ++i) {
+    // Numeric components skip the Value (as eval() would, see eval_number).
+    if (const Expr& a = *e.args[i]; !a.not_numeric && i < 3) {
+      std::uint64_t saved = steps_;
+      if (number_operand(a, env.get(), c[i]) && steps_ <= step_budget_ && !aborted_) [[likely]]
+        continue;
+      steps_ = saved;
+    }
     Value v = eval(*e.args[i], env);
     if (v.is_error()) {
       bad = true;

@@ -19,19 +19,15 @@ using lang::Span;
 
 namespace {
 
-const EvaluatedProp* get(const std::vector<EvaluatedProp>& props, std::string_view name) {
+const EvaluatedProp* get(const std::vector<EvaluatedProp>& props, PropId id) {
   for (const EvaluatedProp& p : props)
-    if (p.info->name == name) return &p;
+    if (p.info->id == static_cast<std::int32_t>(id)) return &p;
   return nullptr;
 }
 
-ir::Vec3 vec(const std::vector<EvaluatedProp>& props, std::string_view name) {
-  return get(props, name)->value.v;
-}
+ir::Vec3 vec(const std::vector<EvaluatedProp>& props, PropId id) { return get(props, id)->value.v; }
 
-double num(const std::vector<EvaluatedProp>& props, std::string_view name) {
-  return get(props, name)->value.n;
-}
+double num(const std::vector<EvaluatedProp>& props, PropId id) { return get(props, id)->value.n; }
 
 ir::Texture texture_of(const Value& v) {
   if (v.type == Type::Pattern) return v.pat();
@@ -62,31 +58,31 @@ Value make_constructor_value(const BlockInfo& block, const std::vector<Evaluated
   if (n == "checker") {
     ir::Texture t;
     t.kind = ir::Texture::Kind::Checker;
-    t.color = vec(props, "color1");
-    t.color2 = vec(props, "color2");
-    t.size = num(props, "size");
+    t.color = vec(props, PropId::checker_color1);
+    t.color2 = vec(props, PropId::checker_color2);
+    t.size = num(props, PropId::checker_size);
     return Value::of_pattern(t);
   }
   ir::Material m;
   if (n == "diffuse") {
     m.kind = ir::MaterialKind::Diffuse;
-    m.color = texture_of(get(props, "color")->value);
+    m.color = texture_of(get(props, PropId::diffuse_color)->value);
   } else if (n == "mirror") {
     m.kind = ir::MaterialKind::Mirror;
-    m.color = texture_of(get(props, "color")->value);
+    m.color = texture_of(get(props, PropId::mirror_color)->value);
   } else if (n == "glossy") {
     m.kind = ir::MaterialKind::Glossy;
-    m.color = texture_of(get(props, "color")->value);
-    m.blur = num(props, "blur");
+    m.color = texture_of(get(props, PropId::glossy_color)->value);
+    m.blur = num(props, PropId::glossy_blur);
   } else if (n == "dielectric") {
     m.kind = ir::MaterialKind::Dielectric;
     m.color.color = {1, 1, 1};
-    m.ior = num(props, "ior");
-    m.absorb = vec(props, "absorb");
+    m.ior = num(props, PropId::dielectric_ior);
+    m.absorb = vec(props, PropId::dielectric_absorb);
   } else if (n == "glazed") {
     m.kind = ir::MaterialKind::Glazed;
-    m.color = texture_of(get(props, "color")->value);
-    m.ior = num(props, "ior");
+    m.color = texture_of(get(props, PropId::glazed_color)->value);
+    m.ior = num(props, PropId::glazed_ior);
   }
   return Value::of_material(std::move(m));
 }
@@ -221,29 +217,29 @@ void SceneBuilder::add_item(const BlockInfo& block, Span kw,
     apply_camera(props);
   } else if (n == "point_light") {
     ir::PointLight l;
-    l.position = vec(props, "position");
-    l.intensity = vec(props, "intensity");
+    l.position = vec(props, PropId::point_light_position);
+    l.intensity = vec(props, PropId::point_light_intensity);
     l.src = ref(kw);
     scene_.point_lights.push_back(l);
   } else if (n == "area_light") {
     ir::AreaLight l;
-    l.corner = vec(props, "corner");
-    l.edge1 = vec(props, "edge1");
-    l.edge2 = vec(props, "edge2");
-    l.radiance = vec(props, "radiance");
-    ir::Vec3 s = vec(props, "samples");
+    l.corner = vec(props, PropId::area_light_corner);
+    l.edge1 = vec(props, PropId::area_light_edge1);
+    l.edge2 = vec(props, PropId::area_light_edge2);
+    l.radiance = vec(props, PropId::area_light_radiance);
+    ir::Vec3 s = vec(props, PropId::area_light_samples);
     l.samples_u = static_cast<std::uint32_t>(s.x);
     l.samples_v = static_cast<std::uint32_t>(s.y);
-    l.two_sided = get(props, "two_sided")->value.truth();
+    l.two_sided = get(props, PropId::area_light_two_sided)->value.truth();
     l.src = ref(kw);
     if (ir::length(ir::cross(l.edge1, l.edge2)) == 0) {
-      diags_.report(DiagKind::InvalidValue, get(props, "edge2")->value_span,
+      diags_.report(DiagKind::InvalidValue, get(props, PropId::area_light_edge2)->value_span,
                     "'edge1' and 'edge2' of an area light must span a non-zero area")
-          .note(get(props, "edge1")->value_span, "edge1 is " + ir::to_string(l.edge1));
+          .note(get(props, PropId::area_light_edge1)->value_span, "edge1 is " + ir::to_string(l.edge1));
       return;
     }
     if (std::uint64_t(l.samples_u) * l.samples_v > 65536) {
-      diags_.report(DiagKind::InvalidValue, get(props, "samples")->value_span,
+      diags_.report(DiagKind::InvalidValue, get(props, PropId::area_light_samples)->value_span,
                     "an area light takes at most 65536 shadow samples per point");
       return;
     }
@@ -286,25 +282,25 @@ void SceneBuilder::override_setting(const PropInfo& prop, const Value& v) {
 
 void SceneBuilder::apply_camera(const std::vector<EvaluatedProp>& props) {
   ir::Camera& c = scene_.camera;
-  c.location = vec(props, "location");
-  c.look_at = vec(props, "look_at");
-  c.up = vec(props, "up");
-  c.fov = num(props, "fov");
-  c.aperture = num(props, "aperture");
-  ir::Vec3 shutter = vec(props, "shutter");
+  c.location = vec(props, PropId::camera_location);
+  c.look_at = vec(props, PropId::camera_look_at);
+  c.up = vec(props, PropId::camera_up);
+  c.fov = num(props, PropId::camera_fov);
+  c.aperture = num(props, PropId::camera_aperture);
+  ir::Vec3 shutter = vec(props, PropId::camera_shutter);
   c.shutter_open = shutter.x;
   c.shutter_close = shutter.y;
-  if (const EvaluatedProp* fd = get(props, "focal_distance")) {
+  if (const EvaluatedProp* fd = get(props, PropId::camera_focal_distance)) {
     c.focal_distance = fd->value.n;
     focal_distance_set_ = true;
   }
   ir::Vec3 fwd = c.look_at - c.location;
-  const EvaluatedProp* at = get(props, "look_at");
+  const EvaluatedProp* at = get(props, PropId::camera_look_at);
   if (ir::length(fwd) == 0) {
     diags_.report(DiagKind::InvalidValue, at->value_span,
                   "the camera's 'look_at' equals its 'location': no view direction");
   } else if (ir::length(ir::cross(fwd, c.up)) == 0) {
-    diags_.report(DiagKind::InvalidValue, get(props, "up")->value_span,
+    diags_.report(DiagKind::InvalidValue, get(props, PropId::camera_up)->value_span,
                   "the camera's 'up' is parallel to its view direction")
         .note(at->value_span, "view direction is " + ir::to_string(ir::normalize(fwd)));
   }
@@ -317,30 +313,30 @@ void SceneBuilder::add_object(const BlockInfo& block, Span kw,
   std::string_view n = block.name;
   if (n == "sphere") {
     s.kind = ir::ShapeKind::Sphere;
-    s.center = vec(props, "center");
-    s.radius = num(props, "radius");
+    s.center = vec(props, PropId::sphere_center);
+    s.radius = num(props, PropId::sphere_radius);
   } else if (n == "plane") {
     s.kind = ir::ShapeKind::Plane;
-    ir::Vec3 nrm = vec(props, "normal");
+    ir::Vec3 nrm = vec(props, PropId::plane_normal);
     double len = ir::length(nrm);
     // dot(p, n) = d with n normalised: the plane is the same set of points.
     s.normal = nrm / len;
-    s.distance = num(props, "distance") / len;
+    s.distance = num(props, PropId::plane_distance) / len;
   } else if (n == "box") {
     s.kind = ir::ShapeKind::Box;
-    s.min = vec(props, "min");
-    s.max = vec(props, "max");
+    s.min = vec(props, PropId::box_min);
+    s.max = vec(props, PropId::box_max);
     if (!(s.min.x <= s.max.x && s.min.y <= s.max.y && s.min.z <= s.max.z)) {
-      diags_.report(DiagKind::InvalidValue, get(props, "max")->value_span,
+      diags_.report(DiagKind::InvalidValue, get(props, PropId::box_max)->value_span,
                     "a box's 'max' must be >= its 'min' in every component")
-          .note(get(props, "min")->value_span, "min is " + ir::to_string(s.min));
+          .note(get(props, PropId::box_min)->value_span, "min is " + ir::to_string(s.min));
       return;
     }
   } else if (n == "triangle") {
     s.kind = ir::ShapeKind::Triangle;
-    s.a = vec(props, "a");
-    s.b = vec(props, "b");
-    s.c = vec(props, "c");
+    s.a = vec(props, PropId::triangle_a);
+    s.b = vec(props, PropId::triangle_b);
+    s.c = vec(props, PropId::triangle_c);
     if (ir::length(ir::cross(s.b - s.a, s.c - s.a)) == 0) {
       diags_.report(DiagKind::DegenerateGeometry, kw,
                     "this triangle has no area (its corners are collinear); it is left out");
@@ -348,10 +344,10 @@ void SceneBuilder::add_object(const BlockInfo& block, Span kw,
     }
   } else if (n == "mesh") {
     s.kind = ir::ShapeKind::Mesh;
-    const EvaluatedProp* f = get(props, "file");
+    const EvaluatedProp* f = get(props, PropId::mesh_file);
     if (!load_mesh(f->value.str(), f->value_span, s.mesh)) return;
   }
-  const EvaluatedProp* mat = get(props, "material");
+  const EvaluatedProp* mat = get(props, PropId::object_material);
   if (mat) {
     s.material = material_index(mat->value.mat());
     scene_.materials[s.material].src = scene_.materials[s.material].src.line
@@ -362,7 +358,7 @@ void SceneBuilder::add_object(const BlockInfo& block, Span kw,
     s.material = static_cast<std::uint32_t>(default_material_);
   }
   s.world_from_object = transforms(props);
-  if (const EvaluatedProp* m = get(props, "motion")) {
+  if (const EvaluatedProp* m = get(props, PropId::object_motion)) {
     for (const EvaluatedProp& op : m->nested) {
       ir::TransformOp t;
       t.kind = op.info->type == PropType::Translate ? ir::TransformOp::Kind::Translate

@@ -44,12 +44,16 @@ struct BlockInfo {
 
 const BlockInfo* find_block(std::string_view name);
 const PropInfo* find_prop(const BlockInfo& block, std::string_view name);
-// The number of properties in properties.def (ids are 0 .. kPropCount-1).
-inline constexpr int kPropCount = 0
+// Every property's id (its PropInfo::id), named BLOCK_NAME: sphere_center,
+// object_material, ... Code that reads evaluated properties names them this way,
+// so a misspelt name is a compile error and a lookup is an integer compare.
+enum class PropId : std::int32_t {
 #define SNELL_BLOCK(name, kind)
-#define SNELL_PROP(block, name, type, check, flags, def) +1
+#define SNELL_PROP(block, name, type, check, flags, def) block##_##name,
 #include "compiler/properties.def"
-    ;
+  Count
+};
+inline constexpr int kPropCount = static_cast<int>(PropId::Count);
 namespace detail {
 extern const PropInfo* const* prop_index;  // set when the registry is built
 }
