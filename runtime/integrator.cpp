@@ -128,12 +128,15 @@ Color Integrator::direct(Vec3f p, Vec3f nf, float time, std::uint64_t key,
     Vec3f to = l.pos - p;
     float d2 = dot(to, to);
     float cos_s = dot(nf, to);
-    if (!(cos_s > 0)) continue;
+    // A light at (numerically) zero distance has no defined direction: it adds
+    // nothing rather than an infinity (robustness #4: d² underflows at 1e-20).
+    if (!(cos_s > 0) || !(d2 > 0)) continue;
     Ray shadow{o, l.pos - o, 1.0f, time};
     ++stats.shadow_rays;
     if (embree_.occluded(shadow)) continue;
     float d = std::sqrt(d2);
-    e += l.intensity * (cos_s / (d * d2));
+    float g = cos_s / (d * d2);
+    if (std::isfinite(g)) e += l.intensity * g;
   }
   if constexpr (!K::area) return e;
   for (std::size_t li = 0; li < area_.size(); ++li) {
@@ -150,7 +153,7 @@ Color Integrator::direct(Vec3f p, Vec3f nf, float time, std::uint64_t key,
         float d2 = dot(to, to);
         float cos_s = dot(nf, to);
         float cos_l = -dot(l.n, to);
-        if (!(cos_s > 0)) continue;
+        if (!(cos_s > 0) || !(d2 > 0)) continue;
         if (!l.two_sided && !(cos_l > 0)) continue;
         Vec3f side = cos_l > 0 ? l.n : -l.n;  // the light's face towards p
         Vec3f target = offset_ray_origin(q, side);
@@ -158,7 +161,7 @@ Color Integrator::direct(Vec3f p, Vec3f nf, float time, std::uint64_t key,
         ++stats.shadow_rays;
         if (embree_.occluded(shadow)) continue;
         float g = cos_s * std::fabs(cos_l) / (d2 * d2) * l.area * inv_n;
-        e += l.radiance * g;
+        if (std::isfinite(g)) e += l.radiance * g;
       }
   }
   return e;

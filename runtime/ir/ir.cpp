@@ -175,7 +175,23 @@ std::vector<std::string> validate(const Scene& scene) {
     if (m.color.kind == Texture::Kind::Checker && !(m.color.size > 0))
       bad(m.src, "checker size must be > 0");
   }
+  auto finite_transform = [](const Transform& t) {
+    for (double v : t.m.m)
+      if (!std::isfinite(v)) return false;
+    for (double v : t.inv.m)
+      if (!std::isfinite(v)) return false;
+    return true;
+  };
+  for (const Material& m : scene.materials)
+    if (!is_finite(m.color.color) || !is_finite(m.color.color2) || !is_finite(m.absorb))
+      bad(m.src, "material colours and absorb must be finite");
   for (const Shape& s : scene.shapes) {
+    if (!is_finite(s.center) || !std::isfinite(s.radius) || !is_finite(s.normal) ||
+        !std::isfinite(s.distance) || !is_finite(s.min) || !is_finite(s.max) || !is_finite(s.a) ||
+        !is_finite(s.b) || !is_finite(s.c) || !finite_transform(s.world_from_object))
+      bad(s.src, to_string(s.kind) + " has a non-finite position, size or transform");
+    for (const TransformOp& op : s.motion.ops)
+      if (!is_finite(op.value)) bad(s.src, "motion has a non-finite value");
     if (s.material >= scene.materials.size()) bad(s.src, "material index out of range");
     if (s.kind == ShapeKind::Mesh && s.mesh >= scene.meshes.size())
       bad(s.src, "mesh index out of range");
@@ -184,6 +200,11 @@ std::vector<std::string> validate(const Scene& scene) {
       bad(s.src, "plane normal must be unit length");
   }
   for (const Mesh& m : scene.meshes) {
+    for (const Vec3& p : m.positions)
+      if (!is_finite(p)) {
+        problems.push_back(m.path + ": non-finite vertex position");
+        break;
+      }
     if (m.indices.size() % 3 != 0) problems.push_back(m.path + ": index count not a multiple of 3");
     for (std::uint32_t i : m.indices)
       if (i >= m.positions.size()) {
@@ -191,7 +212,12 @@ std::vector<std::string> validate(const Scene& scene) {
         break;
       }
   }
+  for (const PointLight& l : scene.point_lights)
+    if (!is_finite(l.position) || !is_finite(l.intensity))
+      bad(l.src, "point light position and intensity must be finite");
   for (const AreaLight& l : scene.area_lights) {
+    if (!is_finite(l.corner) || !is_finite(l.edge1) || !is_finite(l.edge2) || !is_finite(l.radiance))
+      bad(l.src, "area light corner, edges and radiance must be finite");
     if (length(cross(l.edge1, l.edge2)) == 0) bad(l.src, "area light has zero area");
     if (l.samples_u < 1 || l.samples_v < 1) bad(l.src, "area light samples must be >= 1");
   }

@@ -195,7 +195,7 @@ TEST_CASE("hc06 watertight: rays from inside a closed jittered mesh sphere alway
 }
 
 TEST_CASE("hc06 rays aimed exactly at mesh vertices miss less than 1e-4 of the time",
-          "[hardcase][robust][property][!mayfail]") {
+          "[hardcase][robust][property]") {
   // Embree's maintainers say exact vertex hits are not handled perfectly (Embree
   // #181, #381); robustness.md asks for < 1e-4 and to record the rate. Known to
   // fail without RTC_SCENE_FLAG_ROBUST (docs/hardcases.md #6).

@@ -102,10 +102,10 @@ TEST_CASE("hc04 the area-lit scene at scale 1e-4 renders like the original",
 }
 
 TEST_CASE("hc04 a scene at scale 1e-20 renders without a non-finite sample",
-          "[hardcase][scene][robust][!mayfail]") {
+          "[hardcase][scene][robust]") {
   // Outside the supported range (§1 #4): the compiler does not reject tiny scales,
-  // so the renderer must at least not produce Inf/NaN. Known to fail: see
-  // docs/hardcases.md #4 (d² underflows to 0 under FTZ, area-light terms become ∞).
+  // so the renderer must at least not produce Inf/NaN. d² underflows to 0 there;
+  // the integrator skips such light samples instead of adding an infinity.
   rt::RenderResult r = rt::render(area_scene(1e-20, {0, 0, 0}), {});
   CHECK(all_finite(r.image));
   CHECK(r.stats.nonfinite_samples == 0);
@@ -148,7 +148,7 @@ TEST_CASE("hc08 degenerate triangles and mesh faces leave the image bit-identica
 }
 
 TEST_CASE("hc08 ir::validate reports a non-finite triangle vertex",
-          "[hardcase][degenerate][!mayfail]") {
+          "[hardcase][degenerate]") {
   // The compiler never makes one (NonFiniteValue, test_compile_rejects.cpp), but
   // ir::validate promises "finite numbers" to a runtime driven by a C++-built IR.
   // Known to fail: validate does not look at triangle vertices (docs/hardcases.md #8).
