@@ -204,60 +204,76 @@ class Sweeper {
     fs::create_directories(fs::path(o_.out_dir) / "images");
     std::string stem = o_.name.empty() ? fs::path(o_.scene).stem().string() : o_.name;
     for (const SweepAxis& axis : o_.vary) {
-      for (const std::string& sv : series_values) {
+      // Every configuration of this axis, compiled first.
+      struct Job {
+        Config config;
+        ir::Scene scene;
+        SweepRow row;
+        std::vector<double> times;
+        rt::RenderResult first;
+      };
+      std::vector<Job> jobs;
+      for (const std::string& sv : series_values)
         for (const std::string& v : axis.values) {
-          Config c;
+          Job j;
           std::string err;
-          if ((!o_.series.key.empty() && !apply(c, o_.series.key, sv, err)) || !apply(c, axis.key, v, err)) {
+          if ((!o_.series.key.empty() && !apply(j.config, o_.series.key, sv, err)) ||
+              !apply(j.config, axis.key, v, err)) {
             std::cerr << "snell sweep: error: " << err << "\n";
             return kExitUsage;
           }
-          ir::Scene scene;
-          if (!compile(c, scene, code)) return code;
-          SweepRow row;
-          row.knob = axis.key;
-          row.value = v;
-          row.series_value = sv;
-          std::vector<double> times;
-          rt::RenderResult first;
-          for (int rep = 0; rep < std::max(1, o_.repeats); ++rep) {
-            double secs;
-            rt::RenderResult r = render(scene, c.general_kernel, secs);
-            times.push_back(secs);
-            if (rep == 0) first = std::move(r);
-          }
-          std::sort(times.begin(), times.end());
-          row.seconds = times[times.size() / 2];
-          row.seconds_min = times.front();
-          if (first.image.width != ref.width || first.image.height != ref.height) {
-            std::cerr << "snell sweep: error: '" << axis.key
-                      << "' changes the resolution; sweep resolution with --res instead\n";
-            return kExitUsage;
-          }
-          row.rmse = rmse(first.image, ref);
-          row.relmse = relative_mse(first.image, ref);
-          row.dssim = 1 - ssim(first.image, ref);
-          const rt::RenderStats& st = first.stats;
-          row.rays = st.camera_rays + st.shadow_rays + st.reflection_rays + st.refraction_rays +
-                     st.glossy_rays;
-          if (o_.images) {
-            row.image = "images/" + slug(stem + "-" + axis.key + "-" + v + (sv.empty() ? "" : "-" + sv)) + ".png";
-            rt::OutputInfo info;
-            info.scene_path = o_.scene;
-            info.samples = scene.settings.samples;
-            info.seed = scene.settings.seed;
-            std::string e = rt::write_image((fs::path(o_.out_dir) / row.image).string(), first.image, info, "");
-            if (!e.empty()) {
-              std::cerr << "snell sweep: error: " << e << "\n";
-              return kExitIo;
-            }
-          }
-          if (!o_.quiet)
-            std::fprintf(stderr, "%-14s %-12s %-12s %8.3f s  rmse %.5f  relmse %.5f  dssim %.5f\n",
-                         axis.key.c_str(), v.c_str(), sv.c_str(), row.seconds, row.rmse, row.relmse,
-                         row.dssim);
-          rows_.push_back(row);
+          if (!compile(j.config, j.scene, code)) return code;
+          j.row.knob = axis.key;
+          j.row.value = v;
+          j.row.series_value = sv;
+          jobs.push_back(std::move(j));
         }
+      // Repeats are interleaved: round r renders every configuration once, so a
+      // change in the machine's load during the run falls on all of them alike
+      // and the ratios between configurations hold.
+      for (int rep = 0; rep < std::max(1, o_.repeats); ++rep)
+        for (Job& j : jobs) {
+          double secs;
+          rt::RenderResult r = render(j.scene, j.config.general_kernel, secs);
+          j.times.push_back(secs);
+          if (rep == 0) j.first = std::move(r);
+        }
+      for (Job& j : jobs) {
+        SweepRow& row = j.row;
+        std::sort(j.times.begin(), j.times.end());
+        row.seconds = j.times[j.times.size() / 2];
+        row.seconds_min = j.times.front();
+        const rt::Image& img = j.first.image;
+        if (img.width != ref.width || img.height != ref.height) {
+          std::cerr << "snell sweep: error: '" << axis.key
+                    << "' changes the resolution; sweep resolution with --res instead\n";
+          return kExitUsage;
+        }
+        row.rmse = rmse(img, ref);
+        row.relmse = relative_mse(img, ref);
+        row.dssim = 1 - ssim(img, ref);
+        const rt::RenderStats& st = j.first.stats;
+        row.rays = st.camera_rays + st.shadow_rays + st.reflection_rays + st.refraction_rays +
+                   st.glossy_rays;
+        const std::string& v = row.value;
+        const std::string& sv = row.series_value;
+        if (o_.images) {
+          row.image = "images/" + slug(stem + "-" + axis.key + "-" + v + (sv.empty() ? "" : "-" + sv)) + ".png";
+          rt::OutputInfo info;
+          info.scene_path = o_.scene;
+          info.samples = j.scene.settings.samples;
+          info.seed = j.scene.settings.seed;
+          std::string e = rt::write_image((fs::path(o_.out_dir) / row.image).string(), img, info, "");
+          if (!e.empty()) {
+            std::cerr << "snell sweep: error: " << e << "\n";
+            return kExitIo;
+          }
+        }
+        if (!o_.quiet)
+          std::fprintf(stderr, "%-14s %-12s %-12s %8.3f s  rmse %.5f  relmse %.5f  dssim %.5f\n",
+                       axis.key.c_str(), v.c_str(), sv.c_str(), row.seconds, row.rmse, row.relmse,
+                       row.dssim);
+        rows_.push_back(row);
       }
     }
     return write_outputs(stem) ? kExitOk : kExitIo;

@@ -30,7 +30,8 @@ for scene in showcase glass material_gallery; do
   sweep "$scene" sampler   --vary samples=1,4,16,64 --series sampler=independent,stratified,sobol --no-images
   sweep "$scene" fresnel   --vary samples=1,4,16,64 --series fresnel=exact,schlick
   sweep "$scene" branching --vary samples=1,4,16,64 --series branching=split,stochastic
-  sweep "$scene" termination --vary samples=1,4,16,64 --series termination=cutoff,roulette
+  # A cutoff of 0.05 prunes often enough to show the cutoff's bias against roulette.
+  sweep "$scene" termination --vary samples=1,4,16,64 --series termination=cutoff,roulette --set min_weight=0.05
   sweep "$scene" kernel    --vary samples=1,4,16,64 --series kernel=specialised,general --no-images
   sweep "$scene" depth     --vary max_depth=1,2,3,4,6,8,12 --set samples=16 --no-images
   sweep "$scene" weight    --vary min_weight=0.3,0.1,0.03,0.01,0.001,0 --set samples=16 --no-images
