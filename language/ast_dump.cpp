@@ -133,7 +133,8 @@ class Dumper {
     }
   }
 
-  void expr_children(const std::vector<ExprPtr>& list, int indent) {
+  template <typename List>  // std::vector<ExprPtr> or ExprList
+  void expr_children(const List& list, int indent) {
     for (const ExprPtr& e : list)
       if (e) expr(*e, indent, "");
   }

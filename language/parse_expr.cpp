@@ -53,6 +53,11 @@ void Parser::take_scratch(std::vector<T>& out, std::size_t mark) {
   stack.resize(mark);
 }
 
+void Parser::take_scratch(ExprList& out, std::size_t mark) {
+  out = ExprList(scratch_exprs_.begin() + static_cast<std::ptrdiff_t>(mark), scratch_exprs_.end());
+  scratch_exprs_.resize(mark);
+}
+
 // expr -> unary { INFIX expr' }     where expr' binds tighter than INFIX (Pratt)
 // Inside a vector literal, '>' ends the element (it closes the vector) and the other
 // comparisons are errors unless parenthesised (§3).
@@ -74,9 +79,7 @@ ExprPtr Parser::parse_expr(int min_power) {
     ExprPtr rhs = parse_expr(power + 1);
     auto bin = make(ExprKind::Binary, Span::join(lhs->span, rhs->span));
     bin->op = op;
-    bin->args.reserve(2);
-    bin->args.push_back(std::move(lhs));
-    bin->args.push_back(std::move(rhs));
+    bin->args = ExprList::of(std::move(lhs), std::move(rhs));
     lhs = std::move(bin);
     // A left-deep chain is as deep as nested parentheses for every later walk.
     ++depth_;
@@ -94,7 +97,7 @@ ExprPtr Parser::parse_unary() {
   ExprPtr operand = parse_unary();
   auto e = make(ExprKind::Unary, Span::join(op.span, operand->span));
   e->op = op.kind;
-  e->args.push_back(std::move(operand));
+  e->args = ExprList::of(std::move(operand));
   return e;
 }
 
@@ -113,7 +116,7 @@ ExprPtr Parser::parse_postfix(ExprPtr base) {
       }
       auto e = make(ExprKind::Component, Span::join(base->span, here()));
       e->text = std::string(cur_.text);
-      e->args.push_back(std::move(base));
+      e->args = ExprList::of(std::move(base));
       base = std::move(e);
       advance();
     } else {
@@ -204,7 +207,7 @@ ExprPtr Parser::parse_constructor() {
     e->block = parse_block(e->text);
     e->span = Span::join(e->span, e->block->span);
   } else {
-    e->args.push_back(parse_expr());
+    e->args = ExprList::of(parse_expr());
     e->span = Span::join(e->span, e->args[0]->span);
   }
   return e;

@@ -71,6 +71,7 @@ class Parser {
   ExprPtr error_expr(Span span);
   template <typename T>
   void take_scratch(std::vector<T>& out, std::size_t mark);
+  void take_scratch(ExprList& out, std::size_t mark);
   std::vector<ExprPtr>& scratch(ExprPtr*) { return scratch_exprs_; }
   std::vector<Property>& scratch(Property*) { return scratch_properties_; }
 
