@@ -140,6 +140,11 @@ bool call_builtin_number(int id, const double* a, double& out) {
   }
 }
 
+bool builtin_numeric(int id) {
+  auto k = static_cast<Id>(id);
+  return k != Id::dot && k != Id::cross && k != Id::length && k != Id::normalize;
+}
+
 Value call_builtin(int id, const Value* a, BuiltinError& err) {
   auto vec_arg = [&](int i) {
     if (!a[i].is_vector()) {

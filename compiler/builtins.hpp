@@ -36,6 +36,8 @@ Value call_builtin(int id, const Value* args, BuiltinError& err);
 // true with the result (possibly non-finite) for builtins that take numbers and give
 // a number; false for dot, cross, length and normalize.
 bool call_builtin_number(int id, const double* args, double& out);
+// True when call_builtin_number handles `id` (all but dot, cross, length, normalize).
+bool builtin_numeric(int id);
 
 // random(n): the IEEE-754 bits of n (−0 taken as +0) through the SplitMix64
 // finaliser, top 53 bits scaled by 2^−53. Pure integer arithmetic: the same value

@@ -30,6 +30,7 @@ std::int32_t Evaluator::intern(const std::string& name) {
     symbol_names_.push_back(name);
     symbol_builtin_.push_back(find_builtin(name));
     symbol_block_.push_back(find_block(name));
+    symbol_bound_.push_back(0);
   }
   return it->second;
 }
@@ -52,6 +53,7 @@ bool Evaluator::step_exhausted(Span at) {
 }
 
 void Evaluator::define(const std::shared_ptr<Env>& env, std::int32_t symbol, Value v, Span span) {
+  symbol_bound_[symbol] = 1;
   if (const Binding* old = env->find_local(symbol)) {
     error(DiagKind::Redefinition, span,
           "'" + symbol_names_[symbol] + "' is already defined in this scope")
@@ -148,7 +150,10 @@ void Evaluator::exec_fn(const Stmt& s, const std::shared_ptr<Env>& env) {
   closure->def = &s;
   closure->env = env;  // lexical scope; the function sees itself through it
   closure->name = s.name;
-  for (const std::string& p : s.params) closure->params.push_back(intern(p));
+  for (const std::string& p : s.params) {
+    closure->params.push_back(intern(p));
+    symbol_bound_[closure->params.back()] = 1;
+  }
   for (std::size_t i = 0; i < s.params.size(); ++i)
     for (std::size_t j = 0; j < i; ++j)
       if (s.params[i] == s.params[j])
@@ -180,6 +185,7 @@ Evaluator::Flow Evaluator::exec_for(const Stmt& s, const std::shared_ptr<Env>& e
     return Flow::Normal;
   }
   std::int32_t sym = symbol_of(s);
+  symbol_bound_[sym] = 1;
   hint_objects(s, from.n, to.n, by.n);
   // NAME = from + k·step, computed afresh each time so no rounding accumulates.
   std::shared_ptr<Env> scope;

@@ -83,12 +83,15 @@ class Evaluator {
   void exec_item(const lang::Stmt& s, const std::shared_ptr<Env>& env);
 
   Value eval(const lang::Expr& e, const std::shared_ptr<Env>& env);
-  // The numeric fast path: evaluates `e` when it is pure arithmetic on numbers
-  // (number literals, names bound to numbers, unary minus, + - * / %, builtin calls
-  // on numbers) with every result finite, counting the same steps as eval(). It has
-  // no other effect, so on false (anything else, or the step budget running out)
-  // eval() restores the step count and evaluates `e` the general way, which then
-  // reports any error exactly as before.
+  // The numeric fast path (evaluator_number.cpp): evaluates `e` when it is pure
+  // arithmetic on numbers (number literals, names bound to numbers, unary minus,
+  // + - * / %, builtin calls on numbers) with every result finite, counting the
+  // same steps as eval(). It has no other effect, so on false (anything else) the
+  // caller restores the step count, checks the budget, and on failure evaluates
+  // `e` the general way, which then reports any error exactly as before.
+  // fast_number runs a root's compiled code (compiling it the first time);
+  // eval_number walks the tree (for parts of a root whose code failed).
+  bool fast_number(const lang::Expr& e, const Env* env, double& out);
   bool eval_number(const lang::Expr& e, const Env* env, double& out);
   bool number_operand(const lang::Expr& e, const Env* env, double& out) {
     if (e.kind == lang::ExprKind::Number) {  // the commonest leaf, without a call
@@ -102,6 +105,22 @@ class Evaluator {
     e.not_numeric = true;
     return false;
   }
+  // Postfix code of a numeric expression: operands are pushed on num_stack_.
+  struct NumOp {
+    enum Kind : std::uint8_t { Const, Var, Neg, Arith, Call };
+    Kind kind;
+    lang::TokenKind op;  // Arith
+    std::uint8_t argc;   // Call
+    std::int32_t sym;    // Var: the name; Call: the callee's name
+    double value;        // Const: the number; Call: the builtin id
+  };
+  struct NumCode {
+    std::uint32_t first = 0, count = 0;  // num_ops_[first, first + count)
+    std::uint32_t steps = 0;             // what eval() would count for the tree
+    std::uint32_t depth = 0;             // stack slots it needs
+  };
+  bool compile_number(const lang::Expr& e, NumCode& code, std::uint32_t depth);
+  bool run_number(const NumCode& code, const Env* env, double& out);
   Value eval_name(const lang::Expr& e, const std::shared_ptr<Env>& env);
   Value eval_vector(const lang::Expr& e, const std::shared_ptr<Env>& env);
   Value eval_unary(const lang::Expr& e, const std::shared_ptr<Env>& env);
@@ -181,11 +200,17 @@ class Evaluator {
   std::vector<std::string> symbol_names_;
   std::vector<int> symbol_builtin_;  // builtin id per symbol, or -1
   std::vector<const BlockInfo*> symbol_block_;  // block named by the symbol, or null
+  // Set once anything binds the symbol (let, fn, parameter, loop variable; imports
+  // copy such bindings): while clear, no scope can shadow a builtin of that name.
+  std::vector<std::uint8_t> symbol_bound_;
   // Files already run (import runs each once) with their exported names.
   std::unordered_map<lang::FileId, std::shared_ptr<Env>> imported_;
   std::vector<lang::FileId> running_;  // the import chain, for cycle errors
   std::deque<std::vector<Value>> args_pool_;  // argument lists of calls in progress
   std::size_t args_depth_ = 0;
+  std::vector<NumOp> num_ops_;  // the compiled numeric expressions (fast_number)
+  std::vector<NumCode> num_codes_;
+  std::vector<double> num_stack_;
   std::deque<std::vector<EvaluatedProp>> props_pool_;  // see PropsLease
   std::size_t props_depth_ = 0;
 };

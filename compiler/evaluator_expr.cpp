@@ -1,6 +1,7 @@
 // Expression evaluation: operators, calls, vectors, components, constructors.
 #include <cmath>
 
+#include "compiler/arith.hpp"
 #include "compiler/builtins.hpp"
 #include "compiler/evaluator.hpp"
 #include "compiler/properties.hpp"
@@ -12,26 +13,6 @@ using lang::Expr;
 using lang::ExprKind;
 using lang::Span;
 using lang::TokenKind;
-
-namespace {
-
-double arith(TokenKind op, double a, double b) {
-  switch (op) {
-    case TokenKind::Plus: return a + b;
-    case TokenKind::Minus: return a - b;
-    case TokenKind::Star: return a * b;
-    case TokenKind::Slash: return a / b;
-    case TokenKind::Percent: return a - b * std::floor(a / b);  // floored modulo
-    default: return 0;
-  }
-}
-
-bool is_arith(TokenKind op) {
-  return op == TokenKind::Plus || op == TokenKind::Minus || op == TokenKind::Star ||
-         op == TokenKind::Slash || op == TokenKind::Percent;
-}
-
-}  // namespace
 
 Value Evaluator::eval_standalone(const Expr& expr) { return eval(expr, std::make_shared<Env>()); }
 
@@ -60,7 +41,7 @@ Value Evaluator::eval(const Expr& e, const std::shared_ptr<Env>& env) {
       !e.not_numeric) {
     std::uint64_t saved = steps_;
     double r;
-    if (eval_number(e, env.get(), r) && steps_ <= step_budget_ && !aborted_) [[likely]]
+    if (fast_number(e, env.get(), r) && steps_ <= step_budget_ && !aborted_) [[likely]]
       return Value::number(r);
     steps_ = saved;
   }
@@ -89,64 +70,6 @@ Value Evaluator::eval(const Expr& e, const std::shared_ptr<Env>& env) {
   return Value::error();
 }
 
-// Every node on the way to a failure is marked not_numeric, so a failing
-// expression pays for at most one extra walk in all (not one per nesting level).
-// Steps are counted but the budget is checked by the caller at the end: the walk
-// has no other effect, so running past the budget and then failing is the same
-// as stopping at the step that spent it.
-bool Evaluator::eval_number(const Expr& e, const Env* env, double& out) {
-  ++steps_;
-  switch (e.kind) {
-    case ExprKind::Number: out = e.number; return true;
-    case ExprKind::Name: {
-      std::int32_t sym = symbol_of(e);
-      for (const Env* s = env; s; s = s->parent.get())
-        if (const Binding* b = s->find_local(sym)) {
-          if (b->value.type != Type::Number) return false;
-          out = b->value.n;
-          return true;
-        }
-      return false;
-    }
-    case ExprKind::Unary:
-      if (e.op == TokenKind::Minus && number_operand(*e.args[0], env, out)) {
-        out = -out;
-        return true;
-      }
-      break;
-    case ExprKind::Binary: {
-      double a, b;
-      if (is_arith(e.op) && number_operand(*e.args[0], env, a) &&
-          number_operand(*e.args[1], env, b)) {
-        out = arith(e.op, a, b);
-        if (std::isfinite(out)) [[likely]]
-          return true;
-      }
-      break;
-    }
-    case ExprKind::Call: {
-      const Expr& f = *e.args[0];
-      if (f.kind != ExprKind::Name) break;
-      ++steps_;  // the callee name, as eval_call counts it
-      std::int32_t sym = symbol_of(f);
-      int id = symbol_builtin_[sym];
-      if (id < 0) break;
-      for (const Env* s = env; s; s = s->parent.get())
-        if (s->find_local(sym)) return fail_number(e);  // a user binding shadows the builtin
-      std::size_t n = e.args.size() - 1;
-      if (n != builtin_arity(id) || n > 3) break;
-      double a[3] = {0, 0, 0};
-      for (std::size_t i = 0; i < n; ++i)
-        if (!number_operand(*e.args[i + 1], env, a[i])) return fail_number(e);
-      if (call_builtin_number(id, a, out) && std::isfinite(out)) [[likely]]
-        return true;
-      break;
-    }
-    default: return false;
-  }
-  return fail_number(e);
-}
-
 Value Evaluator::eval_name(const Expr& e, const std::shared_ptr<Env>& env) {
   std::int32_t sym = symbol_of(e);
   for (const Env* s = env.get(); s; s = s->parent.get())
@@ -171,7 +94,7 @@ Value Evaluator::eval_vector(const Expr& e, const std::shared_ptr<Env>& env) {
     // Numeric components skip the Value (as eval() would, see eval_number).
     if (const Expr& a = *e.args[i]; !a.not_numeric && i < 3) {
       std::uint64_t saved = steps_;
-      if (number_operand(a, env.get(), c[i]) && steps_ <= step_budget_ && !aborted_) [[likely]]
+      if (fast_number(a, env.get(), c[i]) && steps_ <= step_budget_ && !aborted_) [[likely]]
         continue;
       steps_ = saved;
     }

@@ -105,6 +105,9 @@ struct Expr {
   mutable bool not_numeric = false;
   mutable std::int32_t symbol = -1;  // Name: the compiler's interned id (a cache)
   Span span;
+  // The compiler's compiled form of this numeric expression (a cache; -1 none yet,
+  // -2 part of an enclosing one; see compiler/evaluator_number.cpp).
+  mutable std::int32_t code = -1;
   double number = 0;
   std::string text;
   ExprList args;

@@ -65,3 +65,33 @@ TEST_CASE("fast path: shadowed builtins, mixed types, non-finite results", "[com
   CHECK(diags(*run("let b = 1 + sqrt(1, 2);\n")) == "WrongArgumentCount@1:13 ");
   CHECK(diags(*run("let b = -true;\n")) == "TypeMismatch@1:10 ");
 }
+
+TEST_CASE("fast path: compiled code falls back when a run differs", "[compiler][fast]") {
+  // f's body is compiled on its first (numeric) call; a vector argument later
+  // makes the code fail and the general path take over, with the same results.
+  auto c = run(
+      "fn f(x) = x * 2 + 1;\n"
+      "sphere { center <f(1), f(2), 0> }\n"
+      "sphere { center f(<1, 2, 3>) }\n"
+      "sphere { center <f(3), 0, 0> }\n"
+      "fn g(x) = sqrt(x) + 1;\n"
+      "sphere { center <g(4), 0, 0> }\n"
+      "fn h(sqrt) = sqrt * 2;\n"  // binds the builtin's name, in h only
+      "sphere { center <h(5), g(9), 0> }\n");
+  REQUIRE(diags(*c) == "");
+  REQUIRE(c->scene.shapes.size() == 5);
+  CHECK(c->scene.shapes[0].center == ir::Vec3{3, 5, 0});
+  CHECK(c->scene.shapes[1].center == ir::Vec3{3, 5, 7});
+  CHECK(c->scene.shapes[2].center == ir::Vec3{7, 0, 0});
+  CHECK(c->scene.shapes[3].center == ir::Vec3{3, 0, 0});
+  CHECK(c->scene.shapes[4].center == ir::Vec3{10, 4, 0});
+  // A loop variable that shadows a builtin makes the call an error, as always.
+  CHECK(diags(*run("fn k(x) = random(x) * 2;\nlet a = k(1);\n"
+                   "for random in 0 .. 2 { sphere { center <random(1), 0, 0> } }\n")) ==
+        "NotCallable@3:41 NotCallable@3:41 ");
+  // Steps: a compiled call counts like the walk: let, 2, let, '*', the call, the
+  // callee name, x, 3.
+  CHECK(diags(*run("let x = 2;\nlet y = sqrt(x) * 3;\n", 8)) == "");
+  CHECK(diags(*run("let x = 2;\nlet y = sqrt(x) * 3;\n", 7)) == "StepBudget@2:19 ");
+  CHECK(diags(*run("let x = 2;\nlet y = sqrt(x) * 3;\n", 6)) == "StepBudget@2:14 ");
+}
