@@ -107,12 +107,13 @@ class Evaluator {
   }
   // Postfix code of a numeric expression: operands are pushed on num_stack_.
   struct NumOp {
-    enum Kind : std::uint8_t { Const, Var, Neg, Arith, Call };
+    // ArithK: Arith whose right operand is the constant `value`.
+    enum Kind : std::uint8_t { Const, Var, Neg, Arith, ArithK, Call };
     Kind kind;
-    lang::TokenKind op;  // Arith
+    lang::TokenKind op;  // Arith, ArithK
     std::uint8_t argc;   // Call
     std::int32_t sym;    // Var: the name; Call: the callee's name
-    double value;        // Const: the number; Call: the builtin id
+    double value;        // Const, ArithK: the number; Call: the builtin id
   };
   struct NumCode {
     std::uint32_t first = 0, count = 0;  // num_ops_[first, first + count)

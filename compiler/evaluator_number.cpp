@@ -104,10 +104,16 @@ bool Evaluator::compile_number(const Expr& e, NumCode& code, std::uint32_t depth
       push({NumOp::Neg, TokenKind::Error, 0, 0, 0});
       break;
     case ExprKind::Binary:
-      if (!is_arith(e.op) || !compile_number(*e.args[0], code, depth) ||
-          !compile_number(*e.args[1], code, depth + 1))
-        return fail_number(e);
-      push({NumOp::Arith, e.op, 0, 0, 0});
+      if (!is_arith(e.op) || !compile_number(*e.args[0], code, depth)) return fail_number(e);
+      if (const Expr& rhs = *e.args[1]; rhs.kind == ExprKind::Number) {
+        // `x * 100`: the constant travels in the op (one op instead of two).
+        ++code.steps;
+        if (rhs.code == -1) rhs.code = -2;
+        push({NumOp::ArithK, e.op, 0, 0, rhs.number});
+      } else {
+        if (!compile_number(rhs, code, depth + 1)) return fail_number(e);
+        push({NumOp::Arith, e.op, 0, 0, 0});
+      }
       break;
     case ExprKind::Call: {
       const Expr& f = *e.args[0];
@@ -147,6 +153,12 @@ bool Evaluator::run_number(const NumCode& code, const Env* env, double& out) {
         break;
       }
       case NumOp::Neg: sp[-1] = -sp[-1]; break;
+      case NumOp::ArithK: {
+        double r = arith(op->op, sp[-1], op->value);
+        if (!std::isfinite(r)) return false;
+        sp[-1] = r;
+        break;
+      }
       case NumOp::Arith: {
         --sp;
         double r = arith(op->op, sp[-1], sp[0]);
