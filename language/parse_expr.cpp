@@ -24,13 +24,6 @@ int infix_power(TokenKind k) {
   }
 }
 
-ExprPtr make(ExprKind kind, Span span) {
-  auto e = std::make_unique<Expr>();
-  e->kind = kind;
-  e->span = span;
-  return e;
-}
-
 }  // namespace
 
 bool is_constructor_name(std::string_view name) {
@@ -38,6 +31,13 @@ bool is_constructor_name(std::string_view name) {
   if (name == #ctor) return true;
 #include "language/constructors.def"
   return false;
+}
+
+ExprPtr Parser::make(ExprKind kind, Span span) {
+  ExprPtr e = arena_->make();
+  e->kind = kind;
+  e->span = span;
+  return e;
 }
 
 ExprPtr Parser::error_expr(Span span) { return make(ExprKind::Error, span); }

@@ -190,6 +190,7 @@ Program Parser::parse_program() {
   Program program;
   program.file = file_;
   parse_statements(program.statements, false);
+  program.arena = std::move(arena_);
   return program;
 }
 

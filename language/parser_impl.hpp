@@ -68,6 +68,7 @@ class Parser {
   ExprPtr parse_vector();
   ExprPtr parse_call(ExprPtr callee);
   ExprPtr parse_constructor();
+  ExprPtr make(ExprKind kind, Span span);  // a node from arena_
   ExprPtr error_expr(Span span);
   template <typename T>
   void take_scratch(std::vector<T>& out, std::size_t mark);
@@ -86,6 +87,7 @@ class Parser {
   bool panic_ = false;
   bool in_vector_ = false;  // parsing an element of a vector literal at its top level
   int depth_ = 0;           // nesting of expressions, blocks and chains built so far
+  std::unique_ptr<ExprArena> arena_ = std::make_unique<ExprArena>();  // moved into the Program
   std::vector<ExprPtr> scratch_exprs_;         // see take_scratch()
   std::vector<Property> scratch_properties_;
 };
