@@ -168,6 +168,33 @@ Token Scanner::identifier(std::uint32_t begin) {
 
 // number -> digits [ '.' digits ] [ ('e'|'E') ['+'|'-'] digits ]  |  '.' digits [ exponent ]
 // There is no "1." form, so "0..5" is 0 .. 5 and "v.x" after a number is a component.
+// Digits with an optional fraction, at most 15 digits in all: the digits as an
+// integer m < 10^15 < 2^53 and the power 10^k (k <= 15) are exact doubles, so the
+// one correctly rounded division m / 10^k is the correctly rounded value of the
+// literal, the same double from_chars gives (Clinger's fast path). Anything
+// else (exponents, long literals) goes to from_chars.
+bool Scanner::simple_decimal(std::uint32_t begin, std::uint32_t end, double& out) const {
+  static constexpr double kPow10[] = {1e0, 1e1, 1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
+                                      1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15};
+  if (end - begin > 16) return false;
+  std::uint64_t m = 0;
+  int digits = 0, fraction = -1;
+  for (std::uint32_t i = begin; i < end; ++i) {
+    char c = src_[i];
+    if (c == '.') {
+      fraction = 0;
+      continue;
+    }
+    if (!is_digit(c)) return false;
+    m = m * 10 + static_cast<std::uint64_t>(c - '0');
+    ++digits;
+    if (fraction >= 0) ++fraction;
+  }
+  if (digits == 0 || digits > 15) return false;
+  out = static_cast<double>(m) / kPow10[fraction > 0 ? fraction : 0];
+  return true;
+}
+
 Token Scanner::number(std::uint32_t begin) {
   auto digit_at = [&](std::size_t i) { return i < src_.size() && is_digit(src_[i]); };
   while (digit_at(pos_)) ++pos_;
@@ -194,7 +221,9 @@ Token Scanner::number(std::uint32_t begin) {
       problem = "invalid suffix '" + std::string(src_.substr(value_end, pos_ - value_end)) + "'";
   }
   Token t = make(TokenKind::Number, begin, pos_);
-  if (problem.empty()) {
+  if (problem.empty() && simple_decimal(begin, value_end, t.number)) {
+    // done: the common short literal, exactly as from_chars would read it
+  } else if (problem.empty()) {
     const char* first = src_.data() + begin;
     const char* last = src_.data() + value_end;
     auto [ptr, ec] = std::from_chars(first, last, t.number);

@@ -40,6 +40,7 @@ class Scanner {
   Token make(TokenKind kind, std::uint32_t begin, std::uint32_t end) const;
   Token identifier(std::uint32_t begin);
   Token number(std::uint32_t begin);
+  bool simple_decimal(std::uint32_t begin, std::uint32_t end, double& out) const;
   Token string(std::uint32_t begin);
   Token invalid(std::uint32_t begin);
   Span span(std::uint32_t begin, std::uint32_t end) const { return {file_, begin, end}; }

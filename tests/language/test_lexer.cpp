@@ -1,5 +1,8 @@
 // The lexer (§2): every token kind, numbers, strings, comments, and its diagnostics.
 #include <catch2/catch.hpp>
+#include <charconv>
+#include <cstring>
+#include <random>
 
 #include "test_support.hpp"
 
@@ -81,6 +84,34 @@ TEST_CASE("number literals", "[lexer]") {
   CHECK(lex_text("1.x").kinds() == Kinds{K::Number, K::Dot, K::Identifier, K::EndOfFile});
   CHECK(lex_text("v.x").kinds() == Kinds{K::Identifier, K::Dot, K::Identifier, K::EndOfFile});
   CHECK(lex_text("-1").kinds() == Kinds{K::Minus, K::Number, K::EndOfFile});
+}
+
+TEST_CASE("short decimals (the scanner's fast path) read exactly as from_chars", "[lexer]") {
+  // Every digit/fraction split up to 16 characters, with leading zeros and the
+  // '.5' form: the bits must equal std::from_chars's correctly rounded result.
+  std::mt19937_64 rng(11);
+  int checked = 0;
+  for (int len = 1; len <= 17; ++len)
+    for (int rep = 0; rep < 400; ++rep) {
+      std::string digits;
+      for (int i = 0; i < len; ++i) digits += static_cast<char>('0' + rng() % 10);
+      if (rep % 7 == 0) digits[0] = '0';
+      for (int dot = -1; dot <= len; ++dot) {  // -1: no dot
+        std::string text = digits;
+        if (dot >= 0 && dot < len) text.insert(static_cast<std::size_t>(dot), ".");
+        if (dot == len) continue;
+        CAPTURE(text);
+        Lexed l = lex_text(text);
+        REQUIRE(l.tokens.size() == 2);
+        REQUIRE(l.tokens[0].kind == K::Number);
+        double want = 0;
+        std::from_chars(text.data(), text.data() + text.size(), want);
+        double got = l.tokens[0].number;
+        CHECK(std::memcmp(&got, &want, sizeof got) == 0);
+        ++checked;
+      }
+    }
+  CHECK(checked > 50000);
 }
 
 TEST_CASE("malformed numbers are one diagnostic and still a number token", "[lexer]") {
