@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Snell's one set-up script for Debian 12.
 #   bash scripts/setup.sh showcase   install what is missing, build, render the showcase
-#   bash scripts/setup.sh test       install what is missing, build, run every test
+#   bash scripts/setup.sh test       install what is missing, build, run every test (release),
+#                                    then the asan-ubsan tests and a 60 s fuzzing run
 #   bash scripts/setup.sh deps       only install what is missing
 # Installs only missing Debian packages (apt-get update once, only when needed).
 set -euo pipefail
@@ -17,7 +18,7 @@ packages=(
   libopencolorio-dev opencolorio-tools
   catch2 libcli11-dev libfmt-dev nlohmann-json3-dev libtinyobjloader-dev
 )
-if [ "$mode" = test ]; then packages+=(clang); fi   # the fuzz target (libFuzzer)
+if [ "$mode" = test ]; then packages+=(clang libclang-rt-dev); fi   # the fuzz target (libFuzzer runtime)
 
 missing=()
 for p in "${packages[@]}"; do
@@ -45,7 +46,21 @@ case "$mode" in
     echo "setup: rendered showcase.png and showcase.exr"
     ;;
   test)
+    # 1. Every test on the release build.
     ctest --preset release -j "$jobs"
+    # 2. The same code under AddressSanitizer + UBSan (build/asan-ubsan): the
+    #    language, compiler, runtime and hard-case tests (e2e and conformance need
+    #    the CLI's full renders and stay release-only, for time). UBSan aborts on the
+    #    first report (-fno-sanitize-recover). Known leak: tests/fuzz/lsan.supp.
+    export LSAN_OPTIONS="suppressions=$here/tests/fuzz/lsan.supp:print_suppressions=0"
+    cmake --preset asan-ubsan >/dev/null
+    cmake --build --preset asan-ubsan -j "$jobs" \
+      --target test_language test_compiler test_runtime test_hardcases
+    # (-LE: conformance cases carry layer tags too, and need the CLI.)
+    ctest --preset asan-ubsan -j "$jobs" -L '^(language|compiler|runtime|hardcases)$' \
+      -LE '^(conformance|e2e|cli)$' --timeout 600
+    # 3. A bounded fuzzing run of the front end and compiler (clang, libFuzzer).
+    bash bench/fuzz.sh "${SNELL_FUZZ_SECONDS:-60}"
     ;;
   *)
     echo "usage: bash scripts/setup.sh [showcase|test|deps]" >&2
