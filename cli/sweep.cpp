@@ -157,15 +157,17 @@ class Sweeper {
     return r;
   }
 
-  // The converged reference: many samples, exact Fresnel, the full split tree,
-  // no weight pruning, a deep tree, dense area-light grids, and a seed of its own
-  // so its noise is independent of the renders it judges. Cached by the hash of
-  // its IR dump.
+  // The converged reference: many samples, exact Fresnel, the split tree, a deep
+  // tree, dense area-light grids, and a seed of its own so its noise is
+  // independent of the renders it judges. Weak branches end by Russian roulette
+  // below 0.01, which is unbiased (tests/runtime/test_branching.cpp) and keeps
+  // the tree finite: with no pruning at all, stacked glass grows towards 2^depth
+  // nodes per sample. Cached by the hash of its IR dump.
   bool reference(rt::Image& ref, int& code) {
     Config c;
     c.settings = {{"samples", std::to_string(o_.reference_spp)}, {"fresnel", "exact"},
-                  {"branching", "split"},                     {"termination", "cutoff"},
-                  {"min_weight", "0"}};
+                  {"branching", "split"},                     {"termination", "roulette"},
+                  {"min_weight", "0.01"}};
     ir::Scene scene;
     if (!compile(c, scene, code)) return false;
     scene.settings.max_depth = std::max<std::uint32_t>(scene.settings.max_depth, 16);
