@@ -145,7 +145,13 @@ void Evaluator::exec_let(const Stmt& s, const std::shared_ptr<Env>& env) {
   define(env, symbol_of(s), std::move(v), s.name_span);
 }
 
+Evaluator::~Evaluator() {
+  for (const std::weak_ptr<Env>& w : closure_scopes_)
+    if (std::shared_ptr<Env> scope = w.lock()) scope->vars.clear();
+}
+
 void Evaluator::exec_fn(const Stmt& s, const std::shared_ptr<Env>& env) {
+  if (closure_scopes_.empty() || closure_scopes_.back().lock() != env) closure_scopes_.push_back(env);
   auto closure = std::make_shared<Closure>();
   closure->def = &s;
   closure->env = env;  // lexical scope; the function sees itself through it

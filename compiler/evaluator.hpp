@@ -56,6 +56,11 @@ class Evaluator {
             SceneBuilder& builder, ImportLoader loader,
             std::uint64_t step_budget = kDefaultStepBudget);
 
+  // Breaks the closure <-> scope reference cycles (see closure_scopes_).
+  ~Evaluator();
+  Evaluator(const Evaluator&) = delete;
+  Evaluator& operator=(const Evaluator&) = delete;
+
   // Runs a file's statements in a fresh top-level scope, returns that scope.
   std::shared_ptr<Env> run_file(const lang::Program& program);
 
@@ -207,6 +212,11 @@ class Evaluator {
   // Files already run (import runs each once) with their exported names.
   std::unordered_map<lang::FileId, std::shared_ptr<Env>> imported_;
   std::vector<lang::FileId> running_;  // the import chain, for cycle errors
+  // Every scope a `fn` was defined in. A closure holds its defining scope and that
+  // scope holds the closure (so the function can call itself): a reference cycle
+  // that shared_ptr never frees. The destructor clears these scopes' bindings once
+  // evaluation is over (the IR holds no values), which frees everything.
+  std::vector<std::weak_ptr<Env>> closure_scopes_;
   std::deque<std::vector<Value>> args_pool_;  // argument lists of calls in progress
   std::size_t args_depth_ = 0;
   std::vector<NumOp> num_ops_;  // the compiled numeric expressions (fast_number)
