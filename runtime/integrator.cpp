@@ -60,9 +60,41 @@ std::string to_string(const Node& n) {
                      rt::to_string(n.ray), fmt_color(n.weight), n.depth, n.key);
 }
 
+float offset_scale(const ir::Scene& scene, ir::Vec3 o) {
+  double extent = 0;
+  auto grow = [&](ir::Vec3 p) {
+    ir::Vec3 d = p - o;
+    extent = std::fmax(extent, std::fmax(std::fabs(d.x), std::fmax(std::fabs(d.y), std::fabs(d.z))));
+  };
+  auto grow_box = [&](const ir::Transform& t, ir::Vec3 lo, ir::Vec3 hi) {
+    for (int i = 0; i < 8; ++i)
+      grow(t.point({i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z}));
+  };
+  for (const ir::Shape& s : scene.shapes) {
+    const ir::Transform& t = s.world_from_object;
+    switch (s.kind) {
+      case ir::ShapeKind::Sphere:
+        grow_box(t, s.center - ir::Vec3(s.radius), s.center + ir::Vec3(s.radius));
+        break;
+      case ir::ShapeKind::Box: grow_box(t, s.min, s.max); break;
+      case ir::ShapeKind::Triangle: grow(t.point(s.a)), grow(t.point(s.b)), grow(t.point(s.c)); break;
+      case ir::ShapeKind::Mesh:
+        if (s.mesh < scene.meshes.size())
+          for (const ir::Vec3& p : scene.meshes[s.mesh].positions) grow(t.point(p));
+        break;
+      case ir::ShapeKind::Plane: break;
+    }
+  }
+  for (const ir::PointLight& l : scene.point_lights) grow(l.position);
+  for (const ir::AreaLight& l : scene.area_lights) grow(l.corner), grow(l.corner + l.edge1 + l.edge2);
+  if (!(extent > 0) || !std::isfinite(extent)) return 1.0f;
+  return float(std::fmin(1.0, std::fmax(extent, 1e-30)));
+}
+
 Integrator::Integrator(const ir::Scene& scene, const EmbreeScene& embree)
     : scene_(scene), embree_(embree) {
   ir::Vec3 o = embree.origin();
+  offset_scale_ = offset_scale(scene, o);
   for (const ir::AreaLight& l : scene.area_lights) {
     LightF f;
     ir::Vec3 c = l.corner - o;
@@ -123,7 +155,7 @@ template <class K>
 Color Integrator::direct(Vec3f p, Vec3f nf, float time, std::uint64_t key,
                          const SampleContext& sc, RenderStats& stats) const {
   Color e(0);
-  Vec3f o = offset_ray_origin(p, nf);
+  Vec3f o = offset_ray_origin(p, nf, offset_scale_);
   for (const PointF& l : points_) {
     Vec3f to = l.pos - p;
     float d2 = dot(to, to);
@@ -156,7 +188,7 @@ Color Integrator::direct(Vec3f p, Vec3f nf, float time, std::uint64_t key,
         if (!(cos_s > 0) || !(d2 > 0)) continue;
         if (!l.two_sided && !(cos_l > 0)) continue;
         Vec3f side = cos_l > 0 ? l.n : -l.n;  // the light's face towards p
-        Vec3f target = offset_ray_origin(q, side);
+        Vec3f target = offset_ray_origin(q, side, offset_scale_);
         Ray shadow{o, target - o, 1.0f, time};
         ++stats.shadow_rays;
         if (embree_.occluded(shadow)) continue;
@@ -266,7 +298,7 @@ Color Integrator::li(const Ray& camera_ray, const SampleContext& sc, RenderStats
           break;
         }
         case ir::MaterialKind::Mirror:
-          spawn(RayKind::Reflection, offset_ray_origin(p, nf), normalize(refl),
+          spawn(RayKind::Reflection, offset_ray_origin(p, nf, offset_scale_), normalize(refl),
                 w * texture(m.color, p, ng), 1);
           break;
         case ir::MaterialKind::Glossy: {
@@ -275,7 +307,7 @@ Color Integrator::li(const Ray& camera_ray, const SampleContext& sc, RenderStats
             Sample2 s = sample2(sc.spec, sc.px, sc.py, sc.index, node_dim(node.key, 7));
             r = glossy_direction(r, nf, float(m.blur), s.u, s.v);
           }
-          spawn(RayKind::Glossy, offset_ray_origin(p, nf), r, w * texture(m.color, p, ng), 1);
+          spawn(RayKind::Glossy, offset_ray_origin(p, nf, offset_scale_), r, w * texture(m.color, p, ng), 1);
           break;
         }
         case ir::MaterialKind::Dielectric: {
@@ -305,10 +337,10 @@ Color Integrator::li(const Ray& camera_ray, const SampleContext& sc, RenderStats
             wr = wt = 1;
           }
           if (reflect)
-            spawn(RayKind::Reflection, offset_ray_origin(p, nf), normalize(refl), w * wr, 1);
+            spawn(RayKind::Reflection, offset_ray_origin(p, nf, offset_scale_), normalize(refl), w * wr, 1);
           if (transmit) {
             Vec3d t = refract({d.x, d.y, d.z}, {nf.x, nf.y, nf.z}, f);
-            spawn(RayKind::Refraction, offset_ray_origin(p, -nf),
+            spawn(RayKind::Refraction, offset_ray_origin(p, -nf, offset_scale_),
                   normalize(to_float(t.x, t.y, t.z)), w * wt, 2);
           }
           break;
@@ -319,7 +351,7 @@ Color Integrator::li(const Ray& camera_ray, const SampleContext& sc, RenderStats
           double R = reflectance(f, fresnel_);
           Color albedo = texture(m.color, p, ng);
           contrib = w * albedo * direct_timed(p, nf) * (kInvPi * float(1 - R));
-          spawn(RayKind::Reflection, offset_ray_origin(p, nf), normalize(refl), w * float(R), 1);
+          spawn(RayKind::Reflection, offset_ray_origin(p, nf, offset_scale_), normalize(refl), w * float(R), 1);
           break;
         }
       }

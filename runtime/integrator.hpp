@@ -72,6 +72,11 @@ struct Node {
 std::string to_string(const SampleContext& c);
 std::string to_string(const Node& n);
 
+// The scene's size around `origin` (the camera), at most 1: the largest distance
+// of any finite object's bounding corners or any light. Infinite planes do not
+// count; nothing finite gives 1. Ray offsets scale with it (offset_ray_origin).
+float offset_scale(const ir::Scene& scene, ir::Vec3 origin);
+
 class Integrator {
  public:
   Integrator(const ir::Scene& scene, const EmbreeScene& embree);
@@ -118,6 +123,7 @@ class Integrator {
   std::uint32_t max_depth_;
   float min_weight_;
   ir::FresnelMode fresnel_;
+  float offset_scale_ = 1;  // the scene's size around the camera, at most 1
   bool stochastic_branching_ = false;  // settings.branching "stochastic"
   bool roulette_ = false;              // settings.termination "roulette"
 };

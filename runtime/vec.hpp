@@ -48,11 +48,11 @@ using Color = Vec3f;
 // where ulps vanish. Scale-aware: no scene-size epsilon. Limits: assumes `p` is
 // within a few hundred ulps of the true surface (true for our hit points, which are
 // o + t·d with the camera at the origin) and that n is unit length.
-inline float offset_coord(float p, float n) {
-  constexpr float kOrigin = 1.0f / 32.0f;
-  constexpr float kFloatScale = 1.0f / 65536.0f;
+inline float offset_coord(float p, float n, float scale) {
+  const float origin = scale * (1.0f / 32.0f);
+  const float float_scale = scale * (1.0f / 65536.0f);
   constexpr float kIntScale = 256.0f;
-  if (std::fabs(p) < kOrigin) return p + kFloatScale * n;
+  if (std::fabs(p) < origin) return p + float_scale * n;
   std::int32_t of = static_cast<std::int32_t>(kIntScale * n);
   std::int32_t bits;
   std::memcpy(&bits, &p, 4);
@@ -61,8 +61,15 @@ inline float offset_coord(float p, float n) {
   std::memcpy(&r, &bits, 4);
   return r;
 }
-inline Vec3f offset_ray_origin(Vec3f p, Vec3f n) {
-  return {offset_coord(p.x, n.x), offset_coord(p.y, n.y), offset_coord(p.z, n.z)};
+// `scale` is the scene's size around the camera, at most 1 (Integrator computes
+// it). Wächter and Binder's constants assume scenes of unit size: near the origin
+// they switch to a fixed step of 2^-16, which is larger than the features of a
+// scene 1e-3 units across (robustness #2, #4). Scaling the switch point and that
+// step with the scene keeps every scene of size >= 1 bit-identical to the
+// published method and makes tiny scenes behave like unit ones.
+inline Vec3f offset_ray_origin(Vec3f p, Vec3f n, float scale = 1.0f) {
+  return {offset_coord(p.x, n.x, scale), offset_coord(p.y, n.y, scale),
+          offset_coord(p.z, n.z, scale)};
 }
 
 // An orthonormal basis around unit `n` (Duff et al. 2017, JCGT 6(1)): no

@@ -10,6 +10,7 @@
 
 #include "hc_util.hpp"
 #include "runtime/embree_scene.hpp"
+#include "runtime/integrator.hpp"
 
 using namespace snell;
 using namespace snell::hc;
@@ -92,13 +93,14 @@ long shadow_blocked(double scale, bool occluder, int n, std::mt19937_64& rng) {
       if (occluder) s.shapes.push_back(box(ir::Vec3(-3, 0.998, -3) * scale, ir::Vec3(3, 0.999, 3) * scale, 0));
       ir::Vec3 cam = ir::Vec3(0.3, 2, -4) * scale;  // the world is rebased to a camera
       rt::EmbreeScene es(s, cam);
+      const float k = rt::offset_scale(s, cam);  // as the integrator offsets
       long blocked = 0;
       for (int i = 0; i < n; ++i) {
         ir::Vec3 pw = ir::Vec3(4 * u(rng) - 2, 0, 4 * u(rng) - 2) * scale - cam;
         ir::Vec3 qw = l.corner + l.edge1 * u(rng) + l.edge2 * u(rng) - cam;
         rt::Vec3f p = f(pw), q = f(qw);
-        rt::Vec3f o = rt::offset_ray_origin(p, {0, 1, 0});
-        rt::Vec3f target = rt::offset_ray_origin(q, {0, -1, 0});
+        rt::Vec3f o = rt::offset_ray_origin(p, {0, 1, 0}, k);
+        rt::Vec3f target = rt::offset_ray_origin(q, {0, -1, 0}, k);
         rt::Ray shadow{o, target - o, 1.0f, 0};
         if (es.occluded(shadow)) ++blocked;
       }
@@ -119,10 +121,10 @@ TEST_CASE("hc02 shadow rays to area-light samples are never blocked by the light
 }
 
 TEST_CASE("hc02 an occluder 1e-3 h in front of an area light blocks every shadow ray",
-          "[hardcase][robust][area][!mayfail]") {
-  // Known to fail at scale 1e-3 (docs/hardcases.md #2): within 1/32 of the camera
-  // the Wächter-Binder offset is a fixed 2^-16 ≈ 1.5e-5, larger than the 1e-6 gap,
-  // so the shadow ray ends before the occluder and light leaks.
+          "[hardcase][robust][area]") {
+  // At scale 1e-3 the gap is 1e-6. The Wächter-Binder offset used to be a fixed
+  // 2^-16 ≈ 1.5e-5 within 1/32 of the camera, so light leaked; the offset now
+  // scales with the scene's size (rt::offset_scale, docs/hardcases.md #2).
   std::mt19937_64 rng(3);
   for (double scale : {1e-3, 1e-1, 1.0, 1e2, 1e4}) {
     INFO("scale " << scale);

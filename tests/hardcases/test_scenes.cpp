@@ -87,10 +87,10 @@ TEST_CASE("hc04 an area-lit scene scaled by 1e-4..1e4 (and translated) renders l
 }
 
 TEST_CASE("hc04 the area-lit scene at scale 1e-4 renders like the original",
-          "[hardcase][scene][robust][!mayfail]") {
-  // Known to fail (docs/hardcases.md #4): mean difference 3.2e-3, max 0.17. The
-  // scene lies within 1/32 of the camera, where the ray offset is a fixed 2^-16
-  // ≈ 1.5e-5, 15 % of the scene's unit: shadow rays end short and light leaks (#2).
+          "[hardcase][scene][robust]") {
+  // Used to fail (mean difference 3.2e-3, max 0.17): the scene lies within 1/32 of
+  // the camera, where the ray offset was a fixed 2^-16, 15 % of the scene's unit.
+  // Offsets now scale with the scene (rt::offset_scale, docs/hardcases.md #2).
   rt::RenderResult ref = rt::render(area_scene(1, {0, 0, 0}), {});
   for (ir::Vec3 off : {ir::Vec3(0, 0, 0), ir::Vec3(1e5, -3e5, 2e5)}) {
     rt::RenderResult r = rt::render(area_scene(1e-4, off), {});
