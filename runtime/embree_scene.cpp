@@ -86,20 +86,22 @@ void moving_sphere_bounds(const RTCBoundsFunctionArguments* args) {
   store_bounds(lo, hi, args->bounds_o);
 }
 
-void moving_sphere_intersect(const RTCIntersectFunctionNArguments* args) {
-  auto* set = static_cast<const MovingSphereSet*>(args->geometryUserPtr);
-  const MovingSphere& m = set->spheres[args->primID];
+// The packet loops of the sphere callbacks, shared by static and moving spheres:
+// `sphere_for(time)` gives the sphere a ray sees (moving ones are placed at the
+// ray's time). Each valid ray is tested in double (hit_sphere).
+template <class SphereFor>
+void report_sphere_hits(const RTCIntersectFunctionNArguments* args, SphereFor sphere_for) {
   RTCRayN* ray = RTCRayHitN_RayN(args->rayhit, args->N);
   RTCHitN* hit = RTCRayHitN_HitN(args->rayhit, args->N);
   for (unsigned i = 0; i < args->N; ++i) {
     if (!args->valid[i]) continue;
-    SphereData s = sphere_at(m, RTCRayN_time(ray, args->N, i));
     float t;
     Vec3f n;
-    if (!hit_sphere(s, RTCRayN_org_x(ray, args->N, i), RTCRayN_org_y(ray, args->N, i),
-                    RTCRayN_org_z(ray, args->N, i), RTCRayN_dir_x(ray, args->N, i),
-                    RTCRayN_dir_y(ray, args->N, i), RTCRayN_dir_z(ray, args->N, i),
-                    RTCRayN_tnear(ray, args->N, i), RTCRayN_tfar(ray, args->N, i), t, n))
+    if (!hit_sphere(sphere_for(RTCRayN_time(ray, args->N, i)), RTCRayN_org_x(ray, args->N, i),
+                    RTCRayN_org_y(ray, args->N, i), RTCRayN_org_z(ray, args->N, i),
+                    RTCRayN_dir_x(ray, args->N, i), RTCRayN_dir_y(ray, args->N, i),
+                    RTCRayN_dir_z(ray, args->N, i), RTCRayN_tnear(ray, args->N, i),
+                    RTCRayN_tfar(ray, args->N, i), t, n))
       continue;
     RTCRayN_tfar(ray, args->N, i) = t;
     RTCHitN_Ng_x(hit, args->N, i) = n.x;
@@ -113,22 +115,34 @@ void moving_sphere_intersect(const RTCIntersectFunctionNArguments* args) {
   }
 }
 
-void moving_sphere_occluded(const RTCOccludedFunctionNArguments* args) {
-  auto* set = static_cast<const MovingSphereSet*>(args->geometryUserPtr);
-  const MovingSphere& m = set->spheres[args->primID];
+template <class SphereFor>
+void report_sphere_occlusion(const RTCOccludedFunctionNArguments* args, SphereFor sphere_for) {
   RTCRayN* ray = args->ray;
   for (unsigned i = 0; i < args->N; ++i) {
     if (!args->valid[i]) continue;
-    SphereData s = sphere_at(m, RTCRayN_time(ray, args->N, i));
     float t;
     Vec3f n;
-    if (hit_sphere(s, RTCRayN_org_x(ray, args->N, i), RTCRayN_org_y(ray, args->N, i),
-                   RTCRayN_org_z(ray, args->N, i), RTCRayN_dir_x(ray, args->N, i),
-                   RTCRayN_dir_y(ray, args->N, i), RTCRayN_dir_z(ray, args->N, i),
-                   RTCRayN_tnear(ray, args->N, i), RTCRayN_tfar(ray, args->N, i), t, n))
+    if (hit_sphere(sphere_for(RTCRayN_time(ray, args->N, i)), RTCRayN_org_x(ray, args->N, i),
+                   RTCRayN_org_y(ray, args->N, i), RTCRayN_org_z(ray, args->N, i),
+                   RTCRayN_dir_x(ray, args->N, i), RTCRayN_dir_y(ray, args->N, i),
+                   RTCRayN_dir_z(ray, args->N, i), RTCRayN_tnear(ray, args->N, i),
+                   RTCRayN_tfar(ray, args->N, i), t, n))
       RTCRayN_tfar(ray, args->N, i) = -INFINITY;
   }
 }
+
+void moving_sphere_intersect(const RTCIntersectFunctionNArguments* args) {
+  const MovingSphere& m =
+      static_cast<const MovingSphereSet*>(args->geometryUserPtr)->spheres[args->primID];
+  report_sphere_hits(args, [&m](float time) { return sphere_at(m, time); });
+}
+
+void moving_sphere_occluded(const RTCOccludedFunctionNArguments* args) {
+  const MovingSphere& m =
+      static_cast<const MovingSphereSet*>(args->geometryUserPtr)->spheres[args->primID];
+  report_sphere_occlusion(args, [&m](float time) { return sphere_at(m, time); });
+}
+
 
 // Triangle soup of one shape in object space, with its winding already outward.
 struct Soup {
@@ -178,46 +192,15 @@ void sphere_bounds(const RTCBoundsFunctionArguments* args) {
 }
 
 void sphere_intersect(const RTCIntersectFunctionNArguments* args) {
-  auto* set = static_cast<const SphereSet*>(args->geometryUserPtr);
-  const SphereData& s = set->spheres[args->primID];
-  RTCRayN* ray = RTCRayHitN_RayN(args->rayhit, args->N);
-  RTCHitN* hit = RTCRayHitN_HitN(args->rayhit, args->N);
-  for (unsigned i = 0; i < args->N; ++i) {
-    if (!args->valid[i]) continue;
-    float t;
-    Vec3f n;
-    if (!hit_sphere(s, RTCRayN_org_x(ray, args->N, i), RTCRayN_org_y(ray, args->N, i),
-                    RTCRayN_org_z(ray, args->N, i), RTCRayN_dir_x(ray, args->N, i),
-                    RTCRayN_dir_y(ray, args->N, i), RTCRayN_dir_z(ray, args->N, i),
-                    RTCRayN_tnear(ray, args->N, i), RTCRayN_tfar(ray, args->N, i), t, n))
-      continue;
-    RTCRayN_tfar(ray, args->N, i) = t;
-    RTCHitN_Ng_x(hit, args->N, i) = n.x;
-    RTCHitN_Ng_y(hit, args->N, i) = n.y;
-    RTCHitN_Ng_z(hit, args->N, i) = n.z;
-    RTCHitN_u(hit, args->N, i) = 0;
-    RTCHitN_v(hit, args->N, i) = 0;
-    RTCHitN_primID(hit, args->N, i) = args->primID;
-    RTCHitN_geomID(hit, args->N, i) = args->geomID;
-    RTCHitN_instID(hit, args->N, i, 0) = args->context->instID[0];
-  }
+  const SphereData& s = static_cast<const SphereSet*>(args->geometryUserPtr)->spheres[args->primID];
+  report_sphere_hits(args, [&s](float) -> const SphereData& { return s; });
 }
 
 void sphere_occluded(const RTCOccludedFunctionNArguments* args) {
-  auto* set = static_cast<const SphereSet*>(args->geometryUserPtr);
-  const SphereData& s = set->spheres[args->primID];
-  for (unsigned i = 0; i < args->N; ++i) {
-    if (!args->valid[i]) continue;
-    float t;
-    Vec3f n;
-    RTCRayN* ray = args->ray;
-    if (hit_sphere(s, RTCRayN_org_x(ray, args->N, i), RTCRayN_org_y(ray, args->N, i),
-                   RTCRayN_org_z(ray, args->N, i), RTCRayN_dir_x(ray, args->N, i),
-                   RTCRayN_dir_y(ray, args->N, i), RTCRayN_dir_z(ray, args->N, i),
-                   RTCRayN_tnear(ray, args->N, i), RTCRayN_tfar(ray, args->N, i), t, n))
-      RTCRayN_tfar(ray, args->N, i) = -INFINITY;
-  }
+  const SphereData& s = static_cast<const SphereSet*>(args->geometryUserPtr)->spheres[args->primID];
+  report_sphere_occlusion(args, [&s](float) -> const SphereData& { return s; });
 }
+
 
 void embree_error(void* user, RTCError code, const char* str) {
   auto* msg = static_cast<std::string*>(user);
