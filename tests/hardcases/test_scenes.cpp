@@ -168,12 +168,7 @@ TEST_CASE("hc09 a zero-area light and a zero-radius sphere change nothing",
     ir::Scene s = base_scene(40, 30, 2);
     s.shapes.push_back(plane({0, 1, 0}, 0, 0));
     s.shapes.push_back(sphere({0, 1, 0}, 1, add_material(s, diffuse({0.6, 0.6, 0.6}))));
-    ir::AreaLight l;
-    l.corner = {-1, 3, -1};
-    l.edge1 = {2, 0, 0};
-    l.edge2 = {0, 0, 2};
-    l.radiance = {4, 4, 4};
-    l.samples_u = l.samples_v = 2;
+    const ir::AreaLight l = area_light({-1, 3, -1}, {2, 0, 0}, {0, 0, 2}, {4, 4, 4}, 2);
     s.area_lights.push_back(l);
     if (junk) {
       ir::AreaLight z = l;
@@ -544,13 +539,7 @@ TEST_CASE("hc28 an occluder whose edge passes under the light's centre halves th
   auto m = add_material(s, diffuse({0.7, 0.7, 0.7}));
   s.shapes.push_back(plane({0, 1, 0}, 0, m));
   s.shapes.push_back(box({0, 0.5, -2}, {3, 0.51, 2}, m));
-  ir::AreaLight l;
-  l.corner = {-1, 1, -1};
-  l.edge1 = {2, 0, 0};
-  l.edge2 = {0, 0, 2};
-  l.radiance = {2, 2, 2};
-  l.samples_u = l.samples_v = 16;
-  s.area_lights.push_back(l);
+  s.area_lights.push_back(area_light({-1, 1, -1}, {2, 0, 0}, {0, 0, 2}, {2, 2, 2}, 16));
   look(s, {0, 0.5, -3}, {0, 0, 0}, 0.5);
   rt::RenderResult r = rt::render(s, {});
   CHECK(block_mean(r.image, 16, 16, 1) == Approx(0.7 * 2 * 0.55412642 / 2).epsilon(0.008));

@@ -48,6 +48,27 @@ inline ir::Material glazed(ir::Vec3 c, double ior) {
   return m;
 }
 
+// A square-gridded area light: `n`×`n` shadow samples, one-sided.
+inline ir::AreaLight area_light(ir::Vec3 corner, ir::Vec3 edge1, ir::Vec3 edge2,
+                                ir::Vec3 radiance, std::uint32_t n = 1) {
+  ir::AreaLight l;
+  l.corner = corner;
+  l.edge1 = edge1;
+  l.edge2 = edge2;
+  l.radiance = radiance;
+  l.samples_u = l.samples_v = n;
+  return l;
+}
+
+// A diffuse material with the §8 checker pattern.
+inline ir::Material checker(ir::Vec3 c1, ir::Vec3 c2, double size) {
+  ir::Material m = diffuse(c1);
+  m.color.kind = ir::Texture::Kind::Checker;
+  m.color.color2 = c2;
+  m.color.size = size;
+  return m;
+}
+
 inline ir::Shape sphere(ir::Vec3 c, double r, std::uint32_t mat) {
   ir::Shape s;
   s.kind = ir::ShapeKind::Sphere;

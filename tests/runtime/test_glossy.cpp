@@ -23,10 +23,7 @@ double onb_error(rt::Vec3f n) {
 ir::Scene sphere_on_checker(ir::Material m) {
   ir::Scene s = base_scene(48, 36, 4);
   s.background = {0.3, 0.4, 0.6};
-  ir::Material check = diffuse({0.9, 0.9, 0.9});
-  check.color.kind = ir::Texture::Kind::Checker;
-  check.color.color2 = {0.1, 0.1, 0.1};
-  check.color.size = 0.5;
+  ir::Material check = checker({0.9, 0.9, 0.9}, {0.1, 0.1, 0.1}, 0.5);
   s.shapes.push_back(plane({0, 1, 0}, 0, add_material(s, check)));
   s.shapes.push_back(sphere({0, 1, 0}, 1, add_material(s, m)));
   s.point_lights.push_back({{2, 5, -3}, {40, 40, 40}, {}});

@@ -17,10 +17,7 @@ ir::Scene base_effects(ir::SamplerKind kind) {
   s.settings.sampler = kind;
   s.settings.seed = 9;
   s.background = {0.2, 0.3, 0.4};
-  ir::Material check = diffuse({0.9, 0.9, 0.9});
-  check.color.kind = ir::Texture::Kind::Checker;
-  check.color.color2 = {0.1, 0.1, 0.1};
-  check.color.size = 0.5;
+  ir::Material check = checker({0.9, 0.9, 0.9}, {0.1, 0.1, 0.1}, 0.5);
   s.shapes.push_back(plane({0, 1, 0}, 0, add_material(s, check)));
   s.shapes.push_back(sphere({0.8, 0.5, 0.5}, 0.5, add_material(s, glazed({0.8, 0.1, 0.1}, 1.5))));
   s.point_lights.push_back({{2, 5, -3}, {30, 30, 30}, {}});
@@ -28,13 +25,7 @@ ir::Scene base_effects(ir::SamplerKind kind) {
   return s;
 }
 void add_area(ir::Scene& s) {
-  ir::AreaLight l;
-  l.corner = {-1, 3, -1};
-  l.edge1 = {2, 0, 0};
-  l.edge2 = {0, 0, 2};
-  l.radiance = {5, 5, 5};
-  l.samples_u = l.samples_v = 2;
-  s.area_lights.push_back(l);
+  s.area_lights.push_back(area_light({-1, 3, -1}, {2, 0, 0}, {0, 0, 2}, {5, 5, 5}, 2));
 }
 void add_glass(ir::Scene& s, ir::Vec3 absorb) {
   s.shapes.push_back(sphere({-0.8, 0.7, 0}, 0.7, add_material(s, dielectric(1.5, absorb))));
