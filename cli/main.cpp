@@ -43,7 +43,9 @@ struct Options {
   std::string ocio_config;
 };
 
-bool color_stderr() { return isatty(STDERR_FILENO) && !std::getenv("NO_COLOR"); }
+bool color_stderr() {
+  return isatty(STDERR_FILENO) && !std::getenv("NO_COLOR");
+}
 
 int usage_error(const std::string& message) {
   std::cerr << "snell: error: " << message << "\n";
@@ -86,13 +88,15 @@ int compile_scene(const Options& o, std::unique_ptr<compile::Compilation>& out) 
   out = compile::compile_file(o.scene, copts);
   out->diags.print(std::cerr, color_stderr());
   switch (out->status) {
-    case compile::CompileStatus::Ok: break;
+    case compile::CompileStatus::Ok:
+      break;
     case compile::CompileStatus::SceneErrors: {
       std::size_t n = out->diags.error_count();
       std::cerr << n << " error" << (n == 1 ? "" : "s") << " in " << o.scene << "\n";
       return kExitScene;
     }
-    case compile::CompileStatus::UsageError: return usage_error(out->message);
+    case compile::CompileStatus::UsageError:
+      return usage_error(out->message);
     case compile::CompileStatus::IoError:
       std::cerr << "snell: error: " << out->message << "\n";
       return kExitIo;
@@ -151,6 +155,7 @@ int run_render(const Options& o) {
   rt::RenderOptions ropts;
   ropts.threads = o.threads;
   ropts.general_kernel = o.features == "all";
+  ropts.measure_cost = o.stats;
   if (!o.pixel.empty()) {
     unsigned x = 0, y = 0;
     char comma = 0, extra = 0;
@@ -167,9 +172,8 @@ int run_render(const Options& o) {
     std::cout << "features:\n" << ir::to_string(ir::analyze_features(scene));
     return kExitOk;
   }
-  if (ropts.trace_pixel &&
-      (ropts.trace_pixel->first >= scene.settings.width ||
-       ropts.trace_pixel->second >= scene.settings.height))
+  if (ropts.trace_pixel && (ropts.trace_pixel->first >= scene.settings.width ||
+                            ropts.trace_pixel->second >= scene.settings.height))
     return usage_error("--pixel " + o.pixel + " is outside the " +
                        std::to_string(scene.settings.width) + "x" +
                        std::to_string(scene.settings.height) + " image");
@@ -247,9 +251,10 @@ int main(int argc, char** argv) {
   std::vector<std::string> vary;
   std::string series;
   sweep->add_option("scene", o.scene, "the .scn file")->required();
-  sweep->add_option("--vary", vary,
-                    "KEY=V1,V2,... (repeatable): one plot per knob; keys are settings "
-                    "properties, area_samples, kernel")
+  sweep
+      ->add_option("--vary", vary,
+                   "KEY=V1,V2,... (repeatable): one plot per knob; keys are settings "
+                   "properties, area_samples, kernel")
       ->required();
   sweep->add_option("--series", series, "KEY=V1,V2,...: one curve per value in every plot");
   sweep->add_option("--repeats", so.repeats, "renders per configuration; the median time counts")
@@ -262,8 +267,11 @@ int main(int argc, char** argv) {
   sweep->add_option("--res", o.res, "resolution WIDTHxHEIGHT for every render");
   sweep->add_option("--set", o.sets, "override a settings property: KEY=VALUE (repeatable)");
   sweep->add_option("-I", o.include_dirs, "folder searched by import (repeatable)");
-  sweep->add_option("--threads", so.threads, "worker threads; 0 = every core")->check(CLI::Range(0, 1024));
-  sweep->add_flag("--no-images", [&](std::int64_t) { so.images = false; }, "do not write a PNG per configuration");
+  sweep->add_option("--threads", so.threads, "worker threads; 0 = every core")
+      ->check(CLI::Range(0, 1024));
+  sweep->add_flag(
+      "--no-images", [&](std::int64_t) { so.images = false; },
+      "do not write a PNG per configuration");
   sweep->add_flag("-q,--quiet", so.quiet, "no progress output");
 
   CLI::App* dump = app.add_subcommand("dump-ast", "print the syntax tree of a .scn file");
@@ -284,7 +292,8 @@ int main(int argc, char** argv) {
     if (!build_compile_options(o, so.compile, error)) return usage_error(error);
     for (const std::string& v : vary) {
       cli::SweepAxis axis;
-      if (!cli::parse_axis(v, axis)) return usage_error("--vary takes KEY=V1,V2,..., got '" + v + "'");
+      if (!cli::parse_axis(v, axis))
+        return usage_error("--vary takes KEY=V1,V2,..., got '" + v + "'");
       so.vary.push_back(axis);
     }
     if (!series.empty() && !cli::parse_axis(series, so.series))

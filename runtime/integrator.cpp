@@ -1,9 +1,9 @@
 #include "runtime/integrator.hpp"
 
+#include <fmt/format.h>
+
 #include <chrono>
 #include <cmath>
-
-#include <fmt/format.h>
 
 #include "runtime/fresnel.hpp"
 #include "runtime/scatter.hpp"
@@ -14,17 +14,26 @@ namespace {
 
 constexpr float kInvPi = 0.318309886183790671538f;
 
-Color to_color(ir::Vec3 v) { return to_float(v.x, v.y, v.z); }
+Color to_color(ir::Vec3 v) {
+  return to_float(v.x, v.y, v.z);
+}
 
 // Child path keys: slot 1 = reflection, 2 = refraction. Sampler dimensions of a node
 // are hashed from its key, so a dimension names the same decision in every sample
 // of a pixel (what stratification across samples needs).
-std::uint64_t child_key(std::uint64_t key, std::uint64_t slot) { return hash_combine(key, slot); }
+std::uint64_t child_key(std::uint64_t key, std::uint64_t slot) {
+  return hash_combine(key, slot);
+}
 std::uint32_t node_dim(std::uint64_t key, std::uint64_t what) {
   return kDimFirstFree + std::uint32_t(hash_combine(key, what) & 0x7fffffffu);
 }
 
-std::string fmt_color(Color c) { return fmt::format("({:.6g}, {:.6g}, {:.6g})", c.x, c.y, c.z); }
+// The camera ray's path key (hash_combine(0x5eed, 0)), computed once.
+const std::uint64_t kRootKey = hash_combine(0x5eed, 0);
+
+std::string fmt_color(Color c) {
+  return fmt::format("({:.6g}, {:.6g}, {:.6g})", c.x, c.y, c.z);
+}
 
 struct TraceEntry {
   std::uint32_t depth;
@@ -38,14 +47,20 @@ double CostClock::now_ns() {
                     std::chrono::steady_clock::now().time_since_epoch())
                     .count());
 }
-double CostClock::since(double t0) const { return std::fmax(0.0, now_ns() - t0 - overhead_ns); }
+double CostClock::since(double t0) const {
+  return std::fmax(0.0, now_ns() - t0 - overhead_ns);
+}
 
 std::string to_string(RayKind k) {
   switch (k) {
-    case RayKind::Camera: return "camera";
-    case RayKind::Reflection: return "reflection";
-    case RayKind::Refraction: return "refraction";
-    case RayKind::Glossy: return "glossy";
+    case RayKind::Camera:
+      return "camera";
+    case RayKind::Reflection:
+      return "reflection";
+    case RayKind::Refraction:
+      return "refraction";
+    case RayKind::Glossy:
+      return "glossy";
   }
   return "?";
 }
@@ -64,7 +79,8 @@ float offset_scale(const ir::Scene& scene, ir::Vec3 o) {
   double extent = 0;
   auto grow = [&](ir::Vec3 p) {
     ir::Vec3 d = p - o;
-    extent = std::fmax(extent, std::fmax(std::fabs(d.x), std::fmax(std::fabs(d.y), std::fabs(d.z))));
+    extent =
+        std::fmax(extent, std::fmax(std::fabs(d.x), std::fmax(std::fabs(d.y), std::fabs(d.z))));
   };
   auto grow_box = [&](const ir::Transform& t, ir::Vec3 lo, ir::Vec3 hi) {
     for (int i = 0; i < 8; ++i)
@@ -76,17 +92,23 @@ float offset_scale(const ir::Scene& scene, ir::Vec3 o) {
       case ir::ShapeKind::Sphere:
         grow_box(t, s.center - ir::Vec3(s.radius), s.center + ir::Vec3(s.radius));
         break;
-      case ir::ShapeKind::Box: grow_box(t, s.min, s.max); break;
-      case ir::ShapeKind::Triangle: grow(t.point(s.a)), grow(t.point(s.b)), grow(t.point(s.c)); break;
+      case ir::ShapeKind::Box:
+        grow_box(t, s.min, s.max);
+        break;
+      case ir::ShapeKind::Triangle:
+        grow(t.point(s.a)), grow(t.point(s.b)), grow(t.point(s.c));
+        break;
       case ir::ShapeKind::Mesh:
         if (s.mesh < scene.meshes.size())
           for (const ir::Vec3& p : scene.meshes[s.mesh].positions) grow(t.point(p));
         break;
-      case ir::ShapeKind::Plane: break;
+      case ir::ShapeKind::Plane:
+        break;
     }
   }
   for (const ir::PointLight& l : scene.point_lights) grow(l.position);
-  for (const ir::AreaLight& l : scene.area_lights) grow(l.corner), grow(l.corner + l.edge1 + l.edge2);
+  for (const ir::AreaLight& l : scene.area_lights)
+    grow(l.corner), grow(l.corner + l.edge1 + l.edge2);
   if (!(extent > 0) || !std::isfinite(extent)) return 1.0f;
   return float(std::fmin(1.0, std::fmax(extent, 1e-30)));
 }
@@ -152,8 +174,8 @@ Color Integrator::emitted(const LightF& l, Vec3f dir) const {
 // Shadow rays leave from the offset hit point and end at the offset light sample, so
 // the light's own surface never blocks them; everything else does (§7).
 template <class K>
-Color Integrator::direct(Vec3f p, Vec3f nf, float time, std::uint64_t key,
-                         const SampleContext& sc, RenderStats& stats) const {
+Color Integrator::direct(Vec3f p, Vec3f nf, float time, std::uint64_t key, const SampleContext& sc,
+                         RenderStats& stats) const {
   Color e(0);
   Vec3f o = offset_ray_origin(p, nf, offset_scale_);
   for (const PointF& l : points_) {
@@ -178,7 +200,7 @@ Color Integrator::direct(Vec3f p, Vec3f nf, float time, std::uint64_t key,
     for (std::uint32_t iv = 0; iv < l.nv; ++iv)
       for (std::uint32_t iu = 0; iu < l.nu; ++iu) {
         std::uint32_t dim = node_dim(key, (std::uint64_t(li + 1) << 40) | (iv << 20) | iu);
-        Sample2 s = sample2(sc.spec, sc.px, sc.py, sc.index, dim);
+        Sample2 s = sample2(sc.spec, sc.pixel, sc.index, dim);
         float u = (float(iu) + s.u) / float(l.nu), v = (float(iv) + s.v) / float(l.nv);
         Vec3f q = l.corner + l.e1 * u + l.e2 * v;
         Vec3f to = q - p;
@@ -205,16 +227,16 @@ Color Integrator::li(const Ray& camera_ray, const SampleContext& sc, RenderStats
   Color total(0);
   std::vector<TraceEntry> entries;
   stack.clear();
-  Node root;
-  root.ray = camera_ray;
-  root.start = camera_ray.org;
-  root.key = hash_combine(0x5eed, 0);
-  stack.push_back(root);
+  // Depth-first, reflection before refraction. The first child of a node is
+  // traced next without a round trip through the stack; only its siblings wait
+  // there (most trees are a single chain, and a diffuse hit has no child).
+  Node node;
+  node.ray = camera_ray;
+  node.start = camera_ray.org;
+  node.key = kRootKey;
   const auto& mats = scene_.materials;
 
-  while (!stack.empty()) {
-    Node node = stack.back();
-    stack.pop_back();
+  for (;;) {
     double t_node = cost ? CostClock::now_ns() : 0, nested = 0;
     // Direct light is timed as shadow cost and taken out of the node's own time.
     auto direct_timed = [&](Vec3f p, Vec3f nf) {
@@ -227,16 +249,24 @@ Color Integrator::li(const Ray& camera_ray, const SampleContext& sc, RenderStats
       return e;
     };
     switch (node.kind) {
-      case RayKind::Camera: ++stats.camera_rays; break;
-      case RayKind::Reflection: ++stats.reflection_rays; break;
-      case RayKind::Refraction: ++stats.refraction_rays; break;
-      case RayKind::Glossy: ++stats.glossy_rays; break;
+      case RayKind::Camera:
+        ++stats.camera_rays;
+        break;
+      case RayKind::Reflection:
+        ++stats.reflection_rays;
+        break;
+      case RayKind::Refraction:
+        ++stats.refraction_rays;
+        break;
+      case RayKind::Glossy:
+        ++stats.glossy_rays;
+        break;
     }
     Color contrib(0);
     std::string desc;
     Hit hit;
     Vec3f d = node.ray.dir;
-    // Children are collected here, then pushed reflection-last so it pops first.
+    // Children are collected here; kids[0] (the reflection) is traced next.
     Node kids[2];
     int nkids = 0;
     Vec3f p_surface;
@@ -252,7 +282,7 @@ Color Integrator::li(const Ray& camera_ray, const SampleContext& sc, RenderStats
         // its expected contribution is unchanged.
         float q = max_component(w) / min_weight_;
         if (!roulette_ ||
-            sample1(sc.spec, sc.px, sc.py, sc.index, node_dim(child_key(node.key, slot), 11)) >= q) {
+            sample1(sc.spec, sc.pixel, sc.index, node_dim(child_key(node.key, slot), 11)) >= q) {
           ++stats.pruned_by_weight;
           return;
         }
@@ -280,16 +310,16 @@ Color Integrator::li(const Ray& camera_ray, const SampleContext& sc, RenderStats
       const ir::Material& m = mats[shape.material];
       Vec3f p = node.ray.org + d * hit.t;
       p_surface = p;
-      Vec3f ng = hit.ng;                  // outward
-      bool entering = dot(d, ng) < 0;     // §8: against the outward normal
-      Vec3f nf = entering ? ng : -ng;     // the normal on the ray's side
+      Vec3f ng = hit.ng;               // outward
+      bool entering = dot(d, ng) < 0;  // §8: against the outward normal
+      Vec3f nf = entering ? ng : -ng;  // the normal on the ray's side
       float cos_i = std::fmin(1.0f, -dot(d, nf));
       Color w = node.weight;
       if (trace)
-        desc = fmt::format("hits shape {} ({} {}, {}) t={:.6g} {}", hit.index,
-                           ir::to_string(shape.kind), ir::to_string(m.kind),
-                           ir::to_string(shape.src, scene_), hit.t,
-                           entering ? "entering" : "exiting");
+        desc =
+            fmt::format("hits shape {} ({} {}, {}) t={:.6g} {}", hit.index,
+                        ir::to_string(shape.kind), ir::to_string(m.kind),
+                        ir::to_string(shape.src, scene_), hit.t, entering ? "entering" : "exiting");
       Vec3f refl = d + nf * (2 * cos_i);
       switch (m.kind) {
         case ir::MaterialKind::Diffuse: {
@@ -304,10 +334,11 @@ Color Integrator::li(const Ray& camera_ray, const SampleContext& sc, RenderStats
         case ir::MaterialKind::Glossy: {
           Vec3f r = normalize(refl);
           if (m.blur > 0) {  // blur 0: the mirror, and no sample drawn
-            Sample2 s = sample2(sc.spec, sc.px, sc.py, sc.index, node_dim(node.key, 7));
+            Sample2 s = sample2(sc.spec, sc.pixel, sc.index, node_dim(node.key, 7));
             r = glossy_direction(r, nf, float(m.blur), s.u, s.v);
           }
-          spawn(RayKind::Glossy, offset_ray_origin(p, nf, offset_scale_), r, w * texture(m.color, p, ng), 1);
+          spawn(RayKind::Glossy, offset_ray_origin(p, nf, offset_scale_), r,
+                w * texture(m.color, p, ng), 1);
           break;
         }
         case ir::MaterialKind::Dielectric: {
@@ -317,8 +348,8 @@ Color Integrator::li(const Ray& camera_ray, const SampleContext& sc, RenderStats
             // measured from the surface point the ray left, not its offset origin:
             // near the origin the offset is 2^-16 absolute, visible in thin slabs.
             double dist = double(length(p - node.start));
-            w = w * to_float(beer(m.absorb.x, dist), beer(m.absorb.y, dist),
-                             beer(m.absorb.z, dist));
+            w = w *
+                to_float(beer(m.absorb.x, dist), beer(m.absorb.y, dist), beer(m.absorb.z, dist));
           }
           double eta = entering ? m.ior : 1.0 / m.ior;
           Interface f = make_interface(cos_i, eta);
@@ -331,13 +362,14 @@ Color Integrator::li(const Ray& camera_ray, const SampleContext& sc, RenderStats
           bool reflect = true, transmit = !f.tir;
           float wr = float(R), wt = float(1 - R);
           if (stochastic_branching_ && !f.tir) {
-            float u = sample1(sc.spec, sc.px, sc.py, sc.index, node_dim(node.key, 9));
+            float u = sample1(sc.spec, sc.pixel, sc.index, node_dim(node.key, 9));
             reflect = u < float(R);
             transmit = !reflect;
             wr = wt = 1;
           }
           if (reflect)
-            spawn(RayKind::Reflection, offset_ray_origin(p, nf, offset_scale_), normalize(refl), w * wr, 1);
+            spawn(RayKind::Reflection, offset_ray_origin(p, nf, offset_scale_), normalize(refl),
+                  w * wr, 1);
           if (transmit) {
             Vec3d t = refract({d.x, d.y, d.z}, {nf.x, nf.y, nf.z}, f);
             spawn(RayKind::Refraction, offset_ray_origin(p, -nf, offset_scale_),
@@ -351,7 +383,8 @@ Color Integrator::li(const Ray& camera_ray, const SampleContext& sc, RenderStats
           double R = reflectance(f, fresnel_);
           Color albedo = texture(m.color, p, ng);
           contrib = w * albedo * direct_timed(p, nf) * (kInvPi * float(1 - R));
-          spawn(RayKind::Reflection, offset_ray_origin(p, nf, offset_scale_), normalize(refl), w * float(R), 1);
+          spawn(RayKind::Reflection, offset_ray_origin(p, nf, offset_scale_), normalize(refl),
+                w * float(R), 1);
           break;
         }
       }
@@ -359,12 +392,20 @@ Color Integrator::li(const Ray& camera_ray, const SampleContext& sc, RenderStats
     total += contrib;
     if (cost) cost->ns[int(node.kind)] += std::fmax(0.0, cost->since(t_node) - nested);
     if (trace) {
-      entries.push_back({node.depth, fmt::format("{} depth {} weight {}: {} -> contribution {}",
-                                                 rt::to_string(node.kind), node.depth,
-                                                 fmt_color(node.weight), desc,
-                                                 fmt_color(contrib))});
+      entries.push_back(
+          {node.depth,
+           fmt::format("{} depth {} weight {}: {} -> contribution {}", rt::to_string(node.kind),
+                       node.depth, fmt_color(node.weight), desc, fmt_color(contrib))});
     }
-    for (int i = nkids - 1; i >= 0; --i) stack.push_back(kids[i]);
+    if (nkids > 0) {
+      for (int i = nkids - 1; i >= 1; --i) stack.push_back(kids[i]);
+      node = kids[0];
+    } else if (!stack.empty()) {
+      node = stack.back();
+      stack.pop_back();
+    } else {
+      break;
+    }
   }
   if (trace) {
     for (const TraceEntry& e : entries)
@@ -374,24 +415,24 @@ Color Integrator::li(const Ray& camera_ray, const SampleContext& sc, RenderStats
   return total;
 }
 
-template Color Integrator::li<ShadeFlags<false, false, false>>(
-    const Ray&, const SampleContext&, RenderStats&, std::vector<Node>&, std::string*,
-    CostClock*) const;
-template Color Integrator::li<ShadeFlags<false, true, false>>(
-    const Ray&, const SampleContext&, RenderStats&, std::vector<Node>&, std::string*,
-    CostClock*) const;
-template Color Integrator::li<ShadeFlags<false, true, true>>(
-    const Ray&, const SampleContext&, RenderStats&, std::vector<Node>&, std::string*,
-    CostClock*) const;
-template Color Integrator::li<ShadeFlags<true, false, false>>(
-    const Ray&, const SampleContext&, RenderStats&, std::vector<Node>&, std::string*,
-    CostClock*) const;
-template Color Integrator::li<ShadeFlags<true, true, false>>(
-    const Ray&, const SampleContext&, RenderStats&, std::vector<Node>&, std::string*,
-    CostClock*) const;
-template Color Integrator::li<ShadeFlags<true, true, true>>(
-    const Ray&, const SampleContext&, RenderStats&, std::vector<Node>&, std::string*,
-    CostClock*) const;
+template Color Integrator::li<ShadeFlags<false, false, false>>(const Ray&, const SampleContext&,
+                                                               RenderStats&, std::vector<Node>&,
+                                                               std::string*, CostClock*) const;
+template Color Integrator::li<ShadeFlags<false, true, false>>(const Ray&, const SampleContext&,
+                                                              RenderStats&, std::vector<Node>&,
+                                                              std::string*, CostClock*) const;
+template Color Integrator::li<ShadeFlags<false, true, true>>(const Ray&, const SampleContext&,
+                                                             RenderStats&, std::vector<Node>&,
+                                                             std::string*, CostClock*) const;
+template Color Integrator::li<ShadeFlags<true, false, false>>(const Ray&, const SampleContext&,
+                                                              RenderStats&, std::vector<Node>&,
+                                                              std::string*, CostClock*) const;
+template Color Integrator::li<ShadeFlags<true, true, false>>(const Ray&, const SampleContext&,
+                                                             RenderStats&, std::vector<Node>&,
+                                                             std::string*, CostClock*) const;
+template Color Integrator::li<ShadeFlags<true, true, true>>(const Ray&, const SampleContext&,
+                                                            RenderStats&, std::vector<Node>&,
+                                                            std::string*, CostClock*) const;
 
 std::string Integrator::to_string() const {
   return fmt::format(

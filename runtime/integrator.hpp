@@ -57,6 +57,7 @@ struct CostClock {
 struct SampleContext {
   SamplerSpec spec;
   std::uint32_t px = 0, py = 0, index = 0;
+  std::uint64_t pixel = 0;  // pixel_hash(spec, px, py)
 };
 
 struct Node {
@@ -65,7 +66,7 @@ struct Node {
   Color weight{1, 1, 1};
   std::uint32_t depth = 0;  // reflection/refraction rays after the camera ray
   RayKind kind = RayKind::Camera;
-  std::uint64_t key = 0;    // hashed path: names this node's sampler dimensions
+  std::uint64_t key = 0;  // hashed path: names this node's sampler dimensions
   std::int32_t trace_id = -1, trace_parent = -1;
 };
 
@@ -97,7 +98,7 @@ class Integrator {
   std::string to_string() const;
 
  private:
-  struct LightF {  // area light, camera-relative float
+  struct LightF {             // area light, camera-relative float
     Vec3f corner, e1, e2, n;  // n: unit cross(e1, e2)
     float area = 0;
     Color radiance;
@@ -123,7 +124,7 @@ class Integrator {
   std::uint32_t max_depth_;
   float min_weight_;
   ir::FresnelMode fresnel_;
-  float offset_scale_ = 1;  // the scene's size around the camera, at most 1
+  float offset_scale_ = 1;             // the scene's size around the camera, at most 1
   bool stochastic_branching_ = false;  // settings.branching "stochastic"
   bool roulette_ = false;              // settings.termination "roulette"
 };

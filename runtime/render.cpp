@@ -6,8 +6,13 @@
 // picks one instantiation from ir::Features (docs/effects.md).
 #include "runtime/render.hpp"
 
-#include <xmmintrin.h>
+#include <fmt/format.h>
 #include <pmmintrin.h>
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+#include <xmmintrin.h>
 
 #include <algorithm>
 #include <array>
@@ -15,12 +20,6 @@
 #include <chrono>
 #include <cmath>
 #include <utility>
-
-#include <fmt/format.h>
-#include <tbb/blocked_range.h>
-#include <tbb/enumerable_thread_specific.h>
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include "runtime/camera.hpp"
 #include "runtime/embree_scene.hpp"
@@ -60,12 +59,11 @@ struct KernelChoice {
   }
   std::string name() const {
     if (general) return "general (every effect compiled in)";
-    return fmt::format("specialised: {}, {}, {}, {}", lens ? "thin lens" : "pinhole",
-                       time ? "motion (time sampled)" : "static",
-                       area ? "area lights" : "point lights only",
-                       dielectric ? (absorption ? "dielectrics with absorption"
-                                                : "clear dielectrics")
-                                  : "no dielectrics");
+    return fmt::format(
+        "specialised: {}, {}, {}, {}", lens ? "thin lens" : "pinhole",
+        time ? "motion (time sampled)" : "static", area ? "area lights" : "point lights only",
+        dielectric ? (absorption ? "dielectrics with absorption" : "clear dielectrics")
+                   : "no dielectrics");
   }
 };
 
@@ -93,6 +91,7 @@ struct TileContext {
   const RenderOptions* options = nullptr;
   std::string* trace = nullptr;
   float* rgb = nullptr;
+  bool measure_cost = false;
 };
 
 struct Worker {
@@ -127,17 +126,18 @@ void render_tile(const TileContext& c, std::uint32_t tile, Worker& wk) {
     for (std::uint32_t x = x0; x < x1; ++x) {
       bool tracing = c.options->trace_pixel && c.options->trace_pixel->first == x &&
                      c.options->trace_pixel->second == y;
+      const std::uint64_t pixel = pixel_hash(spec, x, y);
       double sum[3] = {0, 0, 0};
       std::uint32_t kept = 0;
       for (std::uint32_t s = 0; s < spec.spp; ++s) {
-        bool timed = timed_sample(x, y, s);
+        bool timed = c.measure_cost && timed_sample(x, y, s);
         double t_cam = timed ? CostClock::now_ns() : 0, t_effects = 0;
-        SampleContext sc{spec, x, y, s};
-        Sample2 j = sample2(spec, x, y, s, kDimPixel);
+        SampleContext sc{spec, x, y, s, pixel};
+        Sample2 j = sample2(spec, pixel, s, kDimPixel);
         Ray ray;
         if constexpr (Lens) {
           double t0 = timed ? CostClock::now_ns() : 0;
-          Sample2 l = sample2(spec, x, y, s, kDimLens);
+          Sample2 l = sample2(spec, pixel, s, kDimLens);
           ray = c.camera->generate(x + double(j.u), y + double(j.v), l.u, l.v);
           ++stats.lens_samples;
           if (timed) {
@@ -150,7 +150,7 @@ void render_tile(const TileContext& c, std::uint32_t tile, Worker& wk) {
         }
         if constexpr (Time) {
           double t0 = timed ? CostClock::now_ns() : 0;
-          float u = sample1(spec, x, y, s, kDimTime);
+          float u = sample1(spec, pixel, s, kDimTime);
           // Shutter fraction in [0, 1): exactly what Embree's ray time means.
           ray.time = c.motion_on ? u : 0.0f;
           ++stats.time_samples;
@@ -184,8 +184,8 @@ using TileFn = void (*)(const TileContext&, std::uint32_t, Worker&);
 template <unsigned B>
 void tile_fn(const TileContext& c, std::uint32_t tile, Worker& wk) {
   constexpr bool kDiel = (B & 8) != 0;
-  render_tile<(B & 1) != 0, (B & 2) != 0,
-              ShadeFlags<(B & 4) != 0, kDiel, kDiel && (B & 16) != 0>>(c, tile, wk);
+  render_tile<(B & 1) != 0, (B & 2) != 0, ShadeFlags<(B & 4) != 0, kDiel, kDiel && (B & 16) != 0>>(
+      c, tile, wk);
 }
 template <unsigned... B>
 constexpr std::array<TileFn, sizeof...(B)> make_table(std::integer_sequence<unsigned, B...>) {
@@ -205,14 +205,16 @@ double clock_overhead_ns() {
 
 }  // namespace
 
-std::string to_string(Vec3f v) { return fmt::format("<{}, {}, {}>", v.x, v.y, v.z); }
+std::string to_string(Vec3f v) {
+  return fmt::format("<{}, {}, {}>", v.x, v.y, v.z);
+}
 
 std::string Camera::to_string() const {
   return fmt::format(
       "camera {{ forward {} right {} up {} tan_x {} tan_y {} {}x{} lens_radius {} "
       "focal_distance {} }}",
-      rt::to_string(forward_), rt::to_string(right_), rt::to_string(up_), tan_x_, tan_y_,
-      width_, height_, lens_radius_, focal_distance_);
+      rt::to_string(forward_), rt::to_string(right_), rt::to_string(up_), tan_x_, tan_y_, width_,
+      height_, lens_radius_, focal_distance_);
 }
 
 std::string to_string(const Image& im) {
@@ -220,11 +222,10 @@ std::string to_string(const Image& im) {
 }
 
 std::string to_string(const RenderOptions& o) {
-  std::string px = o.trace_pixel ? fmt::format("{},{}", o.trace_pixel->first,
-                                               o.trace_pixel->second)
-                                 : "none";
-  return fmt::format("render_options {{ threads {} general_kernel {} trace_pixel {} }}",
-                     o.threads, o.general_kernel, px);
+  std::string px =
+      o.trace_pixel ? fmt::format("{},{}", o.trace_pixel->first, o.trace_pixel->second) : "none";
+  return fmt::format("render_options {{ threads {} general_kernel {} trace_pixel {} }}", o.threads,
+                     o.general_kernel, px);
 }
 
 std::string to_string(const OutputInfo& i) {
@@ -245,7 +246,7 @@ RenderResult render(const ir::Scene& scene, const RenderOptions& options) {
   img.rgb.assign(std::size_t(img.width) * img.height * 3, 0.0f);
   KernelChoice kernel = choose_kernel(scene, options.general_kernel);
   result.stats.kernel = kernel.name();
-  result.stats.cost_stride = kCostStride;
+  result.stats.cost_stride = options.measure_cost ? kCostStride : 0;
   if (img.width == 0 || img.height == 0) return result;
 
   auto t0 = Clock::now();
@@ -264,11 +265,12 @@ RenderResult render(const ir::Scene& scene, const RenderOptions& options) {
   ctx.options = &options;
   ctx.trace = &result.trace;
   ctx.rgb = img.rgb.data();
+  ctx.measure_cost = options.measure_cost;
   std::uint32_t tiles_y = (img.height + kTile - 1) / kTile;
   std::uint32_t ntiles = ctx.tiles_x * tiles_y;
   std::atomic<std::uint32_t> done{0};
   TileFn run = kKernels[kernel.bits()];
-  double overhead = clock_overhead_ns();
+  double overhead = options.measure_cost ? clock_overhead_ns() : 0;
   tbb::enumerable_thread_specific<Worker> workers([&] {
     Worker w;
     w.cost.overhead_ns = overhead;

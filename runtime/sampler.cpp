@@ -1,21 +1,10 @@
 #include "runtime/sampler.hpp"
 
-#include <cmath>
-
 #include <fmt/format.h>
 
+#include <cmath>
+
 namespace snell::rt {
-
-std::uint64_t hash64(std::uint64_t x) {  // splitmix64 finaliser
-  x += 0x9e3779b97f4a7c15ull;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
-  return x ^ (x >> 31);
-}
-
-std::uint64_t hash_combine(std::uint64_t a, std::uint64_t b) {
-  return hash64(a ^ (hash64(b) + 0x9e3779b97f4a7c15ull + (a << 6) + (a >> 2)));
-}
 
 std::uint32_t permute(std::uint32_t i, std::uint32_t l, std::uint32_t p) {
   if (l <= 1) return 0;
@@ -74,7 +63,9 @@ std::uint32_t owen_scramble(std::uint32_t x, std::uint32_t seed) {
 }
 
 // Sobol' dimension 0 (van der Corput) and dimension 1, as 32-bit fractions.
-std::uint32_t sobol0(std::uint32_t i) { return reverse_bits(i); }
+std::uint32_t sobol0(std::uint32_t i) {
+  return reverse_bits(i);
+}
 std::uint32_t sobol1(std::uint32_t i) {
   std::uint32_t r = 0;
   for (std::uint32_t v = 1u << 31; i; i >>= 1, v ^= v >> 1)
@@ -91,10 +82,9 @@ float unit(double x) {  // [0, 1) in float, guarding the rounding up to 1
 
 }  // namespace
 
-Sample2 sample2(const SamplerSpec& spec, std::uint32_t px, std::uint32_t py,
-                std::uint32_t index, std::uint32_t dim) {
-  std::uint64_t pixel_key =
-      hash_combine(hash_combine(spec.seed, (std::uint64_t(py) << 32) | px), dim);
+Sample2 sample2(const SamplerSpec& spec, std::uint64_t pixel, std::uint32_t index,
+                std::uint32_t dim) {
+  std::uint64_t pixel_key = hash_combine(pixel, dim);
   switch (spec.kind) {
     case ir::SamplerKind::Independent: {
       std::uint64_t h = hash_combine(pixel_key, index);
@@ -124,12 +114,11 @@ Sample2 sample2(const SamplerSpec& spec, std::uint32_t px, std::uint32_t py,
   return {};
 }
 
-float sample1(const SamplerSpec& spec, std::uint32_t px, std::uint32_t py, std::uint32_t index,
+float sample1(const SamplerSpec& spec, std::uint64_t pixel, std::uint32_t index,
               std::uint32_t dim) {
-  if (spec.kind != ir::SamplerKind::Stratified) return sample2(spec, px, py, index, dim).u;
+  if (spec.kind != ir::SamplerKind::Stratified) return sample2(spec, pixel, index, dim).u;
   // 1-D jitter over spp strata, the sample-to-stratum map a hashed permutation.
-  std::uint64_t pixel_key =
-      hash_combine(hash_combine(spec.seed, (std::uint64_t(py) << 32) | px), dim ^ 0x1d1du);
+  std::uint64_t pixel_key = hash_combine(pixel, dim ^ 0x1d1du);
   std::uint32_t n = spec.spp == 0 ? 1 : spec.spp;
   std::uint32_t cell = index < n ? permute(index, n, std::uint32_t(pixel_key))
                                  : std::uint32_t(hash_combine(pixel_key, index) % n);
@@ -137,11 +126,12 @@ float sample1(const SamplerSpec& spec, std::uint32_t px, std::uint32_t py, std::
   return unit((cell + double(j)) / n);
 }
 
-std::string to_string(Sample2 s) { return fmt::format("({}, {})", s.u, s.v); }
+std::string to_string(Sample2 s) {
+  return fmt::format("({}, {})", s.u, s.v);
+}
 
 std::string to_string(const SamplerSpec& s) {
-  return fmt::format("sampler {{ kind {} seed {} spp {} }}", ir::to_string(s.kind), s.seed,
-                     s.spp);
+  return fmt::format("sampler {{ kind {} seed {} spp {} }}", ir::to_string(s.kind), s.seed, s.spp);
 }
 
 }  // namespace snell::rt

@@ -36,9 +36,9 @@ struct Sample2 {
 // Fixed dimensions of a camera sample; the ray tree draws further dimensions from
 // hashed per-node keys (integrator.cpp).
 enum : std::uint32_t {
-  kDimPixel = 0,   // film position inside the pixel
-  kDimLens = 1,    // lens position (depth of field)
-  kDimTime = 2,    // shutter fraction (motion blur), 1-D
+  kDimPixel = 0,  // film position inside the pixel
+  kDimLens = 1,   // lens position (depth of field)
+  kDimTime = 2,   // shutter fraction (motion blur), 1-D
   kDimFirstFree = 3,
 };
 
@@ -48,14 +48,35 @@ struct SamplerSpec {
   std::uint32_t spp = 1;
 };
 
-Sample2 sample2(const SamplerSpec& spec, std::uint32_t px, std::uint32_t py,
-                std::uint32_t index, std::uint32_t dim);
-float sample1(const SamplerSpec& spec, std::uint32_t px, std::uint32_t py, std::uint32_t index,
-              std::uint32_t dim);
+// Helpers, exposed for the integrator and tests. Inline: every sample hashes.
+inline std::uint64_t hash64(std::uint64_t x) {  // splitmix64 finaliser
+  x += 0x9e3779b97f4a7c15ull;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+  return x ^ (x >> 31);
+}
+inline std::uint64_t hash_combine(std::uint64_t a, std::uint64_t b) {
+  return hash64(a ^ (hash64(b) + 0x9e3779b97f4a7c15ull + (a << 6) + (a >> 2)));
+}
 
-// Helpers, exposed for the integrator and tests.
-std::uint64_t hash64(std::uint64_t x);
-std::uint64_t hash_combine(std::uint64_t a, std::uint64_t b);
+// The pixel's part of every sample's key; the render loop computes it once per
+// pixel and passes it to the keyed overloads below.
+inline std::uint64_t pixel_hash(const SamplerSpec& spec, std::uint32_t px, std::uint32_t py) {
+  return hash_combine(spec.seed, (std::uint64_t(py) << 32) | px);
+}
+
+Sample2 sample2(const SamplerSpec& spec, std::uint64_t pixel, std::uint32_t index,
+                std::uint32_t dim);
+float sample1(const SamplerSpec& spec, std::uint64_t pixel, std::uint32_t index, std::uint32_t dim);
+inline Sample2 sample2(const SamplerSpec& spec, std::uint32_t px, std::uint32_t py,
+                       std::uint32_t index, std::uint32_t dim) {
+  return sample2(spec, pixel_hash(spec, px, py), index, dim);
+}
+inline float sample1(const SamplerSpec& spec, std::uint32_t px, std::uint32_t py,
+                     std::uint32_t index, std::uint32_t dim) {
+  return sample1(spec, pixel_hash(spec, px, py), index, dim);
+}
+
 // 24-bit float in [0, 1) from the top bits of a 32-bit integer.
 inline float to_unit_float(std::uint32_t bits) {
   return static_cast<float>(bits >> 8) * (1.0f / 16777216.0f);

@@ -13,8 +13,7 @@ std::string seconds_line(const char* name, double s, double total) {
 }  // namespace
 
 std::string RenderStats::to_string() const {
-  std::uint64_t total =
-      camera_rays + shadow_rays + reflection_rays + refraction_rays + glossy_rays;
+  std::uint64_t total = camera_rays + shadow_rays + reflection_rays + refraction_rays + glossy_rays;
   double mrays = render_seconds > 0 ? double(total) / render_seconds * 1e-6 : 0;
   std::string s = fmt::format(
       "kernel: {}\n"
@@ -25,8 +24,9 @@ std::string RenderStats::to_string() const {
       "non-finite samples dropped: {}\n"
       "time: build {:.3f} s, render {:.3f} s, {:.2f} Mrays/s\n",
       kernel.empty() ? "?" : kernel, total, camera_rays, shadow_rays, reflection_rays,
-      refraction_rays, glossy_rays, lens_samples, time_samples, pruned_by_depth,
-      pruned_by_weight, tir_events, nonfinite_samples, build_seconds, render_seconds, mrays);
+      refraction_rays, glossy_rays, lens_samples, time_samples, pruned_by_depth, pruned_by_weight,
+      tir_events, nonfinite_samples, build_seconds, render_seconds, mrays);
+  if (cost_stride == 0) return s;  // RenderOptions::measure_cost was off
   double cost = camera_seconds + shadow_seconds + reflection_seconds + refraction_seconds +
                 glossy_seconds + lens_seconds + time_seconds;
   s += fmt::format(

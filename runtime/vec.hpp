@@ -19,22 +19,48 @@ struct Vec3f {
   constexpr float& operator[](int i) { return i == 0 ? x : i == 1 ? y : z; }
 };
 
-constexpr Vec3f operator+(Vec3f a, Vec3f b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-constexpr Vec3f operator-(Vec3f a, Vec3f b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-constexpr Vec3f operator-(Vec3f a) { return {-a.x, -a.y, -a.z}; }
-constexpr Vec3f operator*(Vec3f a, Vec3f b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
-constexpr Vec3f operator*(Vec3f a, float s) { return {a.x * s, a.y * s, a.z * s}; }
-constexpr Vec3f operator*(float s, Vec3f a) { return a * s; }
-constexpr Vec3f operator/(Vec3f a, float s) { return {a.x / s, a.y / s, a.z / s}; }
-constexpr Vec3f& operator+=(Vec3f& a, Vec3f b) { return a = a + b; }
-constexpr Vec3f& operator*=(Vec3f& a, Vec3f b) { return a = a * b; }
-constexpr float dot(Vec3f a, Vec3f b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+constexpr Vec3f operator+(Vec3f a, Vec3f b) {
+  return {a.x + b.x, a.y + b.y, a.z + b.z};
+}
+constexpr Vec3f operator-(Vec3f a, Vec3f b) {
+  return {a.x - b.x, a.y - b.y, a.z - b.z};
+}
+constexpr Vec3f operator-(Vec3f a) {
+  return {-a.x, -a.y, -a.z};
+}
+constexpr Vec3f operator*(Vec3f a, Vec3f b) {
+  return {a.x * b.x, a.y * b.y, a.z * b.z};
+}
+constexpr Vec3f operator*(Vec3f a, float s) {
+  return {a.x * s, a.y * s, a.z * s};
+}
+constexpr Vec3f operator*(float s, Vec3f a) {
+  return a * s;
+}
+constexpr Vec3f operator/(Vec3f a, float s) {
+  return {a.x / s, a.y / s, a.z / s};
+}
+constexpr Vec3f& operator+=(Vec3f& a, Vec3f b) {
+  return a = a + b;
+}
+constexpr Vec3f& operator*=(Vec3f& a, Vec3f b) {
+  return a = a * b;
+}
+constexpr float dot(Vec3f a, Vec3f b) {
+  return a.x * b.x + a.y * b.y + a.z * b.z;
+}
 constexpr Vec3f cross(Vec3f a, Vec3f b) {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
-inline float length(Vec3f a) { return std::sqrt(dot(a, a)); }
-inline Vec3f normalize(Vec3f a) { return a / length(a); }
-inline float max_component(Vec3f a) { return std::fmax(a.x, std::fmax(a.y, a.z)); }
+inline float length(Vec3f a) {
+  return std::sqrt(dot(a, a));
+}
+inline Vec3f normalize(Vec3f a) {
+  return a / length(a);
+}
+inline float max_component(Vec3f a) {
+  return std::fmax(a.x, std::fmax(a.y, a.z));
+}
 inline bool is_finite(Vec3f a) {
   return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z);
 }
@@ -48,7 +74,7 @@ using Color = Vec3f;
 // where ulps vanish. Scale-aware: no scene-size epsilon. Limits: assumes `p` is
 // within a few hundred ulps of the true surface (true for our hit points, which are
 // o + t·d with the camera at the origin) and that n is unit length.
-inline float offset_coord(float p, float n, float scale) {
+[[gnu::always_inline]] inline float offset_coord(float p, float n, float scale) {
   const float origin = scale * (1.0f / 32.0f);
   const float float_scale = scale * (1.0f / 65536.0f);
   constexpr float kIntScale = 256.0f;
@@ -67,7 +93,7 @@ inline float offset_coord(float p, float n, float scale) {
 // scene 1e-3 units across (robustness #2, #4). Scaling the switch point and that
 // step with the scene keeps every scene of size >= 1 bit-identical to the
 // published method and makes tiny scenes behave like unit ones.
-inline Vec3f offset_ray_origin(Vec3f p, Vec3f n, float scale = 1.0f) {
+[[gnu::always_inline]] inline Vec3f offset_ray_origin(Vec3f p, Vec3f n, float scale = 1.0f) {
   return {offset_coord(p.x, n.x, scale), offset_coord(p.y, n.y, scale),
           offset_coord(p.z, n.z, scale)};
 }

@@ -6,11 +6,15 @@
 // "spheres" ratio also measures that choice; the "boxes" scene is triangles only in
 // both, so its ratio is the integrator's own overhead.
 //
-// Usage: bench_trace [width height spp]   (default 640 480 4)
+// Usage: bench_trace [width height spp [rounds [scene]]]   (default 640 480 4 5, all)
 #include <embree3/rtcore.h>
-#include <xmmintrin.h>
+#include <fmt/format.h>
 #include <pmmintrin.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+#include <xmmintrin.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -18,10 +22,6 @@
 #include <cstdlib>
 #include <string>
 #include <vector>
-
-#include <fmt/format.h>
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include "runtime/render.hpp"
 
@@ -77,7 +77,8 @@ std::vector<BenchScene> scenes(std::uint32_t w, std::uint32_t h, std::uint32_t s
     s.shapes.push_back(make_box({-12, -1, -12}, {12, 0, 12}, 0));
     for (int i = 0; i < 20; ++i)
       for (int j = 0; j < 20; ++j)
-        s.shapes.push_back(make_box({-9.8 + i, 0, -9.8 + j}, {-9.2 + i, 0.3 + 0.05 * ((i * 7 + j * 3) % 11), -9.2 + j}, 0));
+        s.shapes.push_back(make_box({-9.8 + i, 0, -9.8 + j},
+                                    {-9.2 + i, 0.3 + 0.05 * ((i * 7 + j * 3) % 11), -9.2 + j}, 0));
     s.point_lights.push_back({{3, 8, -4}, {200, 200, 200}, {}});
     out.push_back({"boxes", s, true});
   }
@@ -170,11 +171,11 @@ Measure run_raw(const ir::Scene& s, int threads) {
   }
   if (!idx.empty()) {
     RTCGeometry g = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
-    auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0,
-                                                           RTC_FORMAT_FLOAT3, 12, verts.size() / 3));
+    auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(
+        g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 12, verts.size() / 3));
     std::copy(verts.begin(), verts.end(), vb);
-    auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0,
-                                                              RTC_FORMAT_UINT3, 12, idx.size() / 3));
+    auto* ib = static_cast<unsigned*>(
+        rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 12, idx.size() / 3));
     std::copy(idx.begin(), idx.end(), ib);
     rtcCommitGeometry(g);
     rtcAttachGeometry(sc, g);
@@ -185,7 +186,8 @@ Measure run_raw(const ir::Scene& s, int threads) {
   const ir::Camera& c = s.camera;
   ir::Vec3 fw = ir::normalize(c.look_at - c.location), rt_ = ir::normalize(ir::cross(fw, c.up)),
            up = ir::cross(rt_, fw);
-  double tx = std::tan(c.fov * 0.5 * 3.14159265358979 / 180), ty = tx * s.settings.height / s.settings.width;
+  double tx = std::tan(c.fov * 0.5 * 3.14159265358979 / 180),
+         ty = tx * s.settings.height / s.settings.width;
   ir::Vec3 lp = s.point_lights[0].position - o;
   std::uint32_t W = s.settings.width, H = s.settings.height, spp = s.settings.samples;
   std::atomic<std::uint64_t> rays{0};
@@ -200,7 +202,8 @@ Measure run_raw(const ir::Scene& s, int threads) {
       for (std::uint32_t x = 0; x < W; ++x) {
         float acc = 0;
         for (std::uint32_t k = 0; k < spp; ++k) {
-          double jx = ((k * 0.618034) - std::floor(k * 0.618034)), jy = ((k * 0.7548777) - std::floor(k * 0.7548777));
+          double jx = ((k * 0.618034) - std::floor(k * 0.618034)),
+                 jy = ((k * 0.7548777) - std::floor(k * 0.7548777));
           double sx = (2 * (x + jx) / W - 1) * tx, sy = (1 - 2 * (y + jy) / H) * ty;
           ir::Vec3 d = ir::normalize(fw + rt_ * sx + up * sy);
           RTCIntersectContext ctx;
@@ -218,7 +221,8 @@ Measure run_raw(const ir::Scene& s, int threads) {
           float nx = rh.hit.Ng_x, ny = rh.hit.Ng_y, nz = rh.hit.Ng_z;
           float nl = std::sqrt(nx * nx + ny * ny + nz * nz);
           nx /= nl, ny /= nl, nz /= nl;
-          if (nx * rh.ray.dir_x + ny * rh.ray.dir_y + nz * rh.ray.dir_z > 0) nx = -nx, ny = -ny, nz = -nz;
+          if (nx * rh.ray.dir_x + ny * rh.ray.dir_y + nz * rh.ray.dir_z > 0)
+            nx = -nx, ny = -ny, nz = -nz;
           float lx = float(lp.x) - px, ly = float(lp.y) - py, lz = float(lp.z) - pz;
           float cosl = nx * lx + ny * ly + nz * lz;
           if (cosl <= 0) continue;
@@ -247,23 +251,32 @@ Measure run_raw(const ir::Scene& s, int threads) {
 
 int main(int argc, char** argv) {
   std::uint32_t w = 640, h = 480, spp = 4;
+  int rounds = 5;
+  std::string only;
   if (argc >= 4) w = std::atoi(argv[1]), h = std::atoi(argv[2]), spp = std::atoi(argv[3]);
-  fmt::print("bench_trace: {}x{} at {} spp; Mrays/s (best of 3 runs each)\n", w, h, spp);
+  if (argc >= 5) rounds = std::max(1, std::atoi(argv[4]));
+  if (argc >= 6) only = argv[5];
+  fmt::print("bench_trace: {}x{} at {} spp; Mrays/s, best of {} interleaved rounds\n", w, h, spp,
+             rounds);
   fmt::print("{:<8} {:>12} {:>12} {:>10} {:>12} {:>12} {:>10} {:>10}\n", "scene", "snell 1T",
              "raw 1T", "snell/raw", "snell 2T", "raw 2T", "2T/1T", "rays");
   for (const BenchScene& b : scenes(w, h, spp)) {
-    auto best = [&](auto fn, int threads) {
-      Measure m = fn(b.scene, threads);
-      for (int i = 0; i < 2; ++i) {
-        Measure n = fn(b.scene, threads);
-        if (n.seconds < m.seconds) m = n;
-      }
-      return m;
+    if (!only.empty() && b.name != only) continue;
+    // Round r runs every configuration once, so slow drift of the shared machine's
+    // load hits all of them alike; the best round of each is reported.
+    Measure s1, s2, r1, r2;
+    auto keep = [](Measure& best, Measure m) {
+      if (best.seconds == 0 || m.seconds < best.seconds) best = m;
     };
-    Measure s1 = best(run_snell, 1), s2 = best(run_snell, 2);
-    Measure r1, r2;
-    if (b.raw_ok) r1 = best(run_raw, 1), r2 = best(run_raw, 2);
-    auto ratio = [](double a, double c) { return c > 0 ? fmt::format("{:.2f}", a / c) : std::string("-"); };
+    for (int r = 0; r < rounds; ++r) {
+      keep(s1, run_snell(b.scene, 1));
+      if (b.raw_ok) keep(r1, run_raw(b.scene, 1));
+      keep(s2, run_snell(b.scene, 2));
+      if (b.raw_ok) keep(r2, run_raw(b.scene, 2));
+    }
+    auto ratio = [](double a, double c) {
+      return c > 0 ? fmt::format("{:.2f}", a / c) : std::string("-");
+    };
     fmt::print("{:<8} {:>12.2f} {:>12} {:>10} {:>12.2f} {:>12} {:>10} {:>10}\n", b.name, s1.mrays(),
                b.raw_ok ? fmt::format("{:.2f}", r1.mrays()) : "-", ratio(s1.mrays(), r1.mrays()),
                s2.mrays(), b.raw_ok ? fmt::format("{:.2f}", r2.mrays()) : "-",

@@ -21,10 +21,12 @@ inline ir::Shape moving(ir::Shape s, ir::TransformOp::Kind kind, ir::Vec3 v) {
   return s;
 }
 
-inline rt::RenderResult render_with(const ir::Scene& s, int threads = 1, bool general = false) {
+inline rt::RenderResult render_with(const ir::Scene& s, int threads = 1, bool general = false,
+                                    bool measure_cost = false) {
   rt::RenderOptions o;
   o.threads = threads;
   o.general_kernel = general;
+  o.measure_cost = measure_cost;
   return rt::render(s, o);
 }
 

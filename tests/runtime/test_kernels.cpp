@@ -55,8 +55,8 @@ ir::Scene every_effect(ir::SamplerKind kind) {
 }  // namespace
 
 TEST_CASE("specialised kernels render the general kernel's picture bit for bit", "[kernels]") {
-  for (auto kind : {ir::SamplerKind::Independent, ir::SamplerKind::Stratified,
-                    ir::SamplerKind::Sobol}) {
+  for (auto kind :
+       {ir::SamplerKind::Independent, ir::SamplerKind::Stratified, ir::SamplerKind::Sobol}) {
     std::vector<std::pair<const char*, ir::Scene>> scenes;
     scenes.push_back({"point lights only", base_effects(kind)});
     {
@@ -95,8 +95,8 @@ TEST_CASE("specialised kernels render the general kernel's picture bit for bit",
 }
 
 TEST_CASE("every effect on: the same image with 1 and 2 threads", "[kernels][determinism]") {
-  for (auto kind : {ir::SamplerKind::Independent, ir::SamplerKind::Stratified,
-                    ir::SamplerKind::Sobol}) {
+  for (auto kind :
+       {ir::SamplerKind::Independent, ir::SamplerKind::Stratified, ir::SamplerKind::Sobol}) {
     ir::Scene s = every_effect(kind);
     for (bool general : {false, true}) {
       rt::RenderResult a = render_with(s, 1, general), b = render_with(s, 2, general);
@@ -110,8 +110,14 @@ TEST_CASE("every effect on: the same image with 1 and 2 threads", "[kernels][det
 
 TEST_CASE("stats count lens and time samples and attribute time to effects", "[kernels][stats]") {
   ir::Scene s = every_effect(ir::SamplerKind::Sobol);
-  rt::RenderResult r = render_with(s);
+  rt::RenderResult r = render_with(s, 1, false, /*measure_cost=*/true);
   const rt::RenderStats& st = r.stats;
+  // Measuring the cost never changes the picture, and without it nothing is timed.
+  rt::RenderResult untimed = render_with(s);
+  CHECK(untimed.image.rgb == r.image.rgb);
+  CHECK(untimed.stats.timed_samples == 0);
+  CHECK(untimed.stats.camera_seconds == 0);
+  CHECK(untimed.stats.to_string().find("cost by effect") == std::string::npos);
   std::uint64_t n = 40 * 30 * 4;
   CHECK(st.camera_rays == n);
   CHECK(st.lens_samples == n);
