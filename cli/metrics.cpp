@@ -76,7 +76,8 @@ double ssim(const rt::Image& a, const rt::Image& r) {
     return out;
   };
   std::vector<double> xx(x.size()), yy(x.size()), xy(x.size());
-  for (std::size_t i = 0; i < x.size(); ++i) xx[i] = x[i] * x[i], yy[i] = y[i] * y[i], xy[i] = x[i] * y[i];
+  for (std::size_t i = 0; i < x.size(); ++i)
+    xx[i] = x[i] * x[i], yy[i] = y[i] * y[i], xy[i] = x[i] * y[i];
   std::vector<double> mx = blur(x), my = blur(y), sxx = blur(xx), syy = blur(yy), sxy = blur(xy);
   constexpr double C1 = 0.01 * 0.01, C2 = 0.03 * 0.03;
   double total = 0;

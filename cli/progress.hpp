@@ -42,9 +42,7 @@ class Progress {
     if (enabled_ && tty_) std::fprintf(stderr, "\n");
   }
 
-  double seconds() const {
-    return std::chrono::duration<double>(Clock::now() - start_).count();
-  }
+  double seconds() const { return std::chrono::duration<double>(Clock::now() - start_).count(); }
 
  private:
   using Clock = std::chrono::steady_clock;

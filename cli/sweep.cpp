@@ -48,7 +48,7 @@ constexpr int kExitOk = 0, kExitScene = 1, kExitUsage = 2, kExitIo = 3;
 
 struct Config {
   std::vector<std::pair<std::string, std::string>> settings;  // compile overrides
-  int area_samples = 0;                                        // 0: as written
+  int area_samples = 0;                                       // 0: as written
   bool general_kernel = false;
 };
 
@@ -129,8 +129,11 @@ class Sweeper {
     auto comp = compile::compile_file(o_.scene, copts);
     comp->diags.print(std::cerr);
     switch (comp->status) {
-      case compile::CompileStatus::Ok: break;
-      case compile::CompileStatus::SceneErrors: code = kExitScene; return false;
+      case compile::CompileStatus::Ok:
+        break;
+      case compile::CompileStatus::SceneErrors:
+        code = kExitScene;
+        return false;
       case compile::CompileStatus::UsageError:
         std::cerr << "snell sweep: error: " << comp->message << "\n";
         code = kExitUsage;
@@ -165,8 +168,10 @@ class Sweeper {
   // nodes per sample. Cached by the hash of its IR dump.
   bool reference(rt::Image& ref, int& code) {
     Config c;
-    c.settings = {{"samples", std::to_string(o_.reference_spp)}, {"fresnel", "exact"},
-                  {"branching", "split"},                     {"termination", "roulette"},
+    c.settings = {{"samples", std::to_string(o_.reference_spp)},
+                  {"fresnel", "exact"},
+                  {"branching", "split"},
+                  {"termination", "roulette"},
                   {"min_weight", "0.01"}};
     ir::Scene scene;
     if (!compile(c, scene, code)) return false;
@@ -178,8 +183,10 @@ class Sweeper {
     }
     fs::create_directories(fs::path(o_.out_dir) / "cache");
     char hex[17];
-    std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(fnv1a(ir::to_string(scene))));
-    std::string path = (fs::path(o_.out_dir) / "cache" / ("ref-" + std::string(hex) + ".bin")).string();
+    std::snprintf(hex, sizeof hex, "%016llx",
+                  static_cast<unsigned long long>(fnv1a(ir::to_string(scene))));
+    std::string path =
+        (fs::path(o_.out_dir) / "cache" / ("ref-" + std::string(hex) + ".bin")).string();
     if (load_raw(path, ref)) {
       if (!o_.quiet) std::cerr << "reference: cached " << path << "\n";
       return true;
@@ -201,8 +208,8 @@ class Sweeper {
     int code = kExitOk;
     rt::Image ref;
     if (!reference(ref, code)) return code;
-    std::vector<std::string> series_values = o_.series.key.empty() ? std::vector<std::string>{""}
-                                                                   : o_.series.values;
+    std::vector<std::string> series_values =
+        o_.series.key.empty() ? std::vector<std::string>{""} : o_.series.values;
     fs::create_directories(fs::path(o_.out_dir) / "images");
     std::string stem = o_.name.empty() ? fs::path(o_.scene).stem().string() : o_.name;
     for (const SweepAxis& axis : o_.vary) {
@@ -260,12 +267,14 @@ class Sweeper {
         const std::string& v = row.value;
         const std::string& sv = row.series_value;
         if (o_.images) {
-          row.image = "images/" + slug(stem + "-" + axis.key + "-" + v + (sv.empty() ? "" : "-" + sv)) + ".png";
+          row.image = "images/" +
+                      slug(stem + "-" + axis.key + "-" + v + (sv.empty() ? "" : "-" + sv)) + ".png";
           rt::OutputInfo info;
           info.scene_path = o_.scene;
           info.samples = j.scene.settings.samples;
           info.seed = j.scene.settings.seed;
-          std::string e = rt::write_image((fs::path(o_.out_dir) / row.image).string(), img, info, "");
+          std::string e =
+              rt::write_image((fs::path(o_.out_dir) / row.image).string(), img, info, "");
           if (!e.empty()) {
             std::cerr << "snell sweep: error: " << e << "\n";
             return kExitIo;
@@ -324,9 +333,10 @@ std::string Sweeper::reading(const SweepAxis& axis) const {
           }
       if (n == 0) continue;
       double t = std::exp(tr / n), e = std::exp(er / n);
-      out += "- `" + o_.series.key + " " + other + "` against `" + base + "` (geometric mean over the " +
-             std::to_string(n) + " values of `" + axis.key + "`): " +
-             (t < 1 ? pct(1 - t) + " less time" : pct(t - 1) + " more time") + ", RMSE × " + num(e) + ".\n";
+      out += "- `" + o_.series.key + " " + other + "` against `" + base +
+             "` (geometric mean over the " + std::to_string(n) + " values of `" + axis.key +
+             "`): " + (t < 1 ? pct(1 - t) + " less time" : pct(t - 1) + " more time") +
+             ", RMSE × " + num(e) + ".\n";
     }
   }
   // An equal-time comparison: the pair (first curve, other curve) whose times
@@ -344,9 +354,10 @@ std::string Sweeper::reading(const SweepAxis& axis) const {
         }
     if (pa && pb && !pa->image.empty() && !pb->image.empty())
       out += "- Equal time (" + num(pa->seconds) + " s and " + num(pb->seconds) + " s): left `" +
-             o_.series.key + " " + pa->series_value + "`, `" + axis.key + " " + pa->value + "` (RMSE " +
-             num(pa->rmse) + "); right `" + o_.series.key + " " + pb->series_value + "`, `" + axis.key + " " +
-             pb->value + "` (RMSE " + num(pb->rmse) + ").\n\n  ![](" + pa->image + ") ![](" + pb->image + ")\n";
+             o_.series.key + " " + pa->series_value + "`, `" + axis.key + " " + pa->value +
+             "` (RMSE " + num(pa->rmse) + "); right `" + o_.series.key + " " + pb->series_value +
+             "`, `" + axis.key + " " + pb->value + "` (RMSE " + num(pb->rmse) + ").\n\n  ![](" +
+             pa->image + ") ![](" + pb->image + ")\n";
   }
   // Slope of log error against log time along each curve.
   std::map<std::string, std::vector<const SweepRow*>> curves;
@@ -362,7 +373,9 @@ std::string Sweeper::reading(const SweepAxis& axis) const {
     }
     if (n < 3 || sxx * n - sx * sx <= 0) continue;
     double k = (n * sxy - sx * sy) / (n * sxx - sx * sx);
-    out += "- " + (sv.empty() ? std::string("Along `") + axis.key + "`" : "`" + o_.series.key + " " + sv + "`") +
+    out += "- " +
+           (sv.empty() ? std::string("Along `") + axis.key + "`"
+                       : "`" + o_.series.key + " " + sv + "`") +
            ": RMSE ∝ time^" + num(k, "%.2f") +
            (std::fabs(k + 0.5) < 0.15 ? " (the Monte Carlo rate, 1/√time)" : "") + ".\n";
   }
@@ -373,30 +386,33 @@ std::string Sweeper::reading(const SweepAxis& axis) const {
   for (const SweepRow* r : rows)
     if (!best || cost(r) < cost(best)) best = r;
   if (best)
-    out += "- Most efficient (lowest MSE × time): `" + axis.key + " " + best->value + "`" +
-           (best->series_value.empty() ? "" : " with `" + o_.series.key + " " + best->series_value + "`") +
-           " (" + num(best->seconds) + " s, RMSE " + num(best->rmse) + ").\n";
+    out +=
+        "- Most efficient (lowest MSE × time): `" + axis.key + " " + best->value + "`" +
+        (best->series_value.empty() ? ""
+                                    : " with `" + o_.series.key + " " + best->series_value + "`") +
+        " (" + num(best->seconds) + " s, RMSE " + num(best->rmse) + ").\n";
   return out;
 }
 
 bool Sweeper::write_outputs(const std::string& stem) {
   fs::path dir(o_.out_dir);
   std::ofstream csv(dir / (stem + ".csv"));
-  csv << "scene,knob,value,series_key,series_value,seconds_median,seconds_min,rays,rmse,relmse,dssim,image\n";
+  csv << "scene,knob,value,series_key,series_value,seconds_median,seconds_min,rays,rmse,relmse,"
+         "dssim,image\n";
   for (const SweepRow& r : rows_)
-    csv << o_.scene << ',' << r.knob << ",\"" << r.value << "\"," << o_.series.key << ',' << r.series_value << ','
-        << r.seconds << ',' << r.seconds_min << ',' << r.rays << ',' << r.rmse << ',' << r.relmse << ','
-        << r.dssim << ',' << r.image << '\n';
+    csv << o_.scene << ',' << r.knob << ",\"" << r.value << "\"," << o_.series.key << ','
+        << r.series_value << ',' << r.seconds << ',' << r.seconds_min << ',' << r.rays << ','
+        << r.rmse << ',' << r.relmse << ',' << r.dssim << ',' << r.image << '\n';
   std::ofstream json(dir / (stem + ".json"));
   json << "{\n  \"scene\": \"" << o_.scene << "\",\n  \"reference_spp\": " << o_.reference_spp
        << ",\n  \"repeats\": " << o_.repeats << ",\n  \"rows\": [\n";
   for (std::size_t i = 0; i < rows_.size(); ++i) {
     const SweepRow& r = rows_[i];
     json << "    {\"knob\": \"" << r.knob << "\", \"value\": \"" << r.value << "\", \"series\": \""
-         << r.series_value << "\", \"seconds\": " << r.seconds << ", \"seconds_min\": " << r.seconds_min
-         << ", \"rays\": " << r.rays << ", \"rmse\": " << r.rmse << ", \"relmse\": " << r.relmse
-         << ", \"dssim\": " << r.dssim << ", \"image\": \"" << r.image << "\"}"
-         << (i + 1 < rows_.size() ? ",\n" : "\n");
+         << r.series_value << "\", \"seconds\": " << r.seconds
+         << ", \"seconds_min\": " << r.seconds_min << ", \"rays\": " << r.rays
+         << ", \"rmse\": " << r.rmse << ", \"relmse\": " << r.relmse << ", \"dssim\": " << r.dssim
+         << ", \"image\": \"" << r.image << "\"}" << (i + 1 < rows_.size() ? ",\n" : "\n");
   }
   json << "  ]\n}\n";
   std::ostringstream md;
@@ -405,7 +421,8 @@ bool Sweeper::write_outputs(const std::string& stem) {
     plot.title = stem + ": error versus time, varying " + axis.key;
     plot.x_label = "render time (s, median of " + std::to_string(o_.repeats) + ")";
     plot.y_label = "RMSE against the reference";
-    std::vector<std::string> svs = o_.series.key.empty() ? std::vector<std::string>{""} : o_.series.values;
+    std::vector<std::string> svs =
+        o_.series.key.empty() ? std::vector<std::string>{""} : o_.series.values;
     for (const std::string& sv : svs) {
       PlotSeries s;
       s.name = sv.empty() ? axis.key : o_.series.key + " " + sv;
@@ -418,16 +435,17 @@ bool Sweeper::write_outputs(const std::string& stem) {
     }
     std::string svg_name = slug(stem + "-" + axis.key) + ".svg";
     std::ofstream(dir / svg_name) << render_svg(plot);
-    md << "### " << stem << ": " << axis.key << (o_.series.key.empty() ? "" : " × " + o_.series.key) << "\n\n";
+    md << "### " << stem << ": " << axis.key << (o_.series.key.empty() ? "" : " × " + o_.series.key)
+       << "\n\n";
     md << "![" << plot.title << "](" << svg_name << ")\n\n";
     md << "| " << axis.key << " |" << (o_.series.key.empty() ? "" : " " + o_.series.key + " |")
-       << " time (s) | RMSE | relMSE | 1 − SSIM | rays |\n|---|" << (o_.series.key.empty() ? "" : "---|")
-       << "---|---|---|---|---|\n";
+       << " time (s) | RMSE | relMSE | 1 − SSIM | rays |\n|---|"
+       << (o_.series.key.empty() ? "" : "---|") << "---|---|---|---|---|\n";
     for (const SweepRow& r : rows_)
       if (r.knob == axis.key)
-        md << "| " << r.value << " |" << (o_.series.key.empty() ? "" : " " + r.series_value + " |") << " "
-           << num(r.seconds) << " | " << num(r.rmse) << " | " << num(r.relmse) << " | " << num(r.dssim) << " | "
-           << r.rays << " |\n";
+        md << "| " << r.value << " |" << (o_.series.key.empty() ? "" : " " + r.series_value + " |")
+           << " " << num(r.seconds) << " | " << num(r.rmse) << " | " << num(r.relmse) << " | "
+           << num(r.dssim) << " | " << r.rays << " |\n";
     md << "\n" << reading(axis) << "\n";
   }
   if (!o_.markdown.empty()) {

@@ -11,12 +11,18 @@ namespace snell::compile {
 inline double arith(lang::TokenKind op, double a, double b) {
   using lang::TokenKind;
   switch (op) {
-    case TokenKind::Plus: return a + b;
-    case TokenKind::Minus: return a - b;
-    case TokenKind::Star: return a * b;
-    case TokenKind::Slash: return a / b;
-    case TokenKind::Percent: return a - b * std::floor(a / b);  // floored modulo
-    default: return 0;
+    case TokenKind::Plus:
+      return a + b;
+    case TokenKind::Minus:
+      return a - b;
+    case TokenKind::Star:
+      return a * b;
+    case TokenKind::Slash:
+      return a / b;
+    case TokenKind::Percent:
+      return a - b * std::floor(a / b);  // floored modulo
+    default:
+      return 0;
   }
 }
 

@@ -56,7 +56,9 @@ bool common_dims(const Value* args, int n, int& dims, BuiltinError& err) {
   return true;
 }
 
-double comp(const Value& v, int i) { return v.type == Type::Number ? v.n : v.v[i]; }
+double comp(const Value& v, int i) {
+  return v.type == Type::Number ? v.n : v.v[i];
+}
 
 Value make(int dims, const double* c) {
   if (dims == 1) return Value::number(c[0]);
@@ -82,26 +84,46 @@ Value map(const Value* args, int n, BuiltinError& err, F f) {
 // is written, so Value calls and the evaluator's numeric fast path agree bit for bit.
 double scalar(int id, double x, double y, double t) {
   switch (static_cast<Id>(id)) {
-    case Id::sin: return sin_deg(x);
-    case Id::cos: return cos_deg(x);
-    case Id::tan: return tan_deg(x);
-    case Id::asin: return std::asin(x) / kDeg;
-    case Id::acos: return std::acos(x) / kDeg;
-    case Id::atan: return std::atan(x) / kDeg;
-    case Id::atan2: return std::atan2(x, y) / kDeg;
-    case Id::sqrt: return std::sqrt(x);
-    case Id::pow: return std::pow(x, y);
-    case Id::exp: return std::exp(x);
-    case Id::log: return std::log(x);
-    case Id::abs: return std::fabs(x);
-    case Id::floor: return std::floor(x);
-    case Id::ceil: return std::ceil(x);
-    case Id::round: return std::round(x);
-    case Id::min: return std::fmin(x, y);
-    case Id::max: return std::fmax(x, y);
-    case Id::clamp: return std::fmin(std::fmax(x, y), t);
-    case Id::mix: return x * (1 - t) + y * t;
-    default: return 0;
+    case Id::sin:
+      return sin_deg(x);
+    case Id::cos:
+      return cos_deg(x);
+    case Id::tan:
+      return tan_deg(x);
+    case Id::asin:
+      return std::asin(x) / kDeg;
+    case Id::acos:
+      return std::acos(x) / kDeg;
+    case Id::atan:
+      return std::atan(x) / kDeg;
+    case Id::atan2:
+      return std::atan2(x, y) / kDeg;
+    case Id::sqrt:
+      return std::sqrt(x);
+    case Id::pow:
+      return std::pow(x, y);
+    case Id::exp:
+      return std::exp(x);
+    case Id::log:
+      return std::log(x);
+    case Id::abs:
+      return std::fabs(x);
+    case Id::floor:
+      return std::floor(x);
+    case Id::ceil:
+      return std::ceil(x);
+    case Id::round:
+      return std::round(x);
+    case Id::min:
+      return std::fmin(x, y);
+    case Id::max:
+      return std::fmax(x, y);
+    case Id::clamp:
+      return std::fmin(std::fmax(x, y), t);
+    case Id::mix:
+      return x * (1 - t) + y * t;
+    default:
+      return 0;
   }
 }
 
@@ -112,7 +134,9 @@ const unsigned char detail::kBuiltinArity[] = {
 #include "compiler/builtins.def"
 };
 
-int builtin_count() { return static_cast<int>(std::size(kBuiltins)); }
+int builtin_count() {
+  return static_cast<int>(std::size(kBuiltins));
+}
 
 int find_builtin(std::string_view name) {
   for (int i = 0; i < builtin_count(); ++i)
@@ -120,7 +144,9 @@ int find_builtin(std::string_view name) {
   return -1;
 }
 
-const BuiltinInfo& builtin_info(int id) { return kBuiltins[id]; }
+const BuiltinInfo& builtin_info(int id) {
+  return kBuiltins[id];
+}
 
 double random_hash(double n) {
   if (n == 0) n = 0;  // -0 -> +0
@@ -134,9 +160,17 @@ double random_hash(double n) {
 
 bool call_builtin_number(int id, const double* a, double& out) {
   switch (static_cast<Id>(id)) {
-    case Id::dot: case Id::cross: case Id::length: case Id::normalize: return false;
-    case Id::random: out = random_hash(a[0]); return true;
-    default: out = scalar(id, a[0], a[1], a[2]); return true;
+    case Id::dot:
+    case Id::cross:
+    case Id::length:
+    case Id::normalize:
+      return false;
+    case Id::random:
+      out = random_hash(a[0]);
+      return true;
+    default:
+      out = scalar(id, a[0], a[1], a[2]);
+      return true;
   }
 }
 
@@ -154,13 +188,27 @@ Value call_builtin(int id, const Value* a, BuiltinError& err) {
     return true;
   };
   switch (static_cast<Id>(id)) {
-    case Id::sin: case Id::cos: case Id::tan: case Id::asin: case Id::acos: case Id::atan:
-    case Id::sqrt: case Id::exp: case Id::log: case Id::abs: case Id::floor: case Id::ceil:
+    case Id::sin:
+    case Id::cos:
+    case Id::tan:
+    case Id::asin:
+    case Id::acos:
+    case Id::atan:
+    case Id::sqrt:
+    case Id::exp:
+    case Id::log:
+    case Id::abs:
+    case Id::floor:
+    case Id::ceil:
     case Id::round:
       return map(a, 1, err, [id](double x, double, double) { return scalar(id, x, 0, 0); });
-    case Id::atan2: case Id::pow: case Id::min: case Id::max:
+    case Id::atan2:
+    case Id::pow:
+    case Id::min:
+    case Id::max:
       return map(a, 2, err, [id](double x, double y, double) { return scalar(id, x, y, 0); });
-    case Id::clamp: case Id::mix:
+    case Id::clamp:
+    case Id::mix:
       return map(a, 3, err, [id](double x, double y, double z) { return scalar(id, x, y, z); });
     case Id::dot:
       if (!vec_arg(0) || !vec_arg(1)) return Value::error();

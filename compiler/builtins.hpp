@@ -21,7 +21,9 @@ int builtin_count();
 namespace detail {
 extern const unsigned char kBuiltinArity[];
 }
-inline std::size_t builtin_arity(int id) { return detail::kBuiltinArity[id]; }
+inline std::size_t builtin_arity(int id) {
+  return detail::kBuiltinArity[id];
+}
 
 struct BuiltinError {
   int arg = -1;  // the offending argument, or -1 for the call as a whole

@@ -6,9 +6,9 @@
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
-#include <functional>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <unordered_map>
 
 #include "compiler/properties.hpp"
@@ -110,7 +110,8 @@ class Driver {
     } else {
       // A file never means to import itself: `materials.scn` in a user's folder
       // that imports "materials.scn" gets the standard library's.
-      std::string self = span.file < c_.sources.size() ? canonical(c_.sources.file(span.file).path()) : "";
+      std::string self =
+          span.file < c_.sources.size() ? canonical(c_.sources.file(span.file).path()) : "";
       for (const fs::path& d : dirs) {
         fs::path p = d / name;
         if (!fs::is_regular_file(p, ec)) continue;
@@ -123,7 +124,8 @@ class Driver {
       }
     }
     if (found.empty() && skipped_self) {
-      c_.diags.report(DiagKind::ImportCycle, span, "'" + name + "' is this file: a file cannot import itself");
+      c_.diags.report(DiagKind::ImportCycle, span,
+                      "'" + name + "' is this file: a file cannot import itself");
       return nullptr;
     }
     if (found.empty()) {
@@ -134,7 +136,8 @@ class Driver {
       return nullptr;
     }
     std::string key = canonical(found);
-    if (auto it = cache_.find(key); it != cache_.end()) return it->second.program ? &it->second : nullptr;
+    if (auto it = cache_.find(key); it != cache_.end())
+      return it->second.program ? &it->second : nullptr;
     std::string text, message;
     if (!read_file(found.string(), text, message)) {
       c_.diags.report(DiagKind::FileUnreadable, span, message);
@@ -169,7 +172,8 @@ class Driver {
       if (!prop) {
         std::string guess = lang::closest_match(key, setting_keys());
         std::string keys;
-        for (std::string_view k : setting_keys()) keys += (keys.empty() ? "" : ", ") + std::string(k);
+        for (std::string_view k : setting_keys())
+          keys += (keys.empty() ? "" : ", ") + std::string(k);
         fail("--set: unknown settings key '" + key + "'" +
              (guess.empty() ? "" : " (did you mean '" + guess + "'?)") + "; keys are " + keys);
         return false;
@@ -245,18 +249,18 @@ std::unique_ptr<Compilation> compile_source(const std::string& path, std::string
     driver.register_main(path, program);
     if (c->diags.has_errors()) return;  // syntax errors stop before evaluation
     SceneBuilder builder(c->sources, c->diags);
-    Evaluator eval(c->sources, c->diags, builder,
-                   [&](const std::string& name, lang::Span span) {
-                     return driver.load_import(name, span);
-                   },
-                   options.step_budget);
+    Evaluator eval(
+        c->sources, c->diags, builder,
+        [&](const std::string& name, lang::Span span) { return driver.load_import(name, span); },
+        options.step_budget);
     // The main file counts as imported: importing it again is a cycle.
     eval.run_file(*program);
     if (c->diags.has_errors()) return;
     if (!driver.apply_overrides(builder, eval)) return;
     c->scene = builder.finish();
   });
-  if (c->status == CompileStatus::Ok && c->diags.has_errors()) c->status = CompileStatus::SceneErrors;
+  if (c->status == CompileStatus::Ok && c->diags.has_errors())
+    c->status = CompileStatus::SceneErrors;
   return c;
 }
 

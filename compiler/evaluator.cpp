@@ -25,7 +25,8 @@ Evaluator::Evaluator(const lang::SourceManager& sources, lang::DiagnosticEngine&
       step_budget_(step_budget) {}
 
 std::int32_t Evaluator::intern(const std::string& name) {
-  auto [it, inserted] = symbol_ids_.try_emplace(name, static_cast<std::int32_t>(symbol_names_.size()));
+  auto [it, inserted] =
+      symbol_ids_.try_emplace(name, static_cast<std::int32_t>(symbol_names_.size()));
   if (inserted) {
     symbol_names_.push_back(name);
     symbol_builtin_.push_back(find_builtin(name));
@@ -92,8 +93,12 @@ Evaluator::Flow Evaluator::exec_block(const std::vector<lang::StmtPtr>& stmts,
 Evaluator::Flow Evaluator::exec(const Stmt& s, const std::shared_ptr<Env>& env, Frame& frame) {
   if (!step(s.span)) return Flow::Return;
   switch (s.kind) {
-    case StmtKind::Let: exec_let(s, env); return Flow::Normal;
-    case StmtKind::Fn: exec_fn(s, env); return Flow::Normal;
+    case StmtKind::Let:
+      exec_let(s, env);
+      return Flow::Normal;
+    case StmtKind::Fn:
+      exec_fn(s, env);
+      return Flow::Normal;
     case StmtKind::Return:
       if (!frame.in_function) {
         error(DiagKind::ReturnOutsideFunction, s.span, "'return' outside a function body");
@@ -101,9 +106,13 @@ Evaluator::Flow Evaluator::exec(const Stmt& s, const std::shared_ptr<Env>& env, 
       }
       frame.result = s.exprs.empty() ? Value::none() : eval(*s.exprs[0], env);
       return Flow::Return;
-    case StmtKind::For: return exec_for(s, env, frame);
-    case StmtKind::If: return exec_if(s, env, frame);
-    case StmtKind::Import: exec_import(s, env); return Flow::Normal;
+    case StmtKind::For:
+      return exec_for(s, env, frame);
+    case StmtKind::If:
+      return exec_if(s, env, frame);
+    case StmtKind::Import:
+      exec_import(s, env);
+      return Flow::Normal;
     case StmtKind::ExprStmt: {
       const Expr& e = *s.exprs[0];
       if (e.kind == ExprKind::Call) {
@@ -117,7 +126,9 @@ Evaluator::Flow Evaluator::exec(const Stmt& s, const std::shared_ptr<Env>& env, 
       }
       return Flow::Normal;
     }
-    case StmtKind::Item: exec_item(s, env); return Flow::Normal;
+    case StmtKind::Item:
+      exec_item(s, env);
+      return Flow::Normal;
     case StmtKind::Background: {
       Value v = eval(*s.exprs[0], env);
       if (v.is_error()) return Flow::Normal;
@@ -130,7 +141,8 @@ Evaluator::Flow Evaluator::exec(const Stmt& s, const std::shared_ptr<Env>& env, 
       builder_.set_background(v, s.name_span.end > s.name_span.begin ? s.name_span : s.span);
       return Flow::Normal;
     }
-    case StmtKind::Error: return Flow::Normal;
+    case StmtKind::Error:
+      return Flow::Normal;
   }
   return Flow::Normal;
 }
@@ -138,8 +150,8 @@ Evaluator::Flow Evaluator::exec(const Stmt& s, const std::shared_ptr<Env>& env, 
 void Evaluator::exec_let(const Stmt& s, const std::shared_ptr<Env>& env) {
   Value v = eval(*s.exprs[0], env);
   if (v.type == Type::None) {
-    error(DiagKind::MissingReturn, s.exprs[0]->span, "this call returns nothing to bind to '" +
-                                                         s.name + "'");
+    error(DiagKind::MissingReturn, s.exprs[0]->span,
+          "this call returns nothing to bind to '" + s.name + "'");
     v = Value::error();
   }
   define(env, symbol_of(s), std::move(v), s.name_span);
@@ -151,7 +163,8 @@ Evaluator::~Evaluator() {
 }
 
 void Evaluator::exec_fn(const Stmt& s, const std::shared_ptr<Env>& env) {
-  if (closure_scopes_.empty() || closure_scopes_.back().lock() != env) closure_scopes_.push_back(env);
+  if (closure_scopes_.empty() || closure_scopes_.back().lock() != env)
+    closure_scopes_.push_back(env);
   auto closure = std::make_shared<Closure>();
   closure->def = &s;
   closure->env = env;  // lexical scope; the function sees itself through it
@@ -255,7 +268,8 @@ Evaluator::Flow Evaluator::exec_if(const Stmt& s, const std::shared_ptr<Env>& en
 }
 
 void Evaluator::exec_import(const Stmt& s, const std::shared_ptr<Env>& env) {
-  const ImportedFile* f = loader_(s.name, s.name_span.end > s.name_span.begin ? s.name_span : s.span);
+  const ImportedFile* f =
+      loader_(s.name, s.name_span.end > s.name_span.begin ? s.name_span : s.span);
   if (!f) return;
   for (std::size_t i = 0; i < running_.size(); ++i) {
     if (running_[i] != f->file) continue;
@@ -295,7 +309,8 @@ void Evaluator::exec_item(const Stmt& s, const std::shared_ptr<Env>& env) {
     names.push_back("background");
     auto d = error(DiagKind::UnknownBlock, s.name_span, "'" + s.name + "' is not a scene item");
     std::string guess = lang::closest_match(s.name, names);
-    if (!guess.empty()) d.note("did you mean '" + guess + "'?");
+    if (!guess.empty())
+      d.note("did you mean '" + guess + "'?");
     else if (block && block->kind == BlockKind::Constructor)
       d.note("'" + s.name + "' makes a material or pattern; use it as a property value");
     return;

@@ -25,7 +25,7 @@ namespace snell::compile {
 struct Binding {
   std::int32_t symbol;
   Value value;
-  lang::Span span;  // where it was defined (for "first defined here" notes)
+  lang::Span span;        // where it was defined (for "first defined here" notes)
   bool imported = false;  // bound by an import: not exported again
 };
 
@@ -204,7 +204,7 @@ class Evaluator {
   bool aborted_ = false;  // recursion limit or step budget: stop everything
   std::unordered_map<std::string, std::int32_t> symbol_ids_;
   std::vector<std::string> symbol_names_;
-  std::vector<int> symbol_builtin_;  // builtin id per symbol, or -1
+  std::vector<int> symbol_builtin_;             // builtin id per symbol, or -1
   std::vector<const BlockInfo*> symbol_block_;  // block named by the symbol, or null
   // Set once anything binds the symbol (let, fn, parameter, loop variable; imports
   // copy such bindings): while clear, no scope can shadow a builtin of that name.

@@ -14,7 +14,9 @@ using lang::ExprKind;
 using lang::Span;
 using lang::TokenKind;
 
-Value Evaluator::eval_standalone(const Expr& expr) { return eval(expr, std::make_shared<Env>()); }
+Value Evaluator::eval_standalone(const Expr& expr) {
+  return eval(expr, std::make_shared<Env>());
+}
 
 namespace {
 // One shared closure per builtin: reading `sqrt` allocates nothing.
@@ -33,8 +35,12 @@ const std::vector<Value>& builtin_values() {
 }
 }  // namespace
 
-const Value& Evaluator::builtin_value(int id) { return builtin_values()[id]; }
-const Closure& Evaluator::builtin_closure(int id) { return builtin_values()[id].func(); }
+const Value& Evaluator::builtin_value(int id) {
+  return builtin_values()[id];
+}
+const Closure& Evaluator::builtin_closure(int id) {
+  return builtin_values()[id].func();
+}
 
 Value Evaluator::eval(const Expr& e, const std::shared_ptr<Env>& env) {
   if ((e.kind == ExprKind::Binary || e.kind == ExprKind::Call || e.kind == ExprKind::Unary) &&
@@ -47,13 +53,20 @@ Value Evaluator::eval(const Expr& e, const std::shared_ptr<Env>& env) {
   }
   if (!step(e.span)) return Value::error();
   switch (e.kind) {
-    case ExprKind::Number: return Value::number(e.number);
-    case ExprKind::Bool: return Value::boolean(e.boolean);
-    case ExprKind::String: return Value::string(e.text);
-    case ExprKind::Name: return eval_name(e, env);
-    case ExprKind::Vector: return eval_vector(e, env);
-    case ExprKind::Unary: return eval_unary(e, env);
-    case ExprKind::Binary: return eval_binary(e, env);
+    case ExprKind::Number:
+      return Value::number(e.number);
+    case ExprKind::Bool:
+      return Value::boolean(e.boolean);
+    case ExprKind::String:
+      return Value::string(e.text);
+    case ExprKind::Name:
+      return eval_name(e, env);
+    case ExprKind::Vector:
+      return eval_vector(e, env);
+    case ExprKind::Unary:
+      return eval_unary(e, env);
+    case ExprKind::Binary:
+      return eval_binary(e, env);
     case ExprKind::Call: {
       Value v = eval_call(e, env, false);
       if (v.type == Type::None) {
@@ -63,9 +76,12 @@ Value Evaluator::eval(const Expr& e, const std::shared_ptr<Env>& env) {
       }
       return v;
     }
-    case ExprKind::Component: return eval_component(e, env);
-    case ExprKind::Constructor: return eval_constructor(e, env);
-    case ExprKind::Error: return Value::error();
+    case ExprKind::Component:
+      return eval_component(e, env);
+    case ExprKind::Constructor:
+      return eval_constructor(e, env);
+    case ExprKind::Error:
+      return Value::error();
   }
   return Value::error();
 }
@@ -81,7 +97,8 @@ Value Evaluator::eval_name(const Expr& e, const std::shared_ptr<Env>& env) {
   for (int i = 0; i < builtin_count(); ++i) visible.push_back(builtin_info(i).name);
   auto d = error(DiagKind::UndefinedName, e.span, "'" + e.text + "' is not defined");
   std::string guess = lang::closest_match(e.text, visible);
-  if (!guess.empty()) d.note("did you mean '" + guess + "'?");
+  if (!guess.empty())
+    d.note("did you mean '" + guess + "'?");
   else if (find_block(e.text))
     d.note("'" + e.text + "' is a block keyword; write '" + e.text + " { ... }'");
   return Value::error();
@@ -139,7 +156,6 @@ Value Evaluator::eval_unary(const Expr& e, const std::shared_ptr<Env>& env) {
   return Value::error();
 }
 
-
 Value Evaluator::eval_binary(const Expr& e, const std::shared_ptr<Env>& env) {
   TokenKind op = e.op;
   auto spelling = [op] { return std::string(lang::token_spelling(op)); };
@@ -181,7 +197,8 @@ Value Evaluator::eval_binary(const Expr& e, const std::shared_ptr<Env>& env) {
     if (a.type == Type::String && b.type == Type::String && op == TokenKind::Plus)
       return Value::string(a.str() + b.str());  // extension: string concatenation
     bool an = a.type == Type::Number, bn = b.type == Type::Number;
-    if ((!an && !a.is_vector()) || (!bn && !b.is_vector())) return mismatch("needs numbers or vectors");
+    if ((!an && !a.is_vector()) || (!bn && !b.is_vector()))
+      return mismatch("needs numbers or vectors");
     if (an && bn) {
       Value r = Value::number(arith(op, a.n, b.n));
       return finite_ok(r, e) ? r : Value::error();
@@ -209,14 +226,20 @@ Value Evaluator::eval_binary(const Expr& e, const std::shared_ptr<Env>& env) {
     case TokenKind::EqualEqual:
     case TokenKind::BangEqual: {
       bool eq;
-      if (a.type == Type::Number && b.type == Type::Number) eq = a.n == b.n;
-      else if (a.type == Type::Bool && b.type == Type::Bool) eq = a.n == b.n;
-      else if (a.type == Type::String && b.type == Type::String) eq = a.str() == b.str();
-      else if (a.is_vector() && a.type == b.type) eq = a.v == b.v;
-      else return mismatch("compares two numbers, bools, strings or vectors of one size");
+      if (a.type == Type::Number && b.type == Type::Number)
+        eq = a.n == b.n;
+      else if (a.type == Type::Bool && b.type == Type::Bool)
+        eq = a.n == b.n;
+      else if (a.type == Type::String && b.type == Type::String)
+        eq = a.str() == b.str();
+      else if (a.is_vector() && a.type == b.type)
+        eq = a.v == b.v;
+      else
+        return mismatch("compares two numbers, bools, strings or vectors of one size");
       return Value::boolean(op == TokenKind::EqualEqual ? eq : !eq);
     }
-    default: break;
+    default:
+      break;
   }
   return Value::error();
 }
@@ -250,7 +273,8 @@ Value Evaluator::eval_call(const Expr& e, const std::shared_ptr<Env>& env, bool 
     std::int32_t sym = symbol_of(f);
     for (const Env* sc = env.get(); sc && !callee_ref; sc = sc->parent.get())
       if (const Binding* b = sc->find_local(sym)) callee_ref = &b->value;
-    if (!callee_ref && symbol_builtin_[sym] >= 0) builtin_fn = &builtin_closure(symbol_builtin_[sym]);
+    if (!callee_ref && symbol_builtin_[sym] >= 0)
+      builtin_fn = &builtin_closure(symbol_builtin_[sym]);
   }
   if (!callee_ref && !builtin_fn) {
     callee_value = eval(*e.args[0], env);
@@ -286,14 +310,16 @@ Value Evaluator::eval_call(const Expr& e, const std::shared_ptr<Env>& env, bool 
     return Value::error();
   }
   const Closure& fn = builtin_fn ? *builtin_fn : callee.func();
-  int arity = fn.builtin >= 0 ? builtin_info(fn.builtin).arity
-                              : static_cast<int>(fn.def->params.size());
+  int arity =
+      fn.builtin >= 0 ? builtin_info(fn.builtin).arity : static_cast<int>(fn.def->params.size());
   if (static_cast<int>(args.size()) != arity) {
     auto d = error(DiagKind::WrongArgumentCount, e.span,
                    "'" + fn.name + "' takes " + std::to_string(arity) + " argument" +
                        (arity == 1 ? "" : "s") + ", not " + std::to_string(args.size()));
-    if (fn.builtin >= 0) d.note(std::string(builtin_info(fn.builtin).signature));
-    else d.note(fn.def->name_span, "defined here");
+    if (fn.builtin >= 0)
+      d.note(std::string(builtin_info(fn.builtin).signature));
+    else
+      d.note(fn.def->name_span, "defined here");
     return Value::error();
   }
   if (bad) return Value::error();

@@ -29,7 +29,9 @@ using lang::TokenKind;
 bool Evaluator::eval_number(const Expr& e, const Env* env, double& out) {
   ++steps_;
   switch (e.kind) {
-    case ExprKind::Number: out = e.number; return true;
+    case ExprKind::Number:
+      out = e.number;
+      return true;
     case ExprKind::Name: {
       std::int32_t sym = symbol_of(e);
       for (const Env* s = env; s; s = s->parent.get())
@@ -75,7 +77,8 @@ bool Evaluator::eval_number(const Expr& e, const Env* env, double& out) {
         return true;
       break;
     }
-    default: return false;
+    default:
+      return false;
   }
   return fail_number(e);
 }
@@ -100,7 +103,8 @@ bool Evaluator::compile_number(const Expr& e, NumCode& code, std::uint32_t depth
       push({NumOp::Var, TokenKind::Error, 0, symbol_of(e), 0});
       break;
     case ExprKind::Unary:
-      if (e.op != TokenKind::Minus || !compile_number(*e.args[0], code, depth)) return fail_number(e);
+      if (e.op != TokenKind::Minus || !compile_number(*e.args[0], code, depth))
+        return fail_number(e);
       push({NumOp::Neg, TokenKind::Error, 0, 0, 0});
       break;
     case ExprKind::Binary:
@@ -122,8 +126,7 @@ bool Evaluator::compile_number(const Expr& e, NumCode& code, std::uint32_t depth
       std::int32_t sym = symbol_of(f);
       int id = symbol_builtin_[sym];
       std::size_t n = e.args.size() - 1;
-      if (id < 0 || !builtin_numeric(id) || n != builtin_arity(id) || n > 3)
-        return fail_number(e);
+      if (id < 0 || !builtin_numeric(id) || n != builtin_arity(id) || n > 3) return fail_number(e);
       for (std::size_t i = 0; i < n; ++i)
         if (!compile_number(*e.args[i + 1], code, depth + static_cast<std::uint32_t>(i)))
           return fail_number(e);
@@ -131,7 +134,8 @@ bool Evaluator::compile_number(const Expr& e, NumCode& code, std::uint32_t depth
             static_cast<double>(id)});
       break;
     }
-    default: return false;
+    default:
+      return false;
   }
   if (depth + 1 > code.depth) code.depth = depth + 1;
   if (e.code == -1) e.code = -2;
@@ -144,7 +148,9 @@ bool Evaluator::run_number(const NumCode& code, const Env* env, double& out) {
   const NumOp* op = num_ops_.data() + code.first;
   for (const NumOp* end = op + code.count; op != end; ++op) {
     switch (op->kind) {
-      case NumOp::Const: *sp++ = op->value; break;
+      case NumOp::Const:
+        *sp++ = op->value;
+        break;
       case NumOp::Var: {
         const Binding* b = nullptr;
         for (const Env* s = env; s && !b; s = s->parent.get()) b = s->find_local(op->sym);
@@ -152,7 +158,9 @@ bool Evaluator::run_number(const NumCode& code, const Env* env, double& out) {
         *sp++ = b->value.n;
         break;
       }
-      case NumOp::Neg: sp[-1] = -sp[-1]; break;
+      case NumOp::Neg:
+        sp[-1] = -sp[-1];
+        break;
       case NumOp::ArithK: {
         double r = arith(op->op, sp[-1], op->value);
         if (!std::isfinite(r)) return false;

@@ -1,13 +1,13 @@
 #include "compiler/lower.hpp"
 
-#include <cmath>
-#include <cstring>
-#include <filesystem>
-#include <new>
 #include <tiny_obj_loader.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <new>
 #ifdef __linux__
 #include <sys/mman.h>
 #endif
@@ -25,9 +25,13 @@ const EvaluatedProp* get(const std::vector<EvaluatedProp>& props, PropId id) {
   return nullptr;
 }
 
-ir::Vec3 vec(const std::vector<EvaluatedProp>& props, PropId id) { return get(props, id)->value.v; }
+ir::Vec3 vec(const std::vector<EvaluatedProp>& props, PropId id) {
+  return get(props, id)->value.v;
+}
 
-double num(const std::vector<EvaluatedProp>& props, PropId id) { return get(props, id)->value.n; }
+double num(const std::vector<EvaluatedProp>& props, PropId id) {
+  return get(props, id)->value.n;
+}
 
 ir::Texture texture_of(const Value& v) {
   if (v.type == Type::Pattern) return v.pat();
@@ -42,10 +46,17 @@ ir::Transform transforms(const std::vector<EvaluatedProp>& props) {
   ir::Transform t;
   for (const EvaluatedProp& p : props) {
     switch (p.info->type) {
-      case PropType::Translate: t = ir::Transform::translate(p.value.v) * t; break;
-      case PropType::Rotate: t = ir::Transform::rotate_xyz(p.value.v) * t; break;
-      case PropType::Scale: t = ir::Transform::scale(p.value.v) * t; break;
-      default: break;
+      case PropType::Translate:
+        t = ir::Transform::translate(p.value.v) * t;
+        break;
+      case PropType::Rotate:
+        t = ir::Transform::rotate_xyz(p.value.v) * t;
+        break;
+      case PropType::Scale:
+        t = ir::Transform::scale(p.value.v) * t;
+        break;
+      default:
+        break;
     }
   }
   return t;
@@ -104,8 +115,9 @@ ir::SourceRef SceneBuilder::ref(Span span) const {
 bool SceneBuilder::first_of_kind(std::string_view kind, Span span) {
   auto [it, inserted] = singletons_.try_emplace(std::string(kind), span);
   if (inserted) return true;
-  diags_.report(DiagKind::DuplicateSceneItem, span,
-                "a scene has at most one '" + std::string(kind) + "'")
+  diags_
+      .report(DiagKind::DuplicateSceneItem, span,
+              "a scene has at most one '" + std::string(kind) + "'")
       .note(it->second, "the first one is here");
   return false;
 }
@@ -233,9 +245,11 @@ void SceneBuilder::add_item(const BlockInfo& block, Span kw,
     l.two_sided = get(props, PropId::area_light_two_sided)->value.truth();
     l.src = ref(kw);
     if (ir::length(ir::cross(l.edge1, l.edge2)) == 0) {
-      diags_.report(DiagKind::InvalidValue, get(props, PropId::area_light_edge2)->value_span,
-                    "'edge1' and 'edge2' of an area light must span a non-zero area")
-          .note(get(props, PropId::area_light_edge1)->value_span, "edge1 is " + ir::to_string(l.edge1));
+      diags_
+          .report(DiagKind::InvalidValue, get(props, PropId::area_light_edge2)->value_span,
+                  "'edge1' and 'edge2' of an area light must span a non-zero area")
+          .note(get(props, PropId::area_light_edge1)->value_span,
+                "edge1 is " + ir::to_string(l.edge1));
       return;
     }
     if (std::uint64_t(l.samples_u) * l.samples_v > 65536) {
@@ -264,7 +278,7 @@ void SceneBuilder::override_setting(const PropInfo& prop, const Value& v) {
   } else if (n == "sampler") {
     s.sampler = v.str() == "independent" ? ir::SamplerKind::Independent
                 : v.str() == "sobol"     ? ir::SamplerKind::Sobol
-                                      : ir::SamplerKind::Stratified;
+                                         : ir::SamplerKind::Stratified;
   } else if (n == "max_depth") {
     s.max_depth = static_cast<std::uint32_t>(v.n);
   } else if (n == "min_weight") {
@@ -300,8 +314,9 @@ void SceneBuilder::apply_camera(const std::vector<EvaluatedProp>& props) {
     diags_.report(DiagKind::InvalidValue, at->value_span,
                   "the camera's 'look_at' equals its 'location': no view direction");
   } else if (ir::length(ir::cross(fwd, c.up)) == 0) {
-    diags_.report(DiagKind::InvalidValue, get(props, PropId::camera_up)->value_span,
-                  "the camera's 'up' is parallel to its view direction")
+    diags_
+        .report(DiagKind::InvalidValue, get(props, PropId::camera_up)->value_span,
+                "the camera's 'up' is parallel to its view direction")
         .note(at->value_span, "view direction is " + ir::to_string(ir::normalize(fwd)));
   }
 }
@@ -329,8 +344,9 @@ void SceneBuilder::add_object(const BlockInfo& block, Span kw,
     s.min = vec(props, PropId::box_min);
     s.max = vec(props, PropId::box_max);
     if (!(s.min.x <= s.max.x && s.min.y <= s.max.y && s.min.z <= s.max.z)) {
-      diags_.report(DiagKind::InvalidValue, get(props, PropId::box_max)->value_span,
-                    "a box's 'max' must be >= its 'min' in every component")
+      diags_
+          .report(DiagKind::InvalidValue, get(props, PropId::box_max)->value_span,
+                  "a box's 'max' must be >= its 'min' in every component")
           .note(get(props, PropId::box_min)->value_span, "min is " + ir::to_string(s.min));
       scene_.shapes.pop_back();
       return;
@@ -413,7 +429,9 @@ bool SceneBuilder::load_mesh(const std::string& file, Span span, std::uint32_t& 
     const auto& idx = sh.mesh.indices;
     for (std::size_t i = 0; i + 2 < idx.size(); i += 3) {
       int a = idx[i].vertex_index, b = idx[i + 1].vertex_index, c = idx[i + 2].vertex_index;
-      auto valid = [&](int k) { return k >= 0 && static_cast<std::size_t>(k) < mesh.positions.size(); };
+      auto valid = [&](int k) {
+        return k >= 0 && static_cast<std::size_t>(k) < mesh.positions.size();
+      };
       if (!valid(a) || !valid(b) || !valid(c)) {
         ++dropped;
         continue;
@@ -424,7 +442,8 @@ bool SceneBuilder::load_mesh(const std::string& file, Span span, std::uint32_t& 
         ++dropped;
         continue;
       }
-      mesh.indices.insert(mesh.indices.end(), {std::uint32_t(a), std::uint32_t(b), std::uint32_t(c)});
+      mesh.indices.insert(mesh.indices.end(),
+                          {std::uint32_t(a), std::uint32_t(b), std::uint32_t(c)});
     }
   }
   if (dropped > 0)

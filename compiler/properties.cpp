@@ -17,9 +17,8 @@ struct Registry {
 
   Registry() {
 #define SNELL_BLOCK(name, kind) blocks.push_back({#name, BlockKind::kind, {}, false});
-#define SNELL_PROP(block, name, type, check, flags, def)                                   \
-  props.push_back({#block, #name, PropType::type, Check::check, static_cast<unsigned>(flags), \
-                   def});
+#define SNELL_PROP(block, name, type, check, flags, def) \
+  props.push_back({#block, #name, PropType::type, Check::check, static_cast<unsigned>(flags), def});
 #include "compiler/properties.def"
     for (std::size_t i = 0; i < props.size(); ++i) {
       props[i].id = static_cast<std::int32_t>(i);
@@ -45,18 +44,26 @@ const BlockInfo& object_block() {
   return *b;
 }
 
-bool is_integer(double x) { return std::isfinite(x) && std::floor(x) == x; }
+bool is_integer(double x) {
+  return std::isfinite(x) && std::floor(x) == x;
+}
 
 bool range_ok(Check c, double x) {
   switch (c) {
     case Check::Any:
     case Check::Shutter:
-    case Check::NonZero: return true;
-    case Check::Positive: return x > 0;
-    case Check::NonNegative: return x >= 0;
-    case Check::AtLeast1: return x >= 1;
-    case Check::Fov: return x > 0 && x < 180;
-    case Check::Ior: return x > 0;
+    case Check::NonZero:
+      return true;
+    case Check::Positive:
+      return x > 0;
+    case Check::NonNegative:
+      return x >= 0;
+    case Check::AtLeast1:
+      return x >= 1;
+    case Check::Fov:
+      return x > 0 && x < 180;
+    case Check::Ior:
+      return x > 0;
   }
   return true;
 }
@@ -64,25 +71,39 @@ bool range_ok(Check c, double x) {
 std::string check_range(Check c, double x) {
   if (range_ok(c, x)) return {};
   switch (c) {
-    case Check::Positive: return "must be > 0";
-    case Check::NonNegative: return "must be >= 0";
-    case Check::AtLeast1: return "must be >= 1";
-    case Check::Fov: return "must be in (0, 180) degrees";
-    case Check::Ior: return "must be > 0";
-    default: return {};
+    case Check::Positive:
+      return "must be > 0";
+    case Check::NonNegative:
+      return "must be >= 0";
+    case Check::AtLeast1:
+      return "must be >= 1";
+    case Check::Fov:
+      return "must be in (0, 180) degrees";
+    case Check::Ior:
+      return "must be > 0";
+    default:
+      return {};
   }
 }
 
 std::string range_words(Check c) {
   switch (c) {
-    case Check::Positive: return " > 0";
-    case Check::NonNegative: return " >= 0";
-    case Check::AtLeast1: return " >= 1";
-    case Check::Fov: return " in (0, 180)";
-    case Check::Ior: return " > 0";
-    case Check::NonZero: return ", not zero";
-    case Check::Shutter: return " <open, close> with open <= close";
-    case Check::Any: return "";
+    case Check::Positive:
+      return " > 0";
+    case Check::NonNegative:
+      return " >= 0";
+    case Check::AtLeast1:
+      return " >= 1";
+    case Check::Fov:
+      return " in (0, 180)";
+    case Check::Ior:
+      return " > 0";
+    case Check::NonZero:
+      return ", not zero";
+    case Check::Shutter:
+      return " <open, close> with open <= close";
+    case Check::Any:
+      return "";
   }
   return "";
 }
@@ -120,24 +141,41 @@ std::vector<std::string_view> block_names(BlockKind kind) {
 std::string describe(const PropInfo& p) {
   std::string r = range_words(p.check);
   switch (p.type) {
-    case PropType::Number: return "a number" + r;
-    case PropType::Integer: return "an integer" + r;
-    case PropType::Vec2: return "a 2-vector" + r;
-    case PropType::IntVec2: return "a 2-vector of integers" + r;
-    case PropType::Vec3: return "a 3-vector (or a number for all components)" + r;
-    case PropType::Bool: return "true or false";
-    case PropType::String: return "a string";
-    case PropType::Sampler: return "\"independent\", \"stratified\" or \"sobol\"";
-    case PropType::Fresnel: return "\"exact\" or \"schlick\"";
-    case PropType::Branching: return "\"split\" or \"stochastic\"";
-    case PropType::Termination: return "\"cutoff\" or \"roulette\"";
-    case PropType::Material: return "a material (diffuse, mirror, glossy, dielectric, glazed)";
-    case PropType::Color: return "a colour (a 3-vector or a number)" + r;
-    case PropType::ColorOrPattern: return "a colour (a 3-vector or a number) or a pattern" + r;
+    case PropType::Number:
+      return "a number" + r;
+    case PropType::Integer:
+      return "an integer" + r;
+    case PropType::Vec2:
+      return "a 2-vector" + r;
+    case PropType::IntVec2:
+      return "a 2-vector of integers" + r;
+    case PropType::Vec3:
+      return "a 3-vector (or a number for all components)" + r;
+    case PropType::Bool:
+      return "true or false";
+    case PropType::String:
+      return "a string";
+    case PropType::Sampler:
+      return "\"independent\", \"stratified\" or \"sobol\"";
+    case PropType::Fresnel:
+      return "\"exact\" or \"schlick\"";
+    case PropType::Branching:
+      return "\"split\" or \"stochastic\"";
+    case PropType::Termination:
+      return "\"cutoff\" or \"roulette\"";
+    case PropType::Material:
+      return "a material (diffuse, mirror, glossy, dielectric, glazed)";
+    case PropType::Color:
+      return "a colour (a 3-vector or a number)" + r;
+    case PropType::ColorOrPattern:
+      return "a colour (a 3-vector or a number) or a pattern" + r;
     case PropType::Translate:
-    case PropType::Rotate: return "a 3-vector (or a number for all components)";
-    case PropType::Scale: return "a number or a 3-vector, with no zero component";
-    case PropType::Block: return "a block { ... }";
+    case PropType::Rotate:
+      return "a 3-vector (or a number for all components)";
+    case PropType::Scale:
+      return "a number or a 3-vector, with no zero component";
+    case PropType::Block:
+      return "a block { ... }";
   }
   return "?";
 }
@@ -180,8 +218,7 @@ std::string check_value(const PropInfo& p, Value& v, bool* integral) {
         if (std::fabs(v.v.x) > 1e9 || std::fabs(v.v.y) > 1e9)
           return "'" + std::string(p.name) + "' is too large";
       }
-      if (p.check == Check::Shutter && !(v.v.x <= v.v.y))
-        return "'shutter' needs open <= close";
+      if (p.check == Check::Shutter && !(v.v.x <= v.v.y)) return "'shutter' needs open <= close";
       return check_components(2);
     }
     case PropType::Vec3:
@@ -207,8 +244,10 @@ std::string check_value(const PropInfo& p, Value& v, bool* integral) {
       if (v.type != Type::Vec3) return wrong();
       return check_components(3);
     }
-    case PropType::Bool: return v.type == Type::Bool ? "" : wrong();
-    case PropType::String: return v.type == Type::String ? "" : wrong();
+    case PropType::Bool:
+      return v.type == Type::Bool ? "" : wrong();
+    case PropType::String:
+      return v.type == Type::String ? "" : wrong();
     case PropType::Sampler:
       if (v.type != Type::String) return wrong();
       if (v.str() != "independent" && v.str() != "stratified" && v.str() != "sobol")
@@ -229,8 +268,10 @@ std::string check_value(const PropInfo& p, Value& v, bool* integral) {
       if (v.str() != "cutoff" && v.str() != "roulette")
         return "'termination' takes " + describe(p) + ", not \"" + v.str() + "\"";
       return {};
-    case PropType::Material: return v.type == Type::Material ? "" : wrong();
-    case PropType::Block: return wrong();  // blocks are written `motion { ... }`
+    case PropType::Material:
+      return v.type == Type::Material ? "" : wrong();
+    case PropType::Block:
+      return wrong();  // blocks are written `motion { ... }`
   }
   return {};
 }
@@ -251,17 +292,22 @@ bool value_ok(const PropInfo& p, Value& v) {
     case PropType::ColorOrPattern: {
       if (p.type == PropType::ColorOrPattern && v.type == Type::Pattern) return true;
       ir::Vec3 c;
-      if (v.type == Type::Number) c = ir::Vec3(v.n);
-      else if (v.type == Type::Vec3) c = v.v;
-      else return false;
+      if (v.type == Type::Number)
+        c = ir::Vec3(v.n);
+      else if (v.type == Type::Vec3)
+        c = v.v;
+      else
+        return false;
       if (p.check == Check::NonZero && p.type != PropType::ColorOrPattern && c == ir::Vec3{})
         return false;
       if (!components_ok(c, 3)) return false;
       if (v.type == Type::Number) v = Value::vec3(c);
       return true;
     }
-    case PropType::Material: return v.type == Type::Material;
-    case PropType::Bool: return v.type == Type::Bool;
+    case PropType::Material:
+      return v.type == Type::Material;
+    case PropType::Bool:
+      return v.type == Type::Bool;
     default: {  // the rarer kinds: decide through the full check on a copy
       Value copy = v;
       if (!check_value(p, copy).empty()) return false;

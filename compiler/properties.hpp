@@ -15,8 +15,24 @@ namespace snell::compile {
 enum class BlockKind { Item, Constructor, Nested };
 
 enum class PropType {
-  Number, Integer, Vec2, IntVec2, Vec3, Bool, String, Sampler, Fresnel, Branching, Termination,
-  Material, Color, ColorOrPattern, Translate, Rotate, Scale, Block,
+  Number,
+  Integer,
+  Vec2,
+  IntVec2,
+  Vec3,
+  Bool,
+  String,
+  Sampler,
+  Fresnel,
+  Branching,
+  Termination,
+  Material,
+  Color,
+  ColorOrPattern,
+  Translate,
+  Rotate,
+  Scale,
+  Block,
 };
 
 enum class Check { Any, Positive, NonNegative, AtLeast1, Fov, Ior, NonZero, Shutter };
@@ -58,7 +74,9 @@ namespace detail {
 extern const PropInfo* const* prop_index;  // set when the registry is built
 }
 // Only for ids taken from a PropInfo (so the registry exists).
-inline const PropInfo& prop_by_id(std::int32_t id) { return *detail::prop_index[id]; }
+inline const PropInfo& prop_by_id(std::int32_t id) {
+  return *detail::prop_index[id];
+}
 // Every property name the block accepts (for "did you mean").
 std::vector<std::string_view> prop_names(const BlockInfo& block);
 // Every block name of a kind (for "did you mean").

@@ -7,16 +7,26 @@ namespace snell::compile {
 
 std::string_view type_name(Type t) {
   switch (t) {
-    case Type::None: return "nothing";
-    case Type::Error: return "error";
-    case Type::Number: return "number";
-    case Type::Bool: return "bool";
-    case Type::String: return "string";
-    case Type::Vec2: return "2-vector";
-    case Type::Vec3: return "3-vector";
-    case Type::Material: return "material";
-    case Type::Pattern: return "pattern";
-    case Type::Function: return "function";
+    case Type::None:
+      return "nothing";
+    case Type::Error:
+      return "error";
+    case Type::Number:
+      return "number";
+    case Type::Bool:
+      return "bool";
+    case Type::String:
+      return "string";
+    case Type::Vec2:
+      return "2-vector";
+    case Type::Vec3:
+      return "3-vector";
+    case Type::Material:
+      return "material";
+    case Type::Pattern:
+      return "pattern";
+    case Type::Function:
+      return "function";
   }
   return "?";
 }
@@ -32,16 +42,26 @@ std::string num(double x) {
 
 std::string to_string(const Value& v) {
   switch (v.type) {
-    case Type::None: return "nothing";
-    case Type::Error: return "<error>";
-    case Type::Number: return num(v.n);
-    case Type::Bool: return v.n != 0 ? "true" : "false";
-    case Type::String: return "\"" + v.str() + "\"";
-    case Type::Vec2: return "<" + num(v.v.x) + ", " + num(v.v.y) + ">";
-    case Type::Vec3: return "<" + num(v.v.x) + ", " + num(v.v.y) + ", " + num(v.v.z) + ">";
-    case Type::Material: return ir::to_string(v.mat());
-    case Type::Pattern: return ir::to_string(v.pat());
-    case Type::Function: return "fn " + v.func().name;
+    case Type::None:
+      return "nothing";
+    case Type::Error:
+      return "<error>";
+    case Type::Number:
+      return num(v.n);
+    case Type::Bool:
+      return v.n != 0 ? "true" : "false";
+    case Type::String:
+      return "\"" + v.str() + "\"";
+    case Type::Vec2:
+      return "<" + num(v.v.x) + ", " + num(v.v.y) + ">";
+    case Type::Vec3:
+      return "<" + num(v.v.x) + ", " + num(v.v.y) + ", " + num(v.v.z) + ">";
+    case Type::Material:
+      return ir::to_string(v.mat());
+    case Type::Pattern:
+      return ir::to_string(v.pat());
+    case Type::Function:
+      return "fn " + v.func().name;
   }
   return "?";
 }

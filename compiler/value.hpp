@@ -18,7 +18,18 @@ struct Stmt;
 
 namespace snell::compile {
 
-enum class Type : std::uint8_t { None, Error, Number, Bool, String, Vec2, Vec3, Material, Pattern, Function };
+enum class Type : std::uint8_t {
+  None,
+  Error,
+  Number,
+  Bool,
+  String,
+  Vec2,
+  Vec3,
+  Material,
+  Pattern,
+  Function
+};
 
 std::string_view type_name(Type t);
 
@@ -26,10 +37,10 @@ struct Env;
 
 // A user function (closure over its defining scope) or a builtin.
 struct Closure {
-  const lang::Stmt* def = nullptr;  // the `fn` statement; null for builtins
-  std::shared_ptr<Env> env;         // the scope it was defined in
-  int builtin = -1;                 // index into the builtin table
-  std::vector<std::int32_t> params; // interned parameter names
+  const lang::Stmt* def = nullptr;   // the `fn` statement; null for builtins
+  std::shared_ptr<Env> env;          // the scope it was defined in
+  int builtin = -1;                  // index into the builtin table
+  std::vector<std::int32_t> params;  // interned parameter names
   std::string name;
 };
 
@@ -47,22 +58,58 @@ struct Value {
   const Closure& func() const { return *static_cast<const Closure*>(obj.get()); }
 
   static Value none() { return {}; }
-  static Value error() { Value r; r.type = Type::Error; return r; }
-  static Value number(double x) { Value r; r.type = Type::Number; r.n = x; return r; }
-  static Value boolean(bool b) { Value r; r.type = Type::Bool; r.n = b ? 1 : 0; return r; }
-  static Value vec2(double x, double y) { Value r; r.type = Type::Vec2; r.v = {x, y, 0}; return r; }
-  static Value vec3(ir::Vec3 v3) { Value r; r.type = Type::Vec3; r.v = v3; return r; }
+  static Value error() {
+    Value r;
+    r.type = Type::Error;
+    return r;
+  }
+  static Value number(double x) {
+    Value r;
+    r.type = Type::Number;
+    r.n = x;
+    return r;
+  }
+  static Value boolean(bool b) {
+    Value r;
+    r.type = Type::Bool;
+    r.n = b ? 1 : 0;
+    return r;
+  }
+  static Value vec2(double x, double y) {
+    Value r;
+    r.type = Type::Vec2;
+    r.v = {x, y, 0};
+    return r;
+  }
+  static Value vec3(ir::Vec3 v3) {
+    Value r;
+    r.type = Type::Vec3;
+    r.v = v3;
+    return r;
+  }
   static Value string(std::string text) {
-    Value r; r.type = Type::String; r.obj = std::make_shared<const std::string>(std::move(text)); return r;
+    Value r;
+    r.type = Type::String;
+    r.obj = std::make_shared<const std::string>(std::move(text));
+    return r;
   }
   static Value of_material(ir::Material m) {
-    Value r; r.type = Type::Material; r.obj = std::make_shared<const ir::Material>(std::move(m)); return r;
+    Value r;
+    r.type = Type::Material;
+    r.obj = std::make_shared<const ir::Material>(std::move(m));
+    return r;
   }
   static Value of_pattern(ir::Texture t) {
-    Value r; r.type = Type::Pattern; r.obj = std::make_shared<const ir::Texture>(t); return r;
+    Value r;
+    r.type = Type::Pattern;
+    r.obj = std::make_shared<const ir::Texture>(t);
+    return r;
   }
   static Value of_function(std::shared_ptr<const Closure> c) {
-    Value r; r.type = Type::Function; r.obj = std::move(c); return r;
+    Value r;
+    r.type = Type::Function;
+    r.obj = std::move(c);
+    return r;
   }
 
   bool is_error() const { return type == Type::Error; }
@@ -72,10 +119,14 @@ struct Value {
   // True when every numeric component is finite (non-numeric values: true).
   bool finite() const {
     switch (type) {
-      case Type::Number: return std::isfinite(n);
-      case Type::Vec2: return std::isfinite(v.x) && std::isfinite(v.y);
-      case Type::Vec3: return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-      default: return true;
+      case Type::Number:
+        return std::isfinite(n);
+      case Type::Vec2:
+        return std::isfinite(v.x) && std::isfinite(v.y);
+      case Type::Vec3:
+        return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+      default:
+        return true;
     }
   }
 };

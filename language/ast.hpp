@@ -122,7 +122,9 @@ struct Expr {
   BlockPtr block;
 };
 
-inline void ExprDelete::operator()(Expr* e) const noexcept { e->~Expr(); }
+inline void ExprDelete::operator()(Expr* e) const noexcept {
+  e->~Expr();
+}
 
 // Storage for a Program's Expr nodes, in chunks that die with the Program rather
 // than one heap block per node: a 50 MB scene has about five million of them,

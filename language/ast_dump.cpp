@@ -32,10 +32,18 @@ std::string quoted(std::string_view s) {
   std::string out = "\"";
   for (char c : s) {
     switch (c) {
-      case '"': out += "\\\""; break;
-      case '\\': out += "\\\\"; break;
-      case '\n': out += "\\n"; break;
-      case '\t': out += "\\t"; break;
+      case '"':
+        out += "\\\"";
+        break;
+      case '\\':
+        out += "\\\\";
+        break;
+      case '\n':
+        out += "\\n";
+        break;
+      case '\t':
+        out += "\\t";
+        break;
       default:
         if (static_cast<unsigned char>(c) < 0x20 || c == 0x7F) {
           char buf[8];
@@ -67,8 +75,7 @@ class Dumper {
         break;
       case StmtKind::Fn: {
         std::string head = "Fn " + s.name + "(";
-        for (std::size_t i = 0; i < s.params.size(); ++i)
-          head += (i ? ", " : "") + s.params[i];
+        for (std::size_t i = 0; i < s.params.size(); ++i) head += (i ? ", " : "") + s.params[i];
         head += s.exprs.empty() ? ") {}" : ") =";
         line(indent, "", head, s.span);
         expr_children(s.exprs, indent + 1);
@@ -142,17 +149,39 @@ class Dumper {
   void expr(const Expr& e, int indent, const char* label) {
     std::string head;
     switch (e.kind) {
-      case ExprKind::Number: head = "Number " + number_text(e.number); break;
-      case ExprKind::Bool: head = e.boolean ? "Bool true" : "Bool false"; break;
-      case ExprKind::String: head = "String " + quoted(e.text); break;
-      case ExprKind::Name: head = "Name " + e.text; break;
-      case ExprKind::Vector: head = "Vector"; break;
-      case ExprKind::Unary: head = "Unary " + std::string(token_spelling(e.op)); break;
-      case ExprKind::Binary: head = "Binary " + std::string(token_spelling(e.op)); break;
-      case ExprKind::Call: head = "Call"; break;
-      case ExprKind::Component: head = "Component " + e.text; break;
-      case ExprKind::Constructor: head = "Constructor " + e.text + (e.block ? " {}" : ""); break;
-      case ExprKind::Error: head = "Error"; break;
+      case ExprKind::Number:
+        head = "Number " + number_text(e.number);
+        break;
+      case ExprKind::Bool:
+        head = e.boolean ? "Bool true" : "Bool false";
+        break;
+      case ExprKind::String:
+        head = "String " + quoted(e.text);
+        break;
+      case ExprKind::Name:
+        head = "Name " + e.text;
+        break;
+      case ExprKind::Vector:
+        head = "Vector";
+        break;
+      case ExprKind::Unary:
+        head = "Unary " + std::string(token_spelling(e.op));
+        break;
+      case ExprKind::Binary:
+        head = "Binary " + std::string(token_spelling(e.op));
+        break;
+      case ExprKind::Call:
+        head = "Call";
+        break;
+      case ExprKind::Component:
+        head = "Component " + e.text;
+        break;
+      case ExprKind::Constructor:
+        head = "Constructor " + e.text + (e.block ? " {}" : "");
+        break;
+      case ExprKind::Error:
+        head = "Error";
+        break;
     }
     line(indent, label, head, e.span);
     expr_children(e.args, indent + 1);

@@ -23,9 +23,15 @@ constexpr std::size_t kDropped = std::numeric_limits<std::size_t>::max();
 
 }  // namespace
 
-std::string_view diag_name(DiagKind kind) { return kKinds[static_cast<int>(kind)].name; }
-std::string_view diag_summary(DiagKind kind) { return kKinds[static_cast<int>(kind)].summary; }
-Severity diag_severity(DiagKind kind) { return kKinds[static_cast<int>(kind)].severity; }
+std::string_view diag_name(DiagKind kind) {
+  return kKinds[static_cast<int>(kind)].name;
+}
+std::string_view diag_summary(DiagKind kind) {
+  return kKinds[static_cast<int>(kind)].summary;
+}
+Severity diag_severity(DiagKind kind) {
+  return kKinds[static_cast<int>(kind)].severity;
+}
 
 std::vector<DiagKind> all_diag_kinds() {
   std::vector<DiagKind> out;
@@ -34,7 +40,8 @@ std::vector<DiagKind> all_diag_kinds() {
 }
 
 DiagBuilder& DiagBuilder::note(std::string message) {
-  if (index_ != kDropped) engine_->diags_[index_].notes.push_back({std::nullopt, std::move(message)});
+  if (index_ != kDropped)
+    engine_->diags_[index_].notes.push_back({std::nullopt, std::move(message)});
   return *this;
 }
 

@@ -1,20 +1,27 @@
 // The hand-written lexer (§2). Every byte of input is either part of a token, trivia,
 // or covered by exactly one diagnostic; lexing always reaches the end of the file.
+#include "language/lexer.hpp"
+
 #include <algorithm>
 #include <charconv>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
 
-#include "language/lexer.hpp"
 #include "language/scanner.hpp"
 
 namespace snell::lang {
 namespace {
 
-bool is_digit(char c) { return c >= '0' && c <= '9'; }
-bool is_ident_start(char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_'; }
-bool is_ident_char(char c) { return is_ident_start(c) || is_digit(c); }
+bool is_digit(char c) {
+  return c >= '0' && c <= '9';
+}
+bool is_ident_start(char c) {
+  return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_';
+}
+bool is_ident_char(char c) {
+  return is_ident_start(c) || is_digit(c);
+}
 
 std::string hex_byte(unsigned char b) {
   char buf[8];
@@ -101,9 +108,10 @@ std::uint32_t Scanner::check_text_byte(std::uint32_t pos, std::string* decoded) 
   while (end < src_.size() && static_cast<unsigned char>(src_[end]) >= 0x80 &&
          utf8_sequence_length(src_, end) == 0)
     ++end;
-  diags_.report(DiagKind::InvalidUtf8, span(pos, end),
-                end - pos == 1 ? "invalid UTF-8 byte " + hex_byte(src_[pos])
-                               : "invalid UTF-8 bytes (" + std::to_string(end - pos) + " bytes)")
+  diags_
+      .report(DiagKind::InvalidUtf8, span(pos, end),
+              end - pos == 1 ? "invalid UTF-8 byte " + hex_byte(src_[pos])
+                             : "invalid UTF-8 bytes (" + std::to_string(end - pos) + " bytes)")
       .note("source files must be UTF-8 encoded");
   if (decoded) decoded->append("\xEF\xBF\xBD");  // U+FFFD keeps the value valid UTF-8
   return end - pos;
@@ -122,8 +130,9 @@ void Scanner::skip_block_comment() {
   pos_ += 2;
   for (;;) {
     if (pos_ >= src_.size()) {
-      diags_.report(DiagKind::UnterminatedComment, span(begin, begin + 2),
-                    "'/*' comment is never closed")
+      diags_
+          .report(DiagKind::UnterminatedComment, span(begin, begin + 2),
+                  "'/*' comment is never closed")
           .note("block comments end at the first '*/' and do not nest");
       ate_rest_ = true;
       return;
@@ -254,8 +263,9 @@ Token Scanner::string(std::uint32_t begin) {
     if (pos_ >= src_.size() || src_[pos_] == '\n') {
       std::uint32_t end = pos_;
       if (end > begin && src_[end - 1] == '\r') --end;
-      diags_.report(DiagKind::UnterminatedString, span(begin, end),
-                    "string is missing its closing '\"'")
+      diags_
+          .report(DiagKind::UnterminatedString, span(begin, end),
+                  "string is missing its closing '\"'")
           .note("a string ends on the line where it starts");
       Token t = make(TokenKind::String, begin, pos_);
       unterminated_ends_.push_back(pos_);
@@ -271,16 +281,33 @@ Token Scanner::string(std::uint32_t begin) {
     if (c == '\\') {
       char e = pos_ + 1 < src_.size() ? src_[pos_ + 1] : '\n';
       switch (e) {
-        case '"': value += '"'; pos_ += 2; continue;
-        case '\\': value += '\\'; pos_ += 2; continue;
-        case 'n': value += '\n'; pos_ += 2; continue;
-        case 't': value += '\t'; pos_ += 2; continue;
-        case '\n': case '\r': ++pos_; continue;  // reported as unterminated
-        default: break;
+        case '"':
+          value += '"';
+          pos_ += 2;
+          continue;
+        case '\\':
+          value += '\\';
+          pos_ += 2;
+          continue;
+        case 'n':
+          value += '\n';
+          pos_ += 2;
+          continue;
+        case 't':
+          value += '\t';
+          pos_ += 2;
+          continue;
+        case '\n':
+        case '\r':
+          ++pos_;
+          continue;  // reported as unterminated
+        default:
+          break;
       }
       std::uint32_t n = 1 + std::max<std::uint32_t>(1, utf8_sequence_length(src_, pos_ + 1));
-      diags_.report(DiagKind::InvalidEscape, span(pos_, pos_ + n),
-                    "invalid escape '" + std::string(src_.substr(pos_, n)) + "' in string")
+      diags_
+          .report(DiagKind::InvalidEscape, span(pos_, pos_ + n),
+                  "invalid escape '" + std::string(src_.substr(pos_, n)) + "' in string")
           .note("the escapes are \\\" \\\\ \\n and \\t");
       pos_ += 1;  // the escaped character is kept as written
       continue;
@@ -354,30 +381,47 @@ Token Scanner::next() {
     return make(k, b, pos_);
   };
   switch (c) {
-    case '(': return one(TokenKind::LParen);
-    case ')': return one(TokenKind::RParen);
-    case '{': return one(TokenKind::LBrace);
-    case '}': return one(TokenKind::RBrace);
-    case ',': return one(TokenKind::Comma);
-    case ';': return one(TokenKind::Semicolon);
-    case '.': return n == '.' ? two(TokenKind::DotDot) : one(TokenKind::Dot);
-    case '=': return n == '=' ? two(TokenKind::EqualEqual) : one(TokenKind::Equal);
-    case '!': return n == '=' ? two(TokenKind::BangEqual) : one(TokenKind::Bang);
-    case '<': return n == '=' ? two(TokenKind::LessEqual) : one(TokenKind::Less);
+    case '(':
+      return one(TokenKind::LParen);
+    case ')':
+      return one(TokenKind::RParen);
+    case '{':
+      return one(TokenKind::LBrace);
+    case '}':
+      return one(TokenKind::RBrace);
+    case ',':
+      return one(TokenKind::Comma);
+    case ';':
+      return one(TokenKind::Semicolon);
+    case '.':
+      return n == '.' ? two(TokenKind::DotDot) : one(TokenKind::Dot);
+    case '=':
+      return n == '=' ? two(TokenKind::EqualEqual) : one(TokenKind::Equal);
+    case '!':
+      return n == '=' ? two(TokenKind::BangEqual) : one(TokenKind::Bang);
+    case '<':
+      return n == '=' ? two(TokenKind::LessEqual) : one(TokenKind::Less);
     // No '>>': "<1, <2, 3>>" closes two vectors.
-    case '>': return n == '=' ? two(TokenKind::GreaterEqual) : one(TokenKind::Greater);
-    case '+': return one(TokenKind::Plus);
-    case '-': return one(TokenKind::Minus);
-    case '*': return one(TokenKind::Star);
-    case '/': return one(TokenKind::Slash);
-    case '%': return one(TokenKind::Percent);
+    case '>':
+      return n == '=' ? two(TokenKind::GreaterEqual) : one(TokenKind::Greater);
+    case '+':
+      return one(TokenKind::Plus);
+    case '-':
+      return one(TokenKind::Minus);
+    case '*':
+      return one(TokenKind::Star);
+    case '/':
+      return one(TokenKind::Slash);
+    case '%':
+      return one(TokenKind::Percent);
     case '&':
       if (n == '&') return two(TokenKind::AmpAmp);
       break;
     case '|':
       if (n == '|') return two(TokenKind::PipePipe);
       break;
-    default: break;
+    default:
+      break;
   }
   return invalid(b);
 }

@@ -8,19 +8,32 @@ namespace {
 // Every level is left-associative, comparisons included: `a < b < c` parses as
 // `(a < b) < c` and the compiler rejects comparing a bool with a number, which
 // gives a clearer message than a parse error would.
-constexpr int kPowerOr = 1, kPowerAnd = 2, kPowerEquality = 3, kPowerCompare = 4,
-              kPowerSum = 5, kPowerProduct = 6;
+constexpr int kPowerOr = 1, kPowerAnd = 2, kPowerEquality = 3, kPowerCompare = 4, kPowerSum = 5,
+              kPowerProduct = 6;
 
 int infix_power(TokenKind k) {
   switch (k) {
-    case TokenKind::PipePipe: return kPowerOr;
-    case TokenKind::AmpAmp: return kPowerAnd;
-    case TokenKind::EqualEqual: case TokenKind::BangEqual: return kPowerEquality;
-    case TokenKind::Less: case TokenKind::LessEqual:
-    case TokenKind::Greater: case TokenKind::GreaterEqual: return kPowerCompare;
-    case TokenKind::Plus: case TokenKind::Minus: return kPowerSum;
-    case TokenKind::Star: case TokenKind::Slash: case TokenKind::Percent: return kPowerProduct;
-    default: return 0;  // not an infix operator: the expression ends here
+    case TokenKind::PipePipe:
+      return kPowerOr;
+    case TokenKind::AmpAmp:
+      return kPowerAnd;
+    case TokenKind::EqualEqual:
+    case TokenKind::BangEqual:
+      return kPowerEquality;
+    case TokenKind::Less:
+    case TokenKind::LessEqual:
+    case TokenKind::Greater:
+    case TokenKind::GreaterEqual:
+      return kPowerCompare;
+    case TokenKind::Plus:
+    case TokenKind::Minus:
+      return kPowerSum;
+    case TokenKind::Star:
+    case TokenKind::Slash:
+    case TokenKind::Percent:
+      return kPowerProduct;
+    default:
+      return 0;  // not an infix operator: the expression ends here
   }
 }
 
@@ -40,7 +53,9 @@ ExprPtr Parser::make(ExprKind kind, Span span) {
   return e;
 }
 
-ExprPtr Parser::error_expr(Span span) { return make(ExprKind::Error, span); }
+ExprPtr Parser::error_expr(Span span) {
+  return make(ExprKind::Error, span);
+}
 
 // Lists are collected on a stack shared by all nesting levels and moved out with
 // their exact size: the AST is most of the parser's memory, and growth by doubling
@@ -71,8 +86,9 @@ ExprPtr Parser::parse_expr(int min_power) {
     if (power < min_power || power == 0) break;
     if (in_vector_ && op == TokenKind::Greater) break;
     if (in_vector_ && power == kPowerCompare && !panic_) {
-      diags_.report(DiagKind::ComparisonInVector, here(),
-                    "comparison inside a vector literal must be parenthesised")
+      diags_
+          .report(DiagKind::ComparisonInVector, here(),
+                  "comparison inside a vector literal must be parenthesised")
           .note("write it as <(a " + std::string(cur_.text) + " b), ...>");
     }
     advance();
@@ -165,7 +181,8 @@ ExprPtr Parser::parse_primary() {
       advance();
       return e;
     }
-    case TokenKind::KwTrue: case TokenKind::KwFalse: {
+    case TokenKind::KwTrue:
+    case TokenKind::KwFalse: {
       auto e = make(ExprKind::Bool, here());
       e->boolean = at(TokenKind::KwTrue);
       advance();
@@ -181,8 +198,10 @@ ExprPtr Parser::parse_primary() {
       advance();
       return e;
     }
-    case TokenKind::LParen: return parse_paren();
-    case TokenKind::Less: return parse_vector();
+    case TokenKind::LParen:
+      return parse_paren();
+    case TokenKind::Less:
+      return parse_vector();
     case TokenKind::Error: {
       // Already reported by the lexer; the rest of the statement is suspect.
       panic_ = true;
@@ -190,7 +209,8 @@ ExprPtr Parser::parse_primary() {
       advance();
       return e;
     }
-    default: break;
+    default:
+      break;
   }
   error_here(DiagKind::ExpectedExpression, "expected an expression, found " + describe(cur_));
   return error_expr(here());
@@ -292,8 +312,8 @@ BlockPtr Parser::parse_block(std::string_view owner) {
     int level = 0;
     while (!at(TokenKind::EndOfFile)) {
       TokenKind k = cur_.kind;
-      if (level == 0 && (k == TokenKind::Identifier || k == TokenKind::RBrace ||
-                         starts_statement(k)))
+      if (level == 0 &&
+          (k == TokenKind::Identifier || k == TokenKind::RBrace || starts_statement(k)))
         break;
       if (k == TokenKind::LParen || k == TokenKind::LBrace) ++level;
       if ((k == TokenKind::RParen || k == TokenKind::RBrace) && level > 0) --level;

@@ -13,9 +13,15 @@ namespace snell::lang {
 
 bool starts_operand(TokenKind k) {
   switch (k) {
-    case TokenKind::Number: case TokenKind::String: case TokenKind::Identifier:
-    case TokenKind::LParen: case TokenKind::Less: case TokenKind::Bang:
-    case TokenKind::Minus: case TokenKind::KwTrue: case TokenKind::KwFalse:
+    case TokenKind::Number:
+    case TokenKind::String:
+    case TokenKind::Identifier:
+    case TokenKind::LParen:
+    case TokenKind::Less:
+    case TokenKind::Bang:
+    case TokenKind::Minus:
+    case TokenKind::KwTrue:
+    case TokenKind::KwFalse:
       return true;
     default:
       return false;
@@ -24,8 +30,12 @@ bool starts_operand(TokenKind k) {
 
 bool starts_statement(TokenKind k) {
   switch (k) {
-    case TokenKind::KwLet: case TokenKind::KwFn: case TokenKind::KwReturn:
-    case TokenKind::KwIf: case TokenKind::KwFor: case TokenKind::KwImport:
+    case TokenKind::KwLet:
+    case TokenKind::KwFn:
+    case TokenKind::KwReturn:
+    case TokenKind::KwIf:
+    case TokenKind::KwFor:
+    case TokenKind::KwImport:
       return true;
     default:
       return false;
@@ -34,7 +44,9 @@ bool starts_statement(TokenKind k) {
 
 namespace {
 
-bool is_keyword(TokenKind k) { return k >= TokenKind::KwLet; }
+bool is_keyword(TokenKind k) {
+  return k >= TokenKind::KwLet;
+}
 
 }  // namespace
 
@@ -73,9 +85,12 @@ bool Parser::accept(TokenKind k) {
 
 std::string Parser::describe(const Token& t) const {
   switch (t.kind) {
-    case TokenKind::EndOfFile: return "the end of the file";
-    case TokenKind::String: return "a string";
-    default: break;
+    case TokenKind::EndOfFile:
+      return "the end of the file";
+    case TokenKind::String:
+      return "a string";
+    default:
+      break;
   }
   std::string_view text = t.text;
   std::string out = "'";
@@ -116,13 +131,13 @@ void Parser::missing_closer(const Token& opener, std::string_view closer, std::s
   std::string open(opener.text);
   if (at(TokenKind::EndOfFile)) {
     if (scanner_.ate_rest_of_file()) return;
-    error(DiagKind::UnclosedDelimiter, opener.span, "unclosed '" + open + "' of " + std::string(what))
+    error(DiagKind::UnclosedDelimiter, opener.span,
+          "unclosed '" + open + "' of " + std::string(what))
         .note("the file ends before its '" + std::string(closer) + "'");
     return;
   }
-  error_here(DiagKind::ExpectedToken,
-             "expected '" + std::string(closer) + "' to close " + std::string(what) + ", found " +
-                 describe(cur_))
+  error_here(DiagKind::ExpectedToken, "expected '" + std::string(closer) + "' to close " +
+                                          std::string(what) + ", found " + describe(cur_))
       .note(opener.span, "to close '" + open + "' opened here");
 }
 
@@ -217,20 +232,29 @@ void Parser::parse_statements(std::vector<StmtPtr>& out, bool nested) {
 //            | expr ';' | ';'
 StmtPtr Parser::parse_statement() {
   switch (cur_.kind) {
-    case TokenKind::KwLet: return parse_let();
-    case TokenKind::KwFn: return parse_fn();
-    case TokenKind::KwReturn: return parse_return();
-    case TokenKind::KwFor: return parse_for();
-    case TokenKind::KwIf: return parse_if();
-    case TokenKind::KwImport: return parse_import();
-    case TokenKind::Semicolon: advance(); return nullptr;  // stray ';' is harmless
+    case TokenKind::KwLet:
+      return parse_let();
+    case TokenKind::KwFn:
+      return parse_fn();
+    case TokenKind::KwReturn:
+      return parse_return();
+    case TokenKind::KwFor:
+      return parse_for();
+    case TokenKind::KwIf:
+      return parse_if();
+    case TokenKind::KwImport:
+      return parse_import();
+    case TokenKind::Semicolon:
+      advance();
+      return nullptr;  // stray ';' is harmless
     case TokenKind::Identifier:
       if (peek_.kind == TokenKind::LBrace) return parse_item();
       if (cur_.text == "background" && peek_.kind != TokenKind::LParen &&
           peek_.kind != TokenKind::Equal)
         return parse_background();
       return parse_expr_stmt();
-    default: break;
+    default:
+      break;
   }
   if (starts_operand(cur_.kind)) return parse_expr_stmt();
   auto stmt = std::make_unique<Stmt>();
@@ -264,7 +288,8 @@ bool Parser::expect_name(std::string& name, Span& span, const char* what) {
     }
     return false;
   }
-  error_here(DiagKind::ExpectedToken, std::string("expected ") + what + ", found " + describe(cur_));
+  error_here(DiagKind::ExpectedToken,
+             std::string("expected ") + what + ", found " + describe(cur_));
   return false;
 }
 
@@ -327,9 +352,8 @@ StmtPtr Parser::parse_fn() {
     stmt->kind = StmtKind::Fn;
     parse_body(stmt->body, "the function body");
   } else if (ok) {
-    error_here(DiagKind::ExpectedToken,
-               "expected '=' or '{' after the parameters of 'fn " + stmt->name + "', found " +
-                   describe(cur_));
+    error_here(DiagKind::ExpectedToken, "expected '=' or '{' after the parameters of 'fn " +
+                                            stmt->name + "', found " + describe(cur_));
   }
   stmt->span = from(begin);
   return stmt;
@@ -363,8 +387,8 @@ StmtPtr Parser::parse_for() {
   }
   stmt->exprs.push_back(parse_expr());
   if (!accept(TokenKind::DotDot)) {
-    error_here(DiagKind::ExpectedToken, "expected '..' between the bounds of the loop, found " +
-                                            describe(cur_));
+    error_here(DiagKind::ExpectedToken,
+               "expected '..' between the bounds of the loop, found " + describe(cur_));
     return fail();
   }
   stmt->exprs.push_back(parse_expr());
@@ -392,7 +416,8 @@ StmtPtr Parser::parse_if() {
       stmt->has_else = true;
       parse_body(stmt->else_body, "the 'else' body");
     } else {
-      error_here(DiagKind::ExpectedToken, "expected '{' or 'if' after 'else', found " + describe(cur_));
+      error_here(DiagKind::ExpectedToken,
+                 "expected '{' or 'if' after 'else', found " + describe(cur_));
     }
     break;
   }

@@ -82,13 +82,13 @@ class Parser {
   Token cur_;
   Token peek_;
   TokenKind prev_kind_ = TokenKind::EndOfFile;
-  std::uint32_t last_end_ = 0;     // end offset of the last consumed token
-  std::uint64_t consumed_ = 0;     // tokens consumed so far (progress checks)
+  std::uint32_t last_end_ = 0;  // end offset of the last consumed token
+  std::uint64_t consumed_ = 0;  // tokens consumed so far (progress checks)
   bool panic_ = false;
   bool in_vector_ = false;  // parsing an element of a vector literal at its top level
   int depth_ = 0;           // nesting of expressions, blocks and chains built so far
   std::unique_ptr<ExprArena> arena_ = std::make_unique<ExprArena>();  // moved into the Program
-  std::vector<ExprPtr> scratch_exprs_;         // see take_scratch()
+  std::vector<ExprPtr> scratch_exprs_;                                // see take_scratch()
   std::vector<Property> scratch_properties_;
 };
 

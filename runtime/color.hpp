@@ -14,8 +14,7 @@ std::string resolve_ocio_config(const std::string& explicit_path);
 
 // Applies the display view transform in place to `pixels` RGB triples. Returns an
 // error message, or empty on success.
-std::string apply_display_transform(const std::string& config_path, float* rgb,
-                                    std::size_t pixels);
+std::string apply_display_transform(const std::string& config_path, float* rgb, std::size_t pixels);
 
 // 8-bit code of a display value: NaN → 0, clamp to [0, 1], round(255·v).
 unsigned char quantize8(float v);

@@ -2,12 +2,11 @@
 #include "runtime/embree_scene.hpp"
 
 #include <embree3/rtcore.h>
+#include <fmt/format.h>
 
 #include <cmath>
 #include <limits>
 #include <stdexcept>
-
-#include <fmt/format.h>
 
 #include "runtime/shapes.hpp"
 
@@ -143,7 +142,6 @@ void moving_sphere_occluded(const RTCOccludedFunctionNArguments* args) {
   report_sphere_occlusion(args, [&m](float time) { return sphere_at(m, time); });
 }
 
-
 // Triangle soup of one shape in object space, with its winding already outward.
 struct Soup {
   std::vector<Vec3> verts;  // three per triangle
@@ -201,7 +199,6 @@ void sphere_occluded(const RTCOccludedFunctionNArguments* args) {
   report_sphere_occlusion(args, [&s](float) -> const SphereData& { return s; });
 }
 
-
 void embree_error(void* user, RTCError code, const char* str) {
   auto* msg = static_cast<std::string*>(user);
   if (msg->empty()) *msg = fmt::format("embree error {}: {}", int(code), str ? str : "");
@@ -237,7 +234,7 @@ struct EmbreeScene::Impl {
         g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), verts.size()));
     for (std::size_t i = 0; i < verts.size(); ++i) {
       vb[3 * i] = float(verts[i].x), vb[3 * i + 1] = float(verts[i].y),
-              vb[3 * i + 2] = float(verts[i].z);
+             vb[3 * i + 2] = float(verts[i].z);
     }
     auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
         g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), idx.size() / 3));
@@ -258,17 +255,16 @@ struct EmbreeScene::Impl {
     for (unsigned step = 0; step <= segs; ++step) {
       ir::Transform t = rel_at(s, origin, double(step) / segs);
       auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, step,
-                                                             RTC_FORMAT_FLOAT3,
-                                                             3 * sizeof(float),
+                                                             RTC_FORMAT_FLOAT3, 3 * sizeof(float),
                                                              soup.verts.size()));
       for (std::size_t i = 0; i < soup.verts.size(); ++i) {
         Vec3 w = t.point(soup.verts[i]);
         vb[3 * i] = float(w.x), vb[3 * i + 1] = float(w.y), vb[3 * i + 2] = float(w.z);
       }
     }
-    auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
-        g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
-        soup.verts.size() / 3));
+    auto* ib = static_cast<unsigned*>(
+        rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
+                                soup.verts.size() / 3));
     for (std::size_t i = 0; i < soup.verts.size(); ++i) ib[i] = unsigned(i);
     rtcCommitGeometry(g);
     unsigned id = rtcAttachGeometry(scene, g);
@@ -311,7 +307,9 @@ Soup object_triangles(const ir::Scene& sc, const ir::Shape& s, bool flip) {
         }
       break;
     }
-    case ir::ShapeKind::Triangle: tri(s.a, s.b, s.c, flip); break;
+    case ir::ShapeKind::Triangle:
+      tri(s.a, s.b, s.c, flip);
+      break;
     case ir::ShapeKind::Mesh: {
       if (s.mesh >= sc.meshes.size()) break;
       const ir::Mesh& m = sc.meshes[s.mesh];
@@ -319,12 +317,13 @@ Soup object_triangles(const ir::Scene& sc, const ir::Shape& s, bool flip) {
         if (m.indices[i] >= m.positions.size() || m.indices[i + 1] >= m.positions.size() ||
             m.indices[i + 2] >= m.positions.size())
           continue;
-        tri(m.positions[m.indices[i]], m.positions[m.indices[i + 1]],
-            m.positions[m.indices[i + 2]], flip);
+        tri(m.positions[m.indices[i]], m.positions[m.indices[i + 1]], m.positions[m.indices[i + 2]],
+            flip);
       }
       break;
     }
-    default: break;
+    default:
+      break;
   }
   return out;
 }
@@ -422,8 +421,8 @@ EmbreeScene::EmbreeScene(const ir::Scene& sc, ir::Vec3 origin)
     id = rtcAttachGeometry(im.scene, g);
     rtcReleaseGeometry(g);
   };
-  add_user(&im.spheres, im.spheres.spheres.size(), sphere_bounds, sphere_intersect,
-           sphere_occluded, im.sphere_geom);
+  add_user(&im.spheres, im.spheres.spheres.size(), sphere_bounds, sphere_intersect, sphere_occluded,
+           im.sphere_geom);
   add_user(&im.moving_spheres, im.moving_spheres.spheres.size(), moving_sphere_bounds,
            moving_sphere_intersect, moving_sphere_occluded, im.moving_sphere_geom);
 
@@ -446,7 +445,9 @@ EmbreeScene::EmbreeScene(const ir::Scene& sc, ir::Vec3 origin)
   if (!im.error.empty()) throw std::runtime_error(im.error);
 }
 
-bool EmbreeScene::has_motion() const { return impl_->moving_shapes > 0; }
+bool EmbreeScene::has_motion() const {
+  return impl_->moving_shapes > 0;
+}
 
 EmbreeScene::~EmbreeScene() = default;
 
@@ -454,8 +455,7 @@ namespace {
 // Planes in double from the float ray; the float origin was already offset by the
 // caller, so the sign of (d - n·o) is reliable.
 // A moving plane is placed at the ray's time first.
-bool hit_plane(const PlaneData& p, const Ray& r, double tmax, Vec3 origin, double& t,
-               Vec3& n_out) {
+bool hit_plane(const PlaneData& p, const Ray& r, double tmax, Vec3 origin, double& t, Vec3& n_out) {
   Vec3 o(r.org.x, r.org.y, r.org.z), d(r.dir.x, r.dir.y, r.dir.z);
   Vec3 n = p.n;
   double pd = p.d;
@@ -470,7 +470,7 @@ bool hit_plane(const PlaneData& p, const Ray& r, double tmax, Vec3 origin, doubl
   double denom = ir::dot(n, d);
   if (denom == 0) return false;
   t = (pd - ir::dot(n, o)) / denom;
-  return t > 0 && t < tmax && static_cast<float>(t) > 0;
+  return t > 0 && t<tmax&& static_cast<float>(t)> 0;
 }
 
 RTCRayHit make_rayhit(const Ray& r) {

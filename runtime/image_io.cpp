@@ -5,7 +5,7 @@
 // place, so an existing file is never left half-written; on failure the temporary
 // is removed and the target is untouched.
 #include <OpenImageIO/imageio.h>
-
+#include <fmt/format.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -13,8 +13,6 @@
 #include <cctype>
 #include <cstdio>
 #include <filesystem>
-
-#include <fmt/format.h>
 
 #include "runtime/color.hpp"
 #include "runtime/render.hpp"
@@ -35,8 +33,8 @@ std::string lower_extension(const std::string& path) {
 std::string temp_name(const std::string& path) {
   static std::atomic<unsigned> counter{0};
   std::filesystem::path p(path);
-  std::string name = fmt::format(".{}.snell-tmp-{}-{}{}", p.stem().string(), ::getpid(),
-                                 counter++, p.extension().string());
+  std::string name = fmt::format(".{}.snell-tmp-{}-{}{}", p.stem().string(), ::getpid(), counter++,
+                                 p.extension().string());
   return (p.parent_path() / name).string();
 }
 
@@ -44,8 +42,7 @@ std::string temp_name(const std::string& path) {
 
 bool is_supported_image_extension(const std::string& path) {
   std::string e = lower_extension(path);
-  return e == ".exr" || e == ".png" || e == ".jpg" || e == ".jpeg" || e == ".tif" ||
-         e == ".tiff";
+  return e == ".exr" || e == ".png" || e == ".jpg" || e == ".jpeg" || e == ".tif" || e == ".tiff";
 }
 
 std::string write_image(const std::string& path, const Image& image, const OutputInfo& info,

@@ -28,8 +28,8 @@ struct SphereData {
 };
 
 struct PlaneData {
-  Vec3 n;       // unit world normal
-  double d = 0; // dot(n, x) = d for camera-relative x
+  Vec3 n;        // unit world normal
+  double d = 0;  // dot(n, x) = d for camera-relative x
   std::uint32_t shape = 0;
   // A moving plane (motion on, shutter open) is placed at each ray's time instead.
   const ir::Shape* moving = nullptr;
@@ -82,8 +82,8 @@ inline bool sphere_roots(Vec3 o, Vec3 d, Vec3 c, double r, double& t0, double& t
 
 // Intersects sphere `s` with a camera-relative float ray; returns the nearest t in
 // (tnear, tfar) and the outward unit world normal.
-inline bool hit_sphere(const SphereData& s, float ox, float oy, float oz, float dx, float dy, float dz,
-                float tnear, float tfar, float& t_out, Vec3f& n_out) {
+inline bool hit_sphere(const SphereData& s, float ox, float oy, float oz, float dx, float dy,
+                       float dz, float tnear, float tfar, float& t_out, Vec3f& n_out) {
   double t0, t1;
   if (s.similarity) {
     Vec3 o(ox, oy, oz), d(dx, dy, dz);
@@ -109,7 +109,6 @@ inline bool hit_sphere(const SphereData& s, float ox, float oy, float oz, float 
   n_out = to_float(nw.x, nw.y, nw.z);
   return true;
 }
-
 
 // Camera-relative bounds of the object-space box around sphere (c, r) under the
 // affine `rel_from_object`, accumulated into lo/hi.

@@ -18,7 +18,7 @@ packages=(
   libopencolorio-dev opencolorio-tools
   catch2 libcli11-dev libfmt-dev nlohmann-json3-dev libtinyobjloader-dev
 )
-if [ "$mode" = test ]; then packages+=(clang libclang-rt-dev); fi   # the fuzz target (libFuzzer runtime)
+if [ "$mode" = test ]; then packages+=(clang libclang-rt-dev clang-format); fi   # the fuzz target (libFuzzer runtime); the format test
 
 missing=()
 for p in "${packages[@]}"; do

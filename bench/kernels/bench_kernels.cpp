@@ -30,9 +30,12 @@ int main(int argc, char** argv) {
   std::vector<std::string> scenes;
   for (int i = 1; i < argc; ++i) {
     std::string a = argv[i];
-    if (a == "--scale" && i + 1 < argc) scale = std::atof(argv[++i]);
-    else if (a == "--repeats" && i + 1 < argc) repeats = std::max(1, std::atoi(argv[++i]));
-    else scenes.push_back(a);
+    if (a == "--scale" && i + 1 < argc)
+      scale = std::atof(argv[++i]);
+    else if (a == "--repeats" && i + 1 < argc)
+      repeats = std::max(1, std::atoi(argv[++i]));
+    else
+      scenes.push_back(a);
   }
   if (scenes.empty()) {
     for (const auto& e : std::filesystem::directory_iterator(SNELL_EXAMPLES_DIR))
@@ -68,8 +71,7 @@ int main(int argc, char** argv) {
     double g = median(tg), sp = median(ts);
     std::string name = std::filesystem::path(path).filename().string();
     std::printf("%-20s %4ux%-4u %10.3f %10.3f %8.3f  %-9s %s\n", name.c_str(), s.settings.width,
-                s.settings.height, g, sp, sp > 0 ? g / sp : 0, same ? "yes" : "NO",
-                kernel.c_str());
+                s.settings.height, g, sp, sp > 0 ? g / sp : 0, same ? "yes" : "NO", kernel.c_str());
     std::fflush(stdout);
   }
   return 0;

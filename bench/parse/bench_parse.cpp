@@ -43,12 +43,18 @@ std::string vec3(std::mt19937& rng, double lo, double hi) {
 
 std::string material(std::mt19937& rng, int i) {
   switch (i % 6) {
-    case 0: return "diffuse " + vec3(rng, 0, 1);
-    case 1: return "mirror " + num(rng, 0.5, 1);
-    case 2: return "dielectric <1.5, " + vec3(rng, 0, 0.3) + ">";
-    case 3: return "glossy { color " + vec3(rng, 0, 1) + " blur " + num(rng, 0, 0.3) + " }";
-    case 4: return "diffuse checker { color1 " + vec3(rng, 0, 1) + " color2 0.1 size 0.5 }";
-    default: return "glass";
+    case 0:
+      return "diffuse " + vec3(rng, 0, 1);
+    case 1:
+      return "mirror " + num(rng, 0.5, 1);
+    case 2:
+      return "dielectric <1.5, " + vec3(rng, 0, 0.3) + ">";
+    case 3:
+      return "glossy { color " + vec3(rng, 0, 1) + " blur " + num(rng, 0, 0.3) + " }";
+    case 4:
+      return "diffuse checker { color1 " + vec3(rng, 0, 1) + " color2 0.1 size 0.5 }";
+    default:
+      return "glass";
   }
 }
 
@@ -114,8 +120,9 @@ int main(int argc, char** argv) {
     std::size_t statements = program.statements.size();
     program = Program{};
     double free_s = seconds_since(tf);
-    std::printf("lex+parse:   %.3f s  %7.1f MB/s  (%zu statements, %zu errors; AST freed in %.3f s)\n",
-                s, mb / s, statements, diags.error_count(), free_s);
+    std::printf(
+        "lex+parse:   %.3f s  %7.1f MB/s  (%zu statements, %zu errors; AST freed in %.3f s)\n", s,
+        mb / s, statements, diags.error_count(), free_s);
     if (diags.has_errors()) {  // the generated scene must be valid
       diags.print(std::cerr);
       return 1;

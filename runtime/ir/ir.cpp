@@ -14,11 +14,15 @@ std::string num(double v) {
   return std::string(buf, res.ptr);
 }
 
-std::string quoted(const std::string& s) { return "\"" + s + "\""; }
+std::string quoted(const std::string& s) {
+  return "\"" + s + "\"";
+}
 
 }  // namespace
 
-std::string to_string(Vec3 v) { return "<" + num(v.x) + ", " + num(v.y) + ", " + num(v.z) + ">"; }
+std::string to_string(Vec3 v) {
+  return "<" + num(v.x) + ", " + num(v.y) + ", " + num(v.z) + ">";
+}
 
 std::string to_string(const Transform& t) {
   if (t.is_identity()) return "identity";
@@ -49,8 +53,12 @@ Transform Motion::at(double u) const {
   Transform t;
   for (const TransformOp& op : ops) {
     switch (op.kind) {
-      case TransformOp::Kind::Translate: t = Transform::translate(op.value * u) * t; break;
-      case TransformOp::Kind::Rotate: t = Transform::rotate_xyz(op.value * u) * t; break;
+      case TransformOp::Kind::Translate:
+        t = Transform::translate(op.value * u) * t;
+        break;
+      case TransformOp::Kind::Rotate:
+        t = Transform::rotate_xyz(op.value * u) * t;
+        break;
       case TransformOp::Kind::Scale:
         t = Transform::scale(Vec3{1, 1, 1} * (1 - u) + op.value * u) * t;
         break;
@@ -126,8 +134,11 @@ Features analyze_features(const Scene& scene) {
     if (m.color.kind == Texture::Kind::Checker)
       once(f.textures, "textures", "a checker pattern at " + where);
     switch (m.kind) {
-      case MaterialKind::Diffuse: break;
-      case MaterialKind::Mirror: once(f.mirror, "mirror", "a mirror material at " + where); break;
+      case MaterialKind::Diffuse:
+        break;
+      case MaterialKind::Mirror:
+        once(f.mirror, "mirror", "a mirror material at " + where);
+        break;
       case MaterialKind::Glossy:
         if (m.blur > 0)
           once(f.glossy, "glossy", "a glossy material with blur " + num(m.blur) + " at " + where);
@@ -155,13 +166,16 @@ std::vector<std::string> validate(const Scene& scene) {
   const Settings& st = scene.settings;
   if (st.width < 1 || st.height < 1) bad(st.src, "resolution must be at least 1x1");
   if (st.samples < 1) bad(st.src, "samples must be at least 1");
-  if (!(st.min_weight >= 0) || !std::isfinite(st.min_weight)) bad(st.src, "min_weight must be >= 0");
+  if (!(st.min_weight >= 0) || !std::isfinite(st.min_weight))
+    bad(st.src, "min_weight must be >= 0");
   const Camera& c = scene.camera;
   if (!is_finite(c.location) || !is_finite(c.look_at) || !is_finite(c.up))
     bad(c.src, "camera vectors must be finite");
   Vec3 fwd = c.look_at - c.location;
-  if (length(fwd) == 0) bad(c.src, "camera look_at equals location");
-  else if (length(cross(fwd, c.up)) == 0) bad(c.src, "camera up is parallel to the view direction");
+  if (length(fwd) == 0)
+    bad(c.src, "camera look_at equals location");
+  else if (length(cross(fwd, c.up)) == 0)
+    bad(c.src, "camera up is parallel to the view direction");
   if (!(c.fov > 0 && c.fov < 180)) bad(c.src, "fov must be in (0, 180)");
   if (!(c.aperture >= 0)) bad(c.src, "aperture must be >= 0");
   if (!(c.focal_distance > 0)) bad(c.src, "focal_distance must be > 0");
@@ -216,7 +230,8 @@ std::vector<std::string> validate(const Scene& scene) {
     if (!is_finite(l.position) || !is_finite(l.intensity))
       bad(l.src, "point light position and intensity must be finite");
   for (const AreaLight& l : scene.area_lights) {
-    if (!is_finite(l.corner) || !is_finite(l.edge1) || !is_finite(l.edge2) || !is_finite(l.radiance))
+    if (!is_finite(l.corner) || !is_finite(l.edge1) || !is_finite(l.edge2) ||
+        !is_finite(l.radiance))
       bad(l.src, "area light corner, edges and radiance must be finite");
     if (length(cross(l.edge1, l.edge2)) == 0) bad(l.src, "area light has zero area");
     if (l.samples_u < 1 || l.samples_v < 1) bad(l.src, "area light samples must be >= 1");
@@ -232,38 +247,57 @@ std::string to_string(const SourceRef& ref, const Scene& scene) {
 
 std::string to_string(MaterialKind k) {
   switch (k) {
-    case MaterialKind::Diffuse: return "diffuse";
-    case MaterialKind::Mirror: return "mirror";
-    case MaterialKind::Glossy: return "glossy";
-    case MaterialKind::Dielectric: return "dielectric";
-    case MaterialKind::Glazed: return "glazed";
+    case MaterialKind::Diffuse:
+      return "diffuse";
+    case MaterialKind::Mirror:
+      return "mirror";
+    case MaterialKind::Glossy:
+      return "glossy";
+    case MaterialKind::Dielectric:
+      return "dielectric";
+    case MaterialKind::Glazed:
+      return "glazed";
   }
   return "?";
 }
 
 std::string to_string(ShapeKind k) {
   switch (k) {
-    case ShapeKind::Sphere: return "sphere";
-    case ShapeKind::Plane: return "plane";
-    case ShapeKind::Box: return "box";
-    case ShapeKind::Triangle: return "triangle";
-    case ShapeKind::Mesh: return "mesh";
+    case ShapeKind::Sphere:
+      return "sphere";
+    case ShapeKind::Plane:
+      return "plane";
+    case ShapeKind::Box:
+      return "box";
+    case ShapeKind::Triangle:
+      return "triangle";
+    case ShapeKind::Mesh:
+      return "mesh";
   }
   return "?";
 }
 
 std::string to_string(SamplerKind k) {
   switch (k) {
-    case SamplerKind::Independent: return "independent";
-    case SamplerKind::Stratified: return "stratified";
-    case SamplerKind::Sobol: return "sobol";
+    case SamplerKind::Independent:
+      return "independent";
+    case SamplerKind::Stratified:
+      return "stratified";
+    case SamplerKind::Sobol:
+      return "sobol";
   }
   return "?";
 }
 
-std::string to_string(FresnelMode m) { return m == FresnelMode::Exact ? "exact" : "schlick"; }
-std::string to_string(Branching b) { return b == Branching::Split ? "split" : "stochastic"; }
-std::string to_string(Termination t) { return t == Termination::Cutoff ? "cutoff" : "roulette"; }
+std::string to_string(FresnelMode m) {
+  return m == FresnelMode::Exact ? "exact" : "schlick";
+}
+std::string to_string(Branching b) {
+  return b == Branching::Split ? "split" : "stochastic";
+}
+std::string to_string(Termination t) {
+  return t == Termination::Cutoff ? "cutoff" : "roulette";
+}
 
 std::string to_string(const Texture& t) {
   if (t.kind == Texture::Kind::Constant) return to_string(t.color);
@@ -275,10 +309,18 @@ std::string to_string(const Material& m) {
   std::string s = to_string(m.kind) + " {";
   switch (m.kind) {
     case MaterialKind::Diffuse:
-    case MaterialKind::Mirror: s += " color " + to_string(m.color); break;
-    case MaterialKind::Glossy: s += " color " + to_string(m.color) + " blur " + num(m.blur); break;
-    case MaterialKind::Dielectric: s += " ior " + num(m.ior) + " absorb " + to_string(m.absorb); break;
-    case MaterialKind::Glazed: s += " color " + to_string(m.color) + " ior " + num(m.ior); break;
+    case MaterialKind::Mirror:
+      s += " color " + to_string(m.color);
+      break;
+    case MaterialKind::Glossy:
+      s += " color " + to_string(m.color) + " blur " + num(m.blur);
+      break;
+    case MaterialKind::Dielectric:
+      s += " ior " + num(m.ior) + " absorb " + to_string(m.absorb);
+      break;
+    case MaterialKind::Glazed:
+      s += " color " + to_string(m.color) + " ior " + num(m.ior);
+      break;
   }
   return s + " }";
 }
@@ -286,13 +328,21 @@ std::string to_string(const Material& m) {
 std::string to_string(const Shape& sh) {
   std::string s = to_string(sh.kind) + " {";
   switch (sh.kind) {
-    case ShapeKind::Sphere: s += " center " + to_string(sh.center) + " radius " + num(sh.radius); break;
-    case ShapeKind::Plane: s += " normal " + to_string(sh.normal) + " distance " + num(sh.distance); break;
-    case ShapeKind::Box: s += " min " + to_string(sh.min) + " max " + to_string(sh.max); break;
+    case ShapeKind::Sphere:
+      s += " center " + to_string(sh.center) + " radius " + num(sh.radius);
+      break;
+    case ShapeKind::Plane:
+      s += " normal " + to_string(sh.normal) + " distance " + num(sh.distance);
+      break;
+    case ShapeKind::Box:
+      s += " min " + to_string(sh.min) + " max " + to_string(sh.max);
+      break;
     case ShapeKind::Triangle:
       s += " a " + to_string(sh.a) + " b " + to_string(sh.b) + " c " + to_string(sh.c);
       break;
-    case ShapeKind::Mesh: s += " mesh #" + std::to_string(sh.mesh); break;
+    case ShapeKind::Mesh:
+      s += " mesh #" + std::to_string(sh.mesh);
+      break;
   }
   s += " material #" + std::to_string(sh.material);
   if (!sh.world_from_object.is_identity())
@@ -316,8 +366,8 @@ std::string to_string(const PointLight& l) {
 }
 
 std::string to_string(const AreaLight& l) {
-  return "area_light { corner " + to_string(l.corner) + " edge1 " + to_string(l.edge1) +
-         " edge2 " + to_string(l.edge2) + " radiance " + to_string(l.radiance) + " samples <" +
+  return "area_light { corner " + to_string(l.corner) + " edge1 " + to_string(l.edge1) + " edge2 " +
+         to_string(l.edge2) + " radiance " + to_string(l.radiance) + " samples <" +
          std::to_string(l.samples_u) + ", " + std::to_string(l.samples_v) + "> two_sided " +
          (l.two_sided ? "true" : "false") + " }";
 }
@@ -333,8 +383,9 @@ std::string to_string(const Settings& s) {
   return "settings { resolution <" + std::to_string(s.width) + ", " + std::to_string(s.height) +
          "> samples " + std::to_string(s.samples) + " sampler " + quoted(to_string(s.sampler)) +
          " max_depth " + std::to_string(s.max_depth) + " min_weight " + num(s.min_weight) +
-         " fresnel " + quoted(to_string(s.fresnel)) + " branching " + quoted(to_string(s.branching)) +
-         " termination " + quoted(to_string(s.termination)) + " seed " + std::to_string(s.seed) + " }";
+         " fresnel " + quoted(to_string(s.fresnel)) + " branching " +
+         quoted(to_string(s.branching)) + " termination " + quoted(to_string(s.termination)) +
+         " seed " + std::to_string(s.seed) + " }";
 }
 
 std::string to_string(const Features& f) {

@@ -34,10 +34,10 @@ enum class MaterialKind : std::uint8_t { Diffuse, Mirror, Glossy, Dielectric, Gl
 
 struct Material {
   MaterialKind kind = MaterialKind::Diffuse;
-  Texture color;        // Diffuse, Mirror, Glossy, Glazed base
-  double blur = 0;      // Glossy: side of the perturbation square
-  double ior = 1.5;     // Dielectric, Glazed
-  Vec3 absorb{0, 0, 0}; // Dielectric: Beer coefficient per channel, per scene unit
+  Texture color;         // Diffuse, Mirror, Glossy, Glazed base
+  double blur = 0;       // Glossy: side of the perturbation square
+  double ior = 1.5;      // Dielectric, Glazed
+  Vec3 absorb{0, 0, 0};  // Dielectric: Beer coefficient per channel, per scene unit
   SourceRef src;
   // Equality ignores src: the materials table is deduplicated by value.
   bool same_as(const Material& o) const {
@@ -68,22 +68,22 @@ enum class ShapeKind : std::uint8_t { Sphere, Plane, Box, Triangle, Mesh };
 struct Shape {
   ShapeKind kind = ShapeKind::Sphere;
   // Object-space definition, as written in the block.
-  Vec3 center;           // Sphere
-  double radius = 1;     // Sphere
-  Vec3 normal{0, 1, 0};  // Plane: unit length (normalised by lowering)
-  double distance = 0;   // Plane: points p with dot(p, normal) = distance
-  Vec3 min, max;         // Box
-  Vec3 a, b, c;          // Triangle
-  std::uint32_t mesh = 0;      // Mesh: index into Scene::meshes
-  std::uint32_t material = 0;  // index into Scene::materials
-  Transform world_from_object; // the object's transforms, in the order written
+  Vec3 center;                  // Sphere
+  double radius = 1;            // Sphere
+  Vec3 normal{0, 1, 0};         // Plane: unit length (normalised by lowering)
+  double distance = 0;          // Plane: points p with dot(p, normal) = distance
+  Vec3 min, max;                // Box
+  Vec3 a, b, c;                 // Triangle
+  std::uint32_t mesh = 0;       // Mesh: index into Scene::meshes
+  std::uint32_t material = 0;   // index into Scene::materials
+  Transform world_from_object;  // the object's transforms, in the order written
   Motion motion;
   SourceRef src;
 };
 
 struct Mesh {
-  std::string path;              // as resolved on disk
-  std::vector<Vec3> positions;   // object space
+  std::string path;                    // as resolved on disk
+  std::vector<Vec3> positions;         // object space
   std::vector<std::uint32_t> indices;  // three per triangle
 };
 
@@ -99,7 +99,7 @@ struct AreaLight {
   Vec3 edge2{0, 0, 1};
   Vec3 radiance{1, 1, 1};
   std::uint32_t samples_u = 1, samples_v = 1;  // jittered grid of shadow rays
-  bool two_sided = false;  // otherwise emits only towards cross(edge1, edge2)
+  bool two_sided = false;                      // otherwise emits only towards cross(edge1, edge2)
   SourceRef src;
 };
 
@@ -107,9 +107,9 @@ struct Camera {
   Vec3 location{0, 0, 0};
   Vec3 look_at{0, 0, 1};
   Vec3 up{0, 1, 0};
-  double fov = 60;             // horizontal, degrees
-  double aperture = 0;         // lens diameter; 0 = pinhole
-  double focal_distance = 1;   // lowering fills in |look_at - location| when unset
+  double fov = 60;            // horizontal, degrees
+  double aperture = 0;        // lens diameter; 0 = pinhole
+  double focal_distance = 1;  // lowering fills in |look_at - location| when unset
   double shutter_open = 0, shutter_close = 0;
   SourceRef src;
 };
@@ -162,7 +162,7 @@ struct Features {
   bool dielectric = false;
   bool absorption = false;  // some dielectric absorbs (absorb > 0)
   bool glazed = false;
-  bool textures = false;    // some colour is a pattern
+  bool textures = false;                                     // some colour is a pattern
   std::vector<std::pair<std::string, std::string>> reasons;  // (effect, why)
 
   static Features all();  // every effect on: the general kernel

@@ -18,20 +18,42 @@ struct Vec3 {
   constexpr bool operator==(const Vec3&) const = default;
 };
 
-constexpr Vec3 operator+(Vec3 a, Vec3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-constexpr Vec3 operator-(Vec3 a, Vec3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-constexpr Vec3 operator-(Vec3 a) { return {-a.x, -a.y, -a.z}; }
-constexpr Vec3 operator*(Vec3 a, Vec3 b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
-constexpr Vec3 operator*(Vec3 a, double s) { return {a.x * s, a.y * s, a.z * s}; }
-constexpr Vec3 operator*(double s, Vec3 a) { return a * s; }
-constexpr Vec3 operator/(Vec3 a, double s) { return {a.x / s, a.y / s, a.z / s}; }
-constexpr double dot(Vec3 a, Vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+constexpr Vec3 operator+(Vec3 a, Vec3 b) {
+  return {a.x + b.x, a.y + b.y, a.z + b.z};
+}
+constexpr Vec3 operator-(Vec3 a, Vec3 b) {
+  return {a.x - b.x, a.y - b.y, a.z - b.z};
+}
+constexpr Vec3 operator-(Vec3 a) {
+  return {-a.x, -a.y, -a.z};
+}
+constexpr Vec3 operator*(Vec3 a, Vec3 b) {
+  return {a.x * b.x, a.y * b.y, a.z * b.z};
+}
+constexpr Vec3 operator*(Vec3 a, double s) {
+  return {a.x * s, a.y * s, a.z * s};
+}
+constexpr Vec3 operator*(double s, Vec3 a) {
+  return a * s;
+}
+constexpr Vec3 operator/(Vec3 a, double s) {
+  return {a.x / s, a.y / s, a.z / s};
+}
+constexpr double dot(Vec3 a, Vec3 b) {
+  return a.x * b.x + a.y * b.y + a.z * b.z;
+}
 constexpr Vec3 cross(Vec3 a, Vec3 b) {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
-inline double length(Vec3 a) { return std::sqrt(dot(a, a)); }
-inline Vec3 normalize(Vec3 a) { return a / length(a); }
-inline double max_component(Vec3 a) { return std::fmax(a.x, std::fmax(a.y, a.z)); }
+inline double length(Vec3 a) {
+  return std::sqrt(dot(a, a));
+}
+inline Vec3 normalize(Vec3 a) {
+  return a / length(a);
+}
+inline double max_component(Vec3 a) {
+  return std::fmax(a.x, std::fmax(a.y, a.z));
+}
 inline bool is_finite(Vec3 a) {
   return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z);
 }
@@ -113,10 +135,26 @@ namespace detail {
 inline void sincos_degrees(double deg, double& s, double& c) {
   double q = std::fmod(deg, 360.0);
   if (q < 0) q += 360.0;
-  if (q == 0) { s = 0; c = 1; return; }
-  if (q == 90) { s = 1; c = 0; return; }
-  if (q == 180) { s = 0; c = -1; return; }
-  if (q == 270) { s = -1; c = 0; return; }
+  if (q == 0) {
+    s = 0;
+    c = 1;
+    return;
+  }
+  if (q == 90) {
+    s = 1;
+    c = 0;
+    return;
+  }
+  if (q == 180) {
+    s = 0;
+    c = -1;
+    return;
+  }
+  if (q == 270) {
+    s = -1;
+    c = 0;
+    return;
+  }
   double r = deg * (3.14159265358979323846 / 180.0);
   s = std::sin(r);
   c = std::cos(r);
@@ -132,9 +170,15 @@ inline Transform rotation(int axis, double deg) {
 }
 }  // namespace detail
 
-inline Transform Transform::rotate_x(double d) { return detail::rotation(0, d); }
-inline Transform Transform::rotate_y(double d) { return detail::rotation(1, d); }
-inline Transform Transform::rotate_z(double d) { return detail::rotation(2, d); }
+inline Transform Transform::rotate_x(double d) {
+  return detail::rotation(0, d);
+}
+inline Transform Transform::rotate_y(double d) {
+  return detail::rotation(1, d);
+}
+inline Transform Transform::rotate_z(double d) {
+  return detail::rotation(2, d);
+}
 inline Transform Transform::rotate_xyz(Vec3 d) {
   return rotate_z(d.z) * rotate_y(d.y) * rotate_x(d.x);
 }

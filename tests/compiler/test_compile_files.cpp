@@ -65,7 +65,10 @@ TEST_CASE("tests/lang compile cases", "[compiler][lang]") {
     std::set<std::string> got;
     for (const auto& d : c->diags.diagnostics()) {
       auto lc = c->sources.file(d.span.file).line_col(d.span.begin);
-      std::string where = d.span.file == 0 ? "" : fs::path(c->sources.file(d.span.file).path()).filename().string() + ":";
+      std::string where =
+          d.span.file == 0
+              ? ""
+              : fs::path(c->sources.file(d.span.file).path()).filename().string() + ":";
       got.insert(std::string(d.severity == lang::Severity::Error ? "error " : "warning ") + where +
                  std::to_string(lc.line) + ":" + std::to_string(lc.col) + " " +
                  std::string(lang::diag_name(d.kind)));
@@ -82,8 +85,8 @@ TEST_CASE("tests/lang compile cases", "[compiler][lang]") {
       std::string want = text.substr(at + kIrOpen.size(), end - at - kIrOpen.size());
       std::string have = ir::to_string(c->scene);
       if (update && have != want) {
-        std::ofstream(path, std::ios::binary) << text.substr(0, at + kIrOpen.size()) << have
-                                              << text.substr(end);
+        std::ofstream(path, std::ios::binary)
+            << text.substr(0, at + kIrOpen.size()) << have << text.substr(end);
         continue;
       }
       CHECK(have == want);
@@ -96,11 +99,12 @@ TEST_CASE("every compile diagnostic kind has a tests/lang case", "[compiler][lan
   for (const fs::path& p : compile_cases()) all += slurp(p);
   // Kinds of the lexer and parser are covered by tests/language; these by us.
   for (const char* kind :
-       {"UndefinedName", "Redefinition", "TypeMismatch", "WrongArgumentCount", "NotCallable",
-        "NonFiniteValue", "NotAnInteger", "BadComponent", "ZeroStep", "ReturnOutsideFunction",
-        "MissingReturn", "RecursionLimit", "ValueAsStatement", "UnknownBlock", "UnknownProperty",
-        "DuplicateProperty", "MissingProperty", "InvalidValue", "DuplicateSceneItem",
-        "DegenerateGeometry", "ImportNotFound", "ImportCycle", "FileUnreadable", "BadVectorArity"}) {
+       {"UndefinedName",    "Redefinition",          "TypeMismatch",       "WrongArgumentCount",
+        "NotCallable",      "NonFiniteValue",        "NotAnInteger",       "BadComponent",
+        "ZeroStep",         "ReturnOutsideFunction", "MissingReturn",      "RecursionLimit",
+        "ValueAsStatement", "UnknownBlock",          "UnknownProperty",    "DuplicateProperty",
+        "MissingProperty",  "InvalidValue",          "DuplicateSceneItem", "DegenerateGeometry",
+        "ImportNotFound",   "ImportCycle",           "FileUnreadable",     "BadVectorArity"}) {
     INFO(kind);
     CHECK(all.find(std::string(" ") + kind) != std::string::npos);
   }

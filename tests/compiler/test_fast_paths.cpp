@@ -46,11 +46,11 @@ TEST_CASE("fast path: the step budget runs out at the same node", "[compiler][fa
 }
 
 TEST_CASE("fast path: shadowed builtins, mixed types, non-finite results", "[compiler][fast]") {
-  auto c = run(
-      "fn random(x) = 7;\n"
-      "fn twice(x) = x * 2;\n"
-      "sphere { center twice(<1, 2, 3>) radius random(1) }\n"
-      "for i in 0 .. 3 { sphere { center <twice(i), -i, i % 2> radius 1 + i } }\n");
+  auto c =
+      run("fn random(x) = 7;\n"
+          "fn twice(x) = x * 2;\n"
+          "sphere { center twice(<1, 2, 3>) radius random(1) }\n"
+          "for i in 0 .. 3 { sphere { center <twice(i), -i, i % 2> radius 1 + i } }\n");
   REQUIRE(diags(*c) == "");
   REQUIRE(c->scene.shapes.size() == 4);
   CHECK(c->scene.shapes[0].radius == 7);
@@ -69,15 +69,15 @@ TEST_CASE("fast path: shadowed builtins, mixed types, non-finite results", "[com
 TEST_CASE("fast path: compiled code falls back when a run differs", "[compiler][fast]") {
   // f's body is compiled on its first (numeric) call; a vector argument later
   // makes the code fail and the general path take over, with the same results.
-  auto c = run(
-      "fn f(x) = x * 2 + 1;\n"
-      "sphere { center <f(1), f(2), 0> }\n"
-      "sphere { center f(<1, 2, 3>) }\n"
-      "sphere { center <f(3), 0, 0> }\n"
-      "fn g(x) = sqrt(x) + 1;\n"
-      "sphere { center <g(4), 0, 0> }\n"
-      "fn h(sqrt) = sqrt * 2;\n"  // binds the builtin's name, in h only
-      "sphere { center <h(5), g(9), 0> }\n");
+  auto c =
+      run("fn f(x) = x * 2 + 1;\n"
+          "sphere { center <f(1), f(2), 0> }\n"
+          "sphere { center f(<1, 2, 3>) }\n"
+          "sphere { center <f(3), 0, 0> }\n"
+          "fn g(x) = sqrt(x) + 1;\n"
+          "sphere { center <g(4), 0, 0> }\n"
+          "fn h(sqrt) = sqrt * 2;\n"  // binds the builtin's name, in h only
+          "sphere { center <h(5), g(9), 0> }\n");
   REQUIRE(diags(*c) == "");
   REQUIRE(c->scene.shapes.size() == 5);
   CHECK(c->scene.shapes[0].center == ir::Vec3{3, 5, 0});

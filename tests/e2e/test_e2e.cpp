@@ -114,14 +114,23 @@ TEST_CASE("hello.scn: the lit floor follows albedo/pi * I cos(theta) / d^2", "[e
           double v = 1 - (py + (j + 0.5) / N) / H * 2;
           ir::Vec3 d = ir::normalize(fwd + right * (u * half_w) + up * (v * half_h));
           double denom = ir::dot(d, floor->normal);
-          if (denom >= 0) { usable = false; break; }
+          if (denom >= 0) {
+            usable = false;
+            break;
+          }
           double t = (floor->distance - ir::dot(cam.location, floor->normal)) / denom;
-          if (hit_spheres(s, cam.location, d, t) < t) { usable = false; break; }
+          if (hit_spheres(s, cam.location, d, t) < t) {
+            usable = false;
+            break;
+          }
           ir::Vec3 p = cam.location + d * t;
           ir::Vec3 l = light.position - p;
           double dist = ir::length(l);
           ir::Vec3 ldir = l / dist;
-          if (hit_spheres(s, p, ldir, dist) < dist) { usable = false; break; }
+          if (hit_spheres(s, p, ldir, dist) < dist) {
+            usable = false;
+            break;
+          }
           double cos_theta = ir::dot(ldir, floor->normal);
           double e = cos_theta / (M_PI * dist * dist);
           lo = std::min(lo, e), hi = std::max(hi, e);
@@ -135,8 +144,8 @@ TEST_CASE("hello.scn: the lit floor follows albedo/pi * I cos(theta) / d^2", "[e
       for (int ch = 0; ch < 3; ++ch) {
         double rel = std::fabs(got[ch] - expect[ch]) / expect[ch];
         worst = std::max(worst, rel);
-        INFO("pixel " << px << "," << py << " channel " << ch << " got " << got[ch]
-                      << " expected " << expect[ch]);
+        INFO("pixel " << px << "," << py << " channel " << ch << " got " << got[ch] << " expected "
+                      << expect[ch]);
         // The radiance varies by < 4 % over the pixel, so 64 stratified samples
         // and a 144-point quadrature of it agree on the mean to well under 1 %.
         REQUIRE(rel < 0.01);
@@ -181,15 +190,15 @@ TEST_CASE("a failed write leaves an existing output untouched", "[e2e]") {
     CHECK(s == "previous contents");
   }
   // No temporary file is left behind either way.
-  for (const auto& e : fs::directory_iterator(tmp / "ro"))
-    CHECK(e.path().filename() == "keep.png");
+  for (const auto& e : fs::directory_iterator(tmp / "ro")) CHECK(e.path().filename() == "keep.png");
 }
 
 TEST_CASE("snell check lists the effects a scene uses", "[e2e]") {
   Scratch tmp;
-  std::ofstream(tmp / "fx.scn") << "camera { aperture 0.1 location <0,0,-5> look_at 0 }\n"
-                                   "area_light { corner 0 edge1 <1,0,0> edge2 <0,0,1> radiance 1 }\n"
-                                   "sphere { material dielectric <1.5, 0.2> }\n";
+  std::ofstream(tmp / "fx.scn")
+      << "camera { aperture 0.1 location <0,0,-5> look_at 0 }\n"
+         "area_light { corner 0 edge1 <1,0,0> edge2 <0,0,1> radiance 1 }\n"
+         "sphere { material dielectric <1.5, 0.2> }\n";
   std::string cmd = kSnell + " check " + (tmp / "fx.scn") + " > " + (tmp / "out.txt");
   REQUIRE(std::system(cmd.c_str()) == 0);
   std::ifstream in(tmp / "out.txt");

@@ -101,8 +101,8 @@ inline ir::Mesh uv_sphere(int rings, int segments, double r, double jitter, std:
     double th = pi * i / rings;
     for (int j = 0; j < segments; ++j) {
       double ph = 2 * pi * j / segments, q = radius();
-      m.positions.push_back({q * std::sin(th) * std::cos(ph), q * std::cos(th),
-                             q * std::sin(th) * std::sin(ph)});
+      m.positions.push_back(
+          {q * std::sin(th) * std::cos(ph), q * std::cos(th), q * std::sin(th) * std::sin(ph)});
     }
   }
   m.positions.push_back({0, -radius(), 0});  // south pole: last
@@ -111,8 +111,10 @@ inline ir::Mesh uv_sphere(int rings, int segments, double r, double jitter, std:
   auto tri = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
     // With y up and phi growing from +x towards +z, (a, b, c) below is counter-
     // clockwise seen from outside (outward Ng, checked by hc06); flip swaps two.
-    if (flip) m.indices.insert(m.indices.end(), {a, c, b});
-    else m.indices.insert(m.indices.end(), {a, b, c});
+    if (flip)
+      m.indices.insert(m.indices.end(), {a, c, b});
+    else
+      m.indices.insert(m.indices.end(), {a, b, c});
   };
   for (int j = 0; j < segments; ++j) tri(0, ring(1, j + 1), ring(1, j));
   for (int i = 1; i + 1 < rings; ++i)

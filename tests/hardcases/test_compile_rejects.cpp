@@ -6,7 +6,6 @@
 // degenerate.scn hold the language-level goldens; this checks the rules across
 // every property that takes a number.
 #include <catch2/catch.hpp>
-
 #include <string>
 #include <vector>
 
@@ -69,20 +68,20 @@ TEST_CASE("hc37 hc40 non-finite numbers are rejected wherever they are written",
 TEST_CASE("hc09 hc15 hc22 zero sizes, invalid ior and negative absorption are errors",
           "[hardcase][compile]") {
   const char* bad[] = {
-      "sphere { radius 0 }",                                                      // #9
+      "sphere { radius 0 }",  // #9
       "sphere { radius -1 }",
       "area_light { corner <0, 0, 0> edge1 <1, 0, 0> edge2 <0, 0, 0> radiance 1 }",  // #9
       "area_light { corner <0, 0, 0> edge1 <1, 0, 0> edge2 <2, 0, 0> radiance 1 }",  // parallel
-      "sphere { material dielectric { ior 0 } }",                                 // #15
+      "sphere { material dielectric { ior 0 } }",                                    // #15
       "sphere { material dielectric { ior -1.5 } }",
       "sphere { material glazed { ior 0 } }",
-      "sphere { material dielectric { absorb -0.1 } }",                           // #22
+      "sphere { material dielectric { absorb -0.1 } }",  // #22
       "sphere { material dielectric { absorb <0.1, -1, 0> } }",
       "sphere { scale <1, 0, 1> }",
-      "camera { focal_distance 0 }",                                              // #35
+      "camera { focal_distance 0 }",  // #35
       "camera { focal_distance -2 }",
       "camera { aperture -0.1 }",
-      "camera { shutter <1, 0> }",                                                // #32
+      "camera { shutter <1, 0> }",  // #32
   };
   for (const char* p : bad) {
     auto c = compile_text(std::string(p) + "\n");
@@ -99,9 +98,9 @@ TEST_CASE("hc09 hc15 hc22 zero sizes, invalid ior and negative absorption are er
 TEST_CASE("hc08 degenerate triangles are warned about and left out of the IR",
           "[hardcase][compile]") {
   auto c = compile_text(
-      "triangle { a <0, 0, 0> b <1, 1, 1> c <2, 2, 2> }\n"   // collinear
-      "triangle { a <0, 0, 0> b <0, 0, 0> c <1, 0, 0> }\n"   // repeated vertex
-      "triangle { a <1, 2, 3> b <1, 2, 3> c <1, 2, 3> }\n"   // a point
+      "triangle { a <0, 0, 0> b <1, 1, 1> c <2, 2, 2> }\n"  // collinear
+      "triangle { a <0, 0, 0> b <0, 0, 0> c <1, 0, 0> }\n"  // repeated vertex
+      "triangle { a <1, 2, 3> b <1, 2, 3> c <1, 2, 3> }\n"  // a point
       "triangle { a <0, 0, 0> b <1, 0, 0> c <0, 1, 0> }\n");
   INFO(diagnostics(*c));
   CHECK_FALSE(c->diags.has_errors());

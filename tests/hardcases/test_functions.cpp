@@ -4,11 +4,10 @@
 // sample values at 0 and just below 1 (#31), 8-bit conversion of non-finite values
 // (#38) and FTZ/DAZ independence (#39). Tests in tests/runtime that already cover a
 // case are listed in docs/hardcases.md and not repeated here.
-#include <catch2/catch.hpp>
-
-#include <xmmintrin.h>
 #include <pmmintrin.h>
+#include <xmmintrin.h>
 
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -27,7 +26,9 @@ using ir::FresnelMode;
 
 namespace {
 constexpr double kPi = 3.14159265358979323846;
-double deg(double d) { return d * kPi / 180.0; }
+double deg(double d) {
+  return d * kPi / 180.0;
+}
 // log-uniform in [lo, hi]
 double log_uniform(std::mt19937_64& rng, double lo, double hi) {
   std::uniform_real_distribution<double> u(std::log(lo), std::log(hi));
@@ -169,8 +170,12 @@ TEST_CASE("hc25 orthonormal basis on the axes, Duff's bad vector and 1e6 random 
   auto metric = [](Vec3f n) {
     Vec3f a, b;
     orthonormal_basis(n, a, b);
-    auto len = [](Vec3f v) { return std::sqrt(double(v.x) * v.x + double(v.y) * v.y + double(v.z) * v.z); };
-    auto d = [](Vec3f p, Vec3f q) { return double(p.x) * q.x + double(p.y) * q.y + double(p.z) * q.z; };
+    auto len = [](Vec3f v) {
+      return std::sqrt(double(v.x) * v.x + double(v.y) * v.y + double(v.z) * v.z);
+    };
+    auto d = [](Vec3f p, Vec3f q) {
+      return double(p.x) * q.x + double(p.y) * q.y + double(p.z) * q.z;
+    };
     double e = 0;
     for (double l : {len(a), len(b), len(n)}) e += (l - 1) * (l - 1);
     for (double x : {d(a, b), d(a, n), d(b, n)}) e += x * x;
@@ -218,7 +223,8 @@ TEST_CASE("hc31 sample values: exactly 0 is possible, 1 never, even from the top
         REQUIRE(std::fabs(length(r.dir) - 1) < 1e-6f);
       }
   // Every sampler kind, many seeds and large dimensions: values in [0, 1).
-  for (auto kind : {ir::SamplerKind::Independent, ir::SamplerKind::Stratified, ir::SamplerKind::Sobol})
+  for (auto kind :
+       {ir::SamplerKind::Independent, ir::SamplerKind::Stratified, ir::SamplerKind::Sobol})
     for (std::uint64_t seed : {0ull, 1ull, 0xFFFFFFFFFFFFFFFFull})
       for (std::uint32_t spp : {1u, 3u, 256u})
         for (std::uint32_t i = 0; i < spp; i += 1 + spp / 16)

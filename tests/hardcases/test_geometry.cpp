@@ -4,7 +4,6 @@
 // These call rt::EmbreeScene directly, spawning rays exactly as the integrator does
 // (offset_ray_origin along the normal of the side the ray leaves on).
 #include <catch2/catch.hpp>
-
 #include <cmath>
 #include <random>
 
@@ -22,7 +21,9 @@ ir::Vec3 unit(std::mt19937_64& rng) {
   double z = 2 * u(rng) - 1, a = 2 * kPi * u(rng), r = std::sqrt(1 - z * z);
   return {r * std::cos(a), r * std::sin(a), z};
 }
-rt::Vec3f f(ir::Vec3 v) { return rt::to_float(v.x, v.y, v.z); }
+rt::Vec3f f(ir::Vec3 v) {
+  return rt::to_float(v.x, v.y, v.z);
+}
 }  // namespace
 
 TEST_CASE("hc01 reintersection: spawned rays never re-hit their triangle, 1e-8..1e8",
@@ -90,7 +91,8 @@ long shadow_blocked(double scale, bool occluder, int n, std::mt19937_64& rng) {
       l.edge1 = ir::Vec3(2, 0, 0) * scale;
       l.edge2 = ir::Vec3(0, 0, 2) * scale;  // cross(e1, e2) = -y: emits down
       s.area_lights.push_back(l);
-      if (occluder) s.shapes.push_back(box(ir::Vec3(-3, 0.998, -3) * scale, ir::Vec3(3, 0.999, 3) * scale, 0));
+      if (occluder)
+        s.shapes.push_back(box(ir::Vec3(-3, 0.998, -3) * scale, ir::Vec3(3, 0.999, 3) * scale, 0));
       ir::Vec3 cam = ir::Vec3(0.3, 2, -4) * scale;  // the world is rebased to a camera
       rt::EmbreeScene es(s, cam);
       const float k = rt::offset_scale(s, cam);  // as the integrator offsets
@@ -188,12 +190,13 @@ TEST_CASE("hc06 watertight: rays from inside a closed jittered mesh sphere alway
     ir::Vec3 o = unit(rng) * (0.5 * std::cbrt(u(rng)));
     rt::Ray r{f(o), f(unit(rng)), INFINITY, 0};
     rt::Hit h;
-    if (!es.intersect(r, h)) ++misses;
-    else if (rt::dot(h.ng, r.dir) <= 0) ++inward;  // exiting: along the outward normal
+    if (!es.intersect(r, h))
+      ++misses;
+    else if (rt::dot(h.ng, r.dir) <= 0)
+      ++inward;  // exiting: along the outward normal
   }
   CHECK(misses == 0);
   CHECK(inward == 0);  // the winding is outward (uv_sphere's contract)
-
 }
 
 TEST_CASE("hc06 rays aimed exactly at mesh vertices miss less than 1e-4 of the time",

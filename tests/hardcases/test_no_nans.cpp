@@ -2,9 +2,8 @@
 // tests/lang/compile/*.scn file that compiles renders, at a small resolution and 2
 // samples per pixel, with no non-finite sample dropped and every pixel finite and
 // non-negative (#27: radiance is never negative).
-#include <catch2/catch.hpp>
-
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <filesystem>
 #include <string>
 #include <vector>

@@ -2,7 +2,6 @@
 // rendered with rt::render. Expected values are analytic (§3) or "the same image as
 // a simpler scene"; bit-identical means every float equal (same seeds).
 #include <catch2/catch.hpp>
-
 #include <cmath>
 
 #include "hc_util.hpp"
@@ -20,8 +19,10 @@ ir::Scene area_scene(double s, ir::Vec3 off) {
   ir::Scene sc = base_scene(48, 36, 2);
   sc.background = {0.1, 0.12, 0.15};
   sc.shapes.push_back(plane({0, 1, 0}, off.y, add_material(sc, diffuse({0.7, 0.7, 0.7}))));
-  sc.shapes.push_back(sphere(P({-0.8, 0.7, 0}), 0.7 * s, add_material(sc, diffuse({0.8, 0.2, 0.1}))));
-  sc.shapes.push_back(box(P({0.3, 0, -0.2}), P({1.3, 1, 0.8}), add_material(sc, glazed({0.1, 0.3, 0.6}, 1.5))));
+  sc.shapes.push_back(
+      sphere(P({-0.8, 0.7, 0}), 0.7 * s, add_material(sc, diffuse({0.8, 0.2, 0.1}))));
+  sc.shapes.push_back(
+      box(P({0.3, 0, -0.2}), P({1.3, 1, 0.8}), add_material(sc, glazed({0.1, 0.3, 0.6}, 1.5))));
   sc.shapes.push_back(sphere(P({1.4, 0.4, -1.2}), 0.4 * s,
                              add_material(sc, dielectric(1.5, ir::Vec3(0.2, 0.1, 0) / s))));
   ir::AreaLight l;
@@ -130,8 +131,8 @@ TEST_CASE("hc08 degenerate triangles and mesh faces leave the image bit-identica
         t.a = a, t.b = b, t.c = c;
         s.shapes.push_back(t);
       };
-      tri({-2, 0.5, -1}, {0, 1.5, -1}, {2, 2.5, -1});   // collinear
-      tri({-1, 0.2, -2}, {-1, 0.2, -2}, {1, 2, -2});    // repeated vertex
+      tri({-2, 0.5, -1}, {0, 1.5, -1}, {2, 2.5, -1});  // collinear
+      tri({-1, 0.2, -2}, {-1, 0.2, -2}, {1, 2, -2});   // repeated vertex
       tri({0.5, 0.5, -1.5}, {0.5, 0.5, -1.5}, {0.5, 0.5, -1.5});
       ir::Mesh m;
       m.positions = {{-1, 0, -1}, {1, 1, -1}, {3, 2, -1}, {0, 3, 0}};
@@ -147,8 +148,7 @@ TEST_CASE("hc08 degenerate triangles and mesh faces leave the image bit-identica
   CHECK(b.stats.nonfinite_samples == 0);
 }
 
-TEST_CASE("hc08 ir::validate reports a non-finite triangle vertex",
-          "[hardcase][degenerate]") {
+TEST_CASE("hc08 ir::validate reports a non-finite triangle vertex", "[hardcase][degenerate]") {
   // The compiler never makes one (NonFiniteValue, test_compile_rejects.cpp), but
   // ir::validate promises "finite numbers" to a runtime driven by a C++-built IR.
   // Known to fail: validate does not look at triangle vertices (docs/hardcases.md #8).
@@ -276,8 +276,9 @@ TEST_CASE("hc15 a bubble (relative ior 1/1.33) reflects totally at the first hit
       float v = r.image.at(x, y)[0];
       INFO("pixel " << x << "," << y << " b " << b);
       if (b < 0.7419) {
-        CHECK(v == Approx(rt::fresnel_dielectric(std::sqrt(1 - b * b), 1 / 1.33,
-                                                 ir::FresnelMode::Exact)).margin(1e-4));
+        CHECK(v ==
+              Approx(rt::fresnel_dielectric(std::sqrt(1 - b * b), 1 / 1.33, ir::FresnelMode::Exact))
+                  .margin(1e-4));
         ++partial;
       } else if (b > 0.7619 && b < 0.999) {
         CHECK(v == 1.0f);
@@ -317,7 +318,8 @@ TEST_CASE("hc15 hc19 a glass mesh with reversed winding is the 1/eta bubble",
   CHECK_FALSE(identical(a.image, c.image));
 }
 
-TEST_CASE("hc19 an opaque mesh renders the same with either winding", "[hardcase][scene][winding]") {
+TEST_CASE("hc19 an opaque mesh renders the same with either winding",
+          "[hardcase][scene][winding]") {
   // Diffuse and glazed surfaces shade with the normal facing the ray, whatever the
   // winding: both windings give the same picture up to the rounding of Embree's Ng
   // (cross product of the edges in winding order): measured 6e-8; bound 1e-6.
@@ -355,8 +357,10 @@ TEST_CASE("hc18 a thin slab: T and R of the full ray tree, independent of thickn
       s.settings.max_depth = 60;
       s.shapes.push_back(box({-5, -5, 0}, {5, 5, d}, add_material(s, dielectric(1.5))));
       auto black = add_material(s, diffuse({0, 0, 0}));
-      if (measure_r) s.shapes.push_back(plane({0, 0, 1}, 10, black));
-      else s.shapes.push_back(plane({0, 0, 1}, -10, black));
+      if (measure_r)
+        s.shapes.push_back(plane({0, 0, 1}, 10, black));
+      else
+        s.shapes.push_back(plane({0, 0, 1}, -10, black));
       look(s, {0, 0, -3}, {0, 0, 1}, 0.5);
       rt::RenderResult r = rt::render(s, {});
       INFO("thickness " << d << (measure_r ? " R" : " T"));
@@ -374,7 +378,8 @@ TEST_CASE("hc21 Beer under instance scaling: unit sphere scaled by 2 equals radi
     s.background = {1, 1, 1};
     s.settings.min_weight = 0;
     s.settings.max_depth = 30;
-    ir::Shape sh = sphere({0, 0, 0}, scaled ? 1 : 2, add_material(s, dielectric(1.5, {0.25, 0.5, 1})));
+    ir::Shape sh =
+        sphere({0, 0, 0}, scaled ? 1 : 2, add_material(s, dielectric(1.5, {0.25, 0.5, 1})));
     if (scaled) sh.world_from_object = ir::Transform::scale({2, 2, 2});
     s.shapes.push_back(sh);
     look(s, {0, 0, -8}, {0, 0, 0}, 32);
@@ -385,7 +390,8 @@ TEST_CASE("hc21 Beer under instance scaling: unit sphere scaled by 2 equals radi
   CHECK(d.max < 1e-5);
 }
 
-TEST_CASE("hc23 absorbing glass sphere: L = R + T^2 A / (1 - R A) per pixel", "[hardcase][scene][beer]") {
+TEST_CASE("hc23 absorbing glass sphere: L = R + T^2 A / (1 - R A) per pixel",
+          "[hardcase][scene][beer]") {
   // §3.5, η 1.5, σr = 1, white environment, untruncated (max_depth 60, min_weight 0):
   // b = 0 → 0.16540386, 0.5 → 0.18180242, 0.9 → 0.27631585. Each pixel is checked
   // against the formula at its own ray's b; margin 2e-4 as tests/runtime's furnace.

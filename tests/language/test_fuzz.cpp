@@ -65,9 +65,10 @@ TEST_CASE("random token sequences never break the parser", "[fuzz]") {
 #include "language/tokens.def"
   // Replace the literal kinds' descriptions by real literals.
   words.erase(words.begin(), words.begin() + 5);
-  for (const char* w : {"1", "0.5", ".5", "1e3", "\"s\"", "\"a\\nb\"", "x", "sphere", "motion",
-                        "background", "diffuse", "checker", "dielectric", "radius", "v.x", "<1, 2>",
-                        "{", "}", "(", ")", "<", ">", ";", "\n"})
+  for (const char* w :
+       {"1",      "0.5",        ".5",      "1e3",     "\"s\"",      "\"a\\nb\"", "x",   "sphere",
+        "motion", "background", "diffuse", "checker", "dielectric", "radius",    "v.x", "<1, 2>",
+        "{",      "}",          "(",       ")",       "<",          ">",         ";",   "\n"})
     words.push_back(w);
   std::mt19937 rng(4242);
   std::uniform_int_distribution<int> length(1, 60);

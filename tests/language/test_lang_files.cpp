@@ -142,7 +142,8 @@ void update(const CaseFile& c, const Outcome& o, bool add_ast) {
   for (const std::string& line : lines) out += line + "\n";
   if (!o.actual.empty()) out += "\n";
   for (const Expectation& x : o.actual) out += std::string(kExpect) + " " + x.str() + "\n";
-  if (c.has_ast || add_ast) out.append("\n").append(kAstOpen).append("\n").append(o.ast).append("*/\n");
+  if (c.has_ast || add_ast)
+    out.append("\n").append(kAstOpen).append("\n").append(o.ast).append("*/\n");
   std::ofstream(c.path, std::ios::binary) << out;
 }
 

@@ -40,8 +40,8 @@ TEST_CASE("every punctuation token and keyword lexes from its spelling", "[lexer
 }
 
 TEST_CASE("block and property names are identifiers, not keywords", "[lexer]") {
-  for (const char* word : {"sphere", "radius", "diffuse", "background", "camera", "steps",
-                           "iff", "Let", "_", "x1_"})
+  for (const char* word :
+       {"sphere", "radius", "diffuse", "background", "camera", "steps", "iff", "Let", "_", "x1_"})
     CHECK(keyword_kind(word) == K::Identifier);
   CHECK(keyword_kind("step") == K::KwStep);
   CHECK(keyword_kind("import") == K::KwImport);
@@ -158,9 +158,9 @@ TEST_CASE("comments", "[lexer]") {
 }
 
 TEST_CASE("no >> token: two vectors close", "[lexer]") {
-  CHECK(lex_text("<1, <2, 3>>").kinds() ==
-        Kinds{K::Less, K::Number, K::Comma, K::Less, K::Number, K::Comma, K::Number, K::Greater,
-              K::Greater, K::EndOfFile});
+  CHECK(lex_text("<1, <2, 3>>").kinds() == Kinds{K::Less, K::Number, K::Comma, K::Less, K::Number,
+                                                 K::Comma, K::Number, K::Greater, K::Greater,
+                                                 K::EndOfFile});
   CHECK(lex_text("a>=b<=c==d!=e").kinds() ==
         Kinds{K::Identifier, K::GreaterEqual, K::Identifier, K::LessEqual, K::Identifier,
               K::EqualEqual, K::Identifier, K::BangEqual, K::Identifier, K::EndOfFile});
@@ -184,8 +184,8 @@ TEST_CASE("identifier length limit", "[lexer]") {
   CHECK(lex_text(ok).diags.empty());
   Lexed l = lex_text("let " + std::string(1000000, 'b') + " = 1;");
   CHECK(l.diags == std::vector<std::string>{"IdentifierTooLong@1:5"});
-  CHECK(l.kinds() == Kinds{K::KwLet, K::Identifier, K::Equal, K::Number, K::Semicolon,
-                           K::EndOfFile});
+  CHECK(l.kinds() ==
+        Kinds{K::KwLet, K::Identifier, K::Equal, K::Number, K::Semicolon, K::EndOfFile});
 }
 
 TEST_CASE("file size limit", "[lexer]") {

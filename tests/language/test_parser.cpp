@@ -24,14 +24,21 @@ std::string sexpr(const Expr& e) {
       if (s.back() == '.') s.pop_back();
       return s;
     }
-    case ExprKind::Bool: return e.boolean ? "true" : "false";
-    case ExprKind::String: return "\"" + e.text + "\"";
-    case ExprKind::Name: return e.text;
-    case ExprKind::Vector: return "<" + args(0).substr(1) + ">";
+    case ExprKind::Bool:
+      return e.boolean ? "true" : "false";
+    case ExprKind::String:
+      return "\"" + e.text + "\"";
+    case ExprKind::Name:
+      return e.text;
+    case ExprKind::Vector:
+      return "<" + args(0).substr(1) + ">";
     case ExprKind::Unary:
-    case ExprKind::Binary: return "(" + std::string(token_spelling(e.op)) + args(0) + ")";
-    case ExprKind::Call: return "(call" + args(0) + ")";
-    case ExprKind::Component: return "(." + args(0) + " " + e.text + ")";
+    case ExprKind::Binary:
+      return "(" + std::string(token_spelling(e.op)) + args(0) + ")";
+    case ExprKind::Call:
+      return "(call" + args(0) + ")";
+    case ExprKind::Component:
+      return "(." + args(0) + " " + e.text + ")";
     case ExprKind::Constructor:
       if (e.block) {
         std::string s = "(" + e.text + " {";
@@ -40,7 +47,8 @@ std::string sexpr(const Expr& e) {
         return s + " })";
       }
       return "(" + e.text + args(0) + ")";
-    case ExprKind::Error: return "ERROR";
+    case ExprKind::Error:
+      return "ERROR";
   }
   return "?";
 }
@@ -56,7 +64,9 @@ std::string expr(const std::string& text) {
   return sexpr(*s.exprs[0]);
 }
 
-Diags diags_of(const std::string& text) { return parse_text(text).diags; }
+Diags diags_of(const std::string& text) {
+  return parse_text(text).diags;
+}
 
 }  // namespace
 
@@ -213,7 +223,8 @@ TEST_CASE("recovery reports every independent error once", "[parser]") {
         Diags{"ExpectedProperty@1:19", "ExpectedProperty@2:7"});
   CHECK(diags_of("sphere { radius 1\nlet x = 1;") == Diags{"ExpectedToken@2:1"});
   CHECK(diags_of("fn f(a { }\nlet x = ;") == Diags{"ExpectedToken@1:8", "ExpectedExpression@2:9"});
-  CHECK(diags_of("let v = <1, 2;\nlet w = (1;") == Diags{"ExpectedToken@1:14", "ExpectedToken@2:11"});
+  CHECK(diags_of("let v = <1, 2;\nlet w = (1;") ==
+        Diags{"ExpectedToken@1:14", "ExpectedToken@2:11"});
   CHECK(diags_of("sphere {") == Diags{"UnclosedDelimiter@1:8"});
   CHECK(diags_of("for i in 0 .. 3 {\n f(i);") == Diags{"UnclosedDelimiter@1:17"});
   CHECK(diags_of("}\nelse { }") == Diags{"ExpectedStatement@1:1", "ExpectedStatement@2:1"});

@@ -49,8 +49,8 @@ inline ir::Material glazed(ir::Vec3 c, double ior) {
 }
 
 // A square-gridded area light: `n`×`n` shadow samples, one-sided.
-inline ir::AreaLight area_light(ir::Vec3 corner, ir::Vec3 edge1, ir::Vec3 edge2,
-                                ir::Vec3 radiance, std::uint32_t n = 1) {
+inline ir::AreaLight area_light(ir::Vec3 corner, ir::Vec3 edge1, ir::Vec3 edge2, ir::Vec3 radiance,
+                                std::uint32_t n = 1) {
   ir::AreaLight l;
   l.corner = corner;
   l.edge1 = edge1;

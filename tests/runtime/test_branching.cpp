@@ -45,11 +45,14 @@ TEST_CASE("stochastic branching converges to the split tree", "[runtime][branchi
   // standard error of the mean well under 0.5 % over 576 pixels x 1024 samples.
   CHECK(mean(b.image) == Approx(mean(a.image)).epsilon(0.01));
   // Per pixel, 1024 one-path samples: within 0.1 of the tree's value.
-  for (std::size_t i = 0; i < a.image.rgb.size(); ++i) REQUIRE(std::fabs(b.image.rgb[i] - a.image.rgb[i]) < 0.1);
+  for (std::size_t i = 0; i < a.image.rgb.size(); ++i)
+    REQUIRE(std::fabs(b.image.rgb[i] - a.image.rgb[i]) < 0.1);
   // One path per sample: no sample of the stochastic render splits, so it traces
   // far fewer refraction + reflection rays per camera ray.
-  double split_rays = double(a.stats.reflection_rays + a.stats.refraction_rays) / a.stats.camera_rays;
-  double stoch_rays = double(b.stats.reflection_rays + b.stats.refraction_rays) / b.stats.camera_rays;
+  double split_rays =
+      double(a.stats.reflection_rays + a.stats.refraction_rays) / a.stats.camera_rays;
+  double stoch_rays =
+      double(b.stats.reflection_rays + b.stats.refraction_rays) / b.stats.camera_rays;
   CHECK(stoch_rays < 0.5 * split_rays);
   CHECK(b.stats.nonfinite_samples == 0);
 }
@@ -95,8 +98,8 @@ TEST_CASE("Russian roulette is unbiased where the cutoff darkens", "[runtime][te
   rt::RenderResult cut = rt::render(corridor(0.2, ir::Termination::Cutoff, 4), o);
   rt::RenderResult rr = rt::render(corridor(0.2, ir::Termination::Roulette, 1024), o);
   INFO("exact " << exact << " cutoff " << mean(cut.image) << " roulette " << mean(rr.image));
-  CHECK(mean(cut.image) < 0.95 * exact);                        // the cutoff's bias
-  CHECK(mean(rr.image) == Approx(exact).epsilon(0.02));         // roulette: none
+  CHECK(mean(cut.image) < 0.95 * exact);                 // the cutoff's bias
+  CHECK(mean(rr.image) == Approx(exact).epsilon(0.02));  // roulette: none
   CHECK(cut.stats.pruned_by_weight > 0);
   CHECK(rr.stats.pruned_by_weight > 0);  // some branches still end, by chance
   CHECK(rr.stats.nonfinite_samples == 0);

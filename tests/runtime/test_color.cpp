@@ -1,6 +1,5 @@
 // sRGB codes through the OCIO path (robustness.md §3.8) and image writing.
 #include <catch2/catch.hpp>
-
 #include <cstdio>
 #include <filesystem>
 #include <fstream>

@@ -4,7 +4,6 @@
 // robustness.md §3.5–§3.6, evaluated on the exact camera ray of each pixel (the test
 // replays the sampler and camera), so tolerances only cover float rounding.
 #include <catch2/catch.hpp>
-
 #include <cmath>
 
 #include "runtime/camera.hpp"
@@ -63,8 +62,8 @@ TEST_CASE("black glazed sphere in a white background shows R(theta)", "[scene][f
           REQUIRE(v == 1.0f);
         } else if (b < 0.98) {
           INFO("pixel " << x << "," << y << " b/r " << b);
-          REQUIRE(v == Approx(rt::fresnel_dielectric(std::sqrt(1 - b * b), 1.5, mode))
-                           .margin(1e-4));
+          REQUIRE(v ==
+                  Approx(rt::fresnel_dielectric(std::sqrt(1 - b * b), 1.5, mode)).margin(1e-4));
           ++checked;
         }
       }
@@ -118,15 +117,16 @@ TEST_CASE("glass sphere truncation matches the §3.5 table at the centre", "[sce
 TEST_CASE("glass slab at normal incidence: T = (1-R)^2 A / (1 - R^2 A^2)", "[scene][beer]") {
   // §3.6. Reflections return towards the camera and hit a black wall behind it, so
   // the pixel holds the transmitted part only.
-  const std::pair<double, double> cases[] = {{1.0, 0.92307692}, {0.9, 0.83051635},
-                                             {0.5, 0.46098439}};
+  const std::pair<double, double> cases[] = {
+      {1.0, 0.92307692}, {0.9, 0.83051635}, {0.5, 0.46098439}};
   for (auto [A, T] : cases) {
     ir::Scene s = base_scene(11, 11, 1);
     s.background = {1, 1, 1};
     s.settings.min_weight = 0;
     s.settings.max_depth = 60;
     double sigma = -std::log(A);
-    s.shapes.push_back(box({-5, -5, 0}, {5, 5, 1}, add_material(s, dielectric(1.5, ir::Vec3(sigma)))));
+    s.shapes.push_back(
+        box({-5, -5, 0}, {5, 5, 1}, add_material(s, dielectric(1.5, ir::Vec3(sigma)))));
     s.shapes.push_back(plane({0, 0, 1}, -10, add_material(s, diffuse({0, 0, 0}))));
     look(s, {0, 0, -3}, {0, 0, 1}, 0.5);
     rt::RenderResult r = rt::render(s, {});

@@ -1,6 +1,5 @@
 // Fresnel, Schlick, refraction and Beer: exact values from robustness.md §3.1–3.4.
 #include <catch2/catch.hpp>
-
 #include <cmath>
 #include <random>
 
@@ -10,8 +9,12 @@ using namespace snell::rt;
 using snell::ir::FresnelMode;
 
 namespace {
-double deg(double d) { return d * 3.14159265358979323846 / 180.0; }
-double cosd(int th) { return th == 90 ? 0.0 : std::cos(deg(th)); }
+double deg(double d) {
+  return d * 3.14159265358979323846 / 180.0;
+}
+double cosd(int th) {
+  return th == 90 ? 0.0 : std::cos(deg(th));
+}
 struct Row {
   int th;
   double out, in;
@@ -21,20 +24,11 @@ struct Row {
 TEST_CASE("exact Fresnel matches the reference table, eta 1.5, both directions", "[fresnel]") {
   // robustness.md §3.1: R_out = fr(cos, 1.5), R_in = fr(cos, 1/1.5).
   const Row rows[] = {
-      { 0, 0.04000000, 0.04000000},
-      {10, 0.04001549, 0.04008296},
-      {20, 0.04026623, 0.04172852},
-      {30, 0.04152263, 0.05519017},
-      {40, 0.04573364, 0.24529120},
-      {45, 0.05023991, 1.00000000},
-      {50, 0.05766294, 1.00000000},
-      {60, 0.08918671, 1.00000000},
-      {70, 0.17104254, 1.00000000},
-      {75, 0.25306056, 1.00000000},
-      {80, 0.38770435, 1.00000000},
-      {85, 0.61279965, 1.00000000},
-      {89, 0.90418495, 1.00000000},
-      {90, 1.00000000, 1.00000000},
+      {0, 0.04000000, 0.04000000},  {10, 0.04001549, 0.04008296}, {20, 0.04026623, 0.04172852},
+      {30, 0.04152263, 0.05519017}, {40, 0.04573364, 0.24529120}, {45, 0.05023991, 1.00000000},
+      {50, 0.05766294, 1.00000000}, {60, 0.08918671, 1.00000000}, {70, 0.17104254, 1.00000000},
+      {75, 0.25306056, 1.00000000}, {80, 0.38770435, 1.00000000}, {85, 0.61279965, 1.00000000},
+      {89, 0.90418495, 1.00000000}, {90, 1.00000000, 1.00000000},
   };
   for (const Row& r : rows) {
     INFO("theta " << r.th);
@@ -46,9 +40,8 @@ TEST_CASE("exact Fresnel matches the reference table, eta 1.5, both directions",
 
 TEST_CASE("exact Fresnel matches the reference table, eta 1.33", "[fresnel]") {
   const Row rows[] = {
-      {0, 0.02005931, 0.02005931},  {20, 0.02023971, 0.02072333},
-      {30, 0.02111246, 0.02508987}, {45, 0.02752138, 0.13418672},
-      {60, 0.05912560, 1.0},        {75, 0.21142660, 1.0},
+      {0, 0.02005931, 0.02005931},  {20, 0.02023971, 0.02072333}, {30, 0.02111246, 0.02508987},
+      {45, 0.02752138, 0.13418672}, {60, 0.05912560, 1.0},        {75, 0.21142660, 1.0},
       {85, 0.58272824, 1.0},        {89, 0.89604651, 1.0},
   };
   for (const Row& r : rows) {
@@ -123,7 +116,7 @@ TEST_CASE("refraction and Fresnel agree on TIR and Snell's law holds", "[fresnel
     Vec3d t = refract({s, -c, 0}, {0, 1, 0}, f);
     double len = std::sqrt(t.x * t.x + t.y * t.y + t.z * t.z);
     REQUIRE(len == Approx(1).margin(1e-9));
-    REQUIRE(t.y <= 0);                                       // goes through
+    REQUIRE(t.y <= 0);                                         // goes through
     REQUIRE(eta * t.x == Approx(s).margin(1e-9 * (1 + eta)));  // n_t sinθt = n_i sinθi
   }
   CHECK(tir_count > 0);

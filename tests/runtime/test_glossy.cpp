@@ -1,7 +1,6 @@
 // Glossy reflection (§8): the Duff et al. basis, the below-surface policy, blur 0 as
 // the mirror bit for bit, continuity as blur -> 0, and energy in a white furnace.
 #include <catch2/catch.hpp>
-
 #include <random>
 
 #include "runtime/scatter.hpp"
@@ -69,8 +68,8 @@ TEST_CASE("glossy directions never go below the surface at 85 degrees", "[glossy
 }
 
 TEST_CASE("glossy blur 0 renders the mirror image bit for bit", "[glossy][scene]") {
-  for (auto kind : {ir::SamplerKind::Independent, ir::SamplerKind::Stratified,
-                    ir::SamplerKind::Sobol}) {
+  for (auto kind :
+       {ir::SamplerKind::Independent, ir::SamplerKind::Stratified, ir::SamplerKind::Sobol}) {
     ir::Scene a = sphere_on_checker(mirror({0.9, 0.85, 0.7}));
     ir::Scene b = sphere_on_checker(glossy({0.9, 0.85, 0.7}, 0));
     a.settings.sampler = b.settings.sampler = kind;

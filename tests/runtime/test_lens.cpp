@@ -2,7 +2,6 @@
 // lens ray meets the pinhole ray on the focal plane; an edge at depth z blurs over a
 // disk of diameter aperture·|z − zf|/z on the focal plane (robustness.md §3.8 #10).
 #include <catch2/catch.hpp>
-
 #include <random>
 
 #include "runtime/camera.hpp"
@@ -31,11 +30,13 @@ TEST_CASE("every lens ray reaches the pinhole ray's point on the focal plane", "
   c.fov = 60;
   c.aperture = 0.4;
   c.focal_distance = 7;
-  rt::Camera lens(c, 100, 80), pin([&] {
-    ir::Camera p = c;
-    p.aperture = 0;
-    return p;
-  }(), 100, 80);
+  rt::Camera lens(c, 100, 80), pin(
+                                   [&] {
+                                     ir::Camera p = c;
+                                     p.aperture = 0;
+                                     return p;
+                                   }(),
+                                   100, 80);
   rt::Vec3f fwd = rt::normalize(rt::to_float(0.2, 0.1, 1));
   std::mt19937 rng(5);
   std::uniform_real_distribution<float> u01(0, 0.99999994f);

@@ -44,7 +44,8 @@ double expected_streak(std::uint32_t x, F cover) {
 }
 }  // namespace
 
-TEST_CASE("motion streak of a black sphere: pixel = 1 - covered shutter fraction", "[motion][scene]") {
+TEST_CASE("motion streak of a black sphere: pixel = 1 - covered shutter fraction",
+          "[motion][scene]") {
   const double r = 0.6;
   ir::Scene s = streak_scene(moving(sphere({-3, 0, 10}, r, 0), K::Translate, {6, 0, 0}));
   rt::RenderResult res = render_with(s);

@@ -1,7 +1,6 @@
 // Self-intersection (robustness.md §1 #1): rays spawned from a hit with the
 // Wächter–Binder offset never re-hit their own surface, at any scale.
 #include <catch2/catch.hpp>
-
 #include <cmath>
 #include <random>
 

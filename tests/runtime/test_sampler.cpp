@@ -7,8 +7,8 @@ using namespace snell::rt;
 
 TEST_CASE("sampler values lie in 0..1 and never reach 1", "[sampler]") {
   CHECK(to_unit_float(0xffffffffu) < 1.0f);
-  for (auto kind : {ir::SamplerKind::Independent, ir::SamplerKind::Stratified,
-                    ir::SamplerKind::Sobol}) {
+  for (auto kind :
+       {ir::SamplerKind::Independent, ir::SamplerKind::Stratified, ir::SamplerKind::Sobol}) {
     for (std::uint32_t spp : {1u, 5u, 16u, 64u}) {
       SamplerSpec spec{kind, 3, spp};
       for (std::uint32_t px = 0; px < 16; ++px)

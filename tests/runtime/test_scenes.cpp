@@ -1,7 +1,6 @@
 // Analytic scenes with diffuse surfaces and lights, determinism, robustness.
-#include <catch2/catch.hpp>
-
 #include <atomic>
+#include <catch2/catch.hpp>
 #include <cmath>
 
 #include "runtime/render.hpp"
@@ -88,15 +87,16 @@ TEST_CASE("square area light over a diffuse point: L = rho * Le * F", "[scene][a
 }
 
 TEST_CASE("same image bit for bit with 1 and 2 threads", "[scene][determinism]") {
-  for (auto kind : {ir::SamplerKind::Independent, ir::SamplerKind::Stratified,
-                    ir::SamplerKind::Sobol}) {
+  for (auto kind :
+       {ir::SamplerKind::Independent, ir::SamplerKind::Stratified, ir::SamplerKind::Sobol}) {
     ir::Scene s = base_scene(40, 30, 4);
     s.settings.sampler = kind;
     s.settings.seed = 42;
     s.background = {0.2, 0.3, 0.4};
     ir::Material check = checker({0.9, 0.9, 0.9}, {0.1, 0.1, 0.1}, 0.5);
     s.shapes.push_back(plane({0, 1, 0}, 0, add_material(s, check)));
-    s.shapes.push_back(sphere({-0.8, 0.7, 0}, 0.7, add_material(s, dielectric(1.5, {0.2, 0.1, 0}))));
+    s.shapes.push_back(
+        sphere({-0.8, 0.7, 0}, 0.7, add_material(s, dielectric(1.5, {0.2, 0.1, 0}))));
     s.shapes.push_back(sphere({0.8, 0.5, 0.5}, 0.5, add_material(s, glazed({0.8, 0.1, 0.1}, 1.5))));
     s.area_lights.push_back(area_light({-1, 3, -1}, {2, 0, 0}, {0, 0, 2}, {5, 5, 5}, 2));
     look(s, {0, 1.5, -4}, {0, 0.5, 0}, 50);
@@ -119,14 +119,15 @@ TEST_CASE("demo picture", "[.][demo]") {
   ir::Material check = checker({0.9, 0.9, 0.9}, {0.2, 0.2, 0.2}, 1);
   s.shapes.push_back(plane({0, 1, 0}, 0, add_material(s, check)));
   s.shapes.push_back(sphere({-1.2, 1, 0}, 1, add_material(s, dielectric(1.5, {0.3, 0.1, 0.05}))));
-  s.shapes.push_back(sphere({1.2, 0.7, 0.6}, 0.7, add_material(s, glazed({0.05, 0.05, 0.05}, 1.5))));
+  s.shapes.push_back(
+      sphere({1.2, 0.7, 0.6}, 0.7, add_material(s, glazed({0.05, 0.05, 0.05}, 1.5))));
   s.shapes.push_back(sphere({0.2, 0.4, -1.2}, 0.4, add_material(s, mirror({0.9, 0.8, 0.5}))));
   ir::Shape b = box({-0.4, 0, -0.4}, {0.4, 0.8, 0.4}, add_material(s, diffuse({0.2, 0.6, 0.2})));
   b.world_from_object = ir::Transform::translate({2.5, 0, -1}) * ir::Transform::rotate_y(30);
   s.shapes.push_back(b);
   ir::Shape e = sphere({0, 0, 0}, 1, add_material(s, diffuse({0.8, 0.3, 0.2})));
-  e.world_from_object = ir::Transform::translate({-2.8, 0.5, -1.5}) *
-                        ir::Transform::rotate_z(30) * ir::Transform::scale({0.8, 0.4, 0.4});
+  e.world_from_object = ir::Transform::translate({-2.8, 0.5, -1.5}) * ir::Transform::rotate_z(30) *
+                        ir::Transform::scale({0.8, 0.4, 0.4});
   s.shapes.push_back(e);
   s.area_lights.push_back(area_light({-1, 4, -1}, {2, 0, 0}, {0, 0, 2}, {6, 6, 6}, 3));
   s.point_lights.push_back({{4, 5, -4}, {20, 20, 20}, {}});
