@@ -470,14 +470,15 @@ bool hit_plane(const PlaneData& p, const Ray& r, double tmax, Vec3 origin, doubl
   double denom = ir::dot(n, d);
   if (denom == 0) return false;
   t = (pd - ir::dot(n, o)) / denom;
-  return t > 0 && t<tmax&& static_cast<float>(t)> 0;
+  double tnear = r.tnear;
+  return (t > tnear) && (t < tmax) && (static_cast<float>(t) > 0);
 }
 
 RTCRayHit make_rayhit(const Ray& r) {
   RTCRayHit rh;
   rh.ray.org_x = r.org.x, rh.ray.org_y = r.org.y, rh.ray.org_z = r.org.z;
   rh.ray.dir_x = r.dir.x, rh.ray.dir_y = r.dir.y, rh.ray.dir_z = r.dir.z;
-  rh.ray.tnear = 0;
+  rh.ray.tnear = r.tnear;
   rh.ray.tfar = r.tmax;
   rh.ray.time = r.time;
   rh.ray.mask = ~0u;

@@ -39,6 +39,10 @@ struct Ray {
   Vec3f org, dir;  // dir need not be unit length; t is in units of |dir|
   float tmax = INFINITY;
   float time = 0;  // shutter fraction in [0, 1): 0 = shutter open, Embree's ray time
+  // Hits at t <= tnear are ignored. 0 except where a ray continues straight
+  // through an index-matched interface (integrator.cpp): there it is the next
+  // float after the interface's t, so the same ray goes on bit for bit.
+  float tnear = 0;
 };
 
 struct Hit {

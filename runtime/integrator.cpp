@@ -270,7 +270,8 @@ Color Integrator::li(const Ray& camera_ray, const SampleContext& sc, RenderStats
     Node kids[2];
     int nkids = 0;
     Vec3f p_surface;
-    auto spawn = [&](RayKind kind, Vec3f org, Vec3f dir, Color w, std::uint64_t slot) {
+    auto spawn = [&](RayKind kind, Vec3f org, Vec3f dir, Color w, std::uint64_t slot,
+                     float tnear = 0) {
       if (w.x == 0 && w.y == 0 && w.z == 0) return;  // nothing to carry: not a prune
       if (node.depth + 1 > max_depth_) {
         ++stats.pruned_by_depth;
@@ -289,7 +290,7 @@ Color Integrator::li(const Ray& camera_ray, const SampleContext& sc, RenderStats
         w = w * (1 / q);
       }
       Node& k = kids[nkids++];
-      k.ray = Ray{org, dir, INFINITY, node.ray.time};
+      k.ray = Ray{org, dir, INFINITY, node.ray.time, tnear};
       k.start = p_surface;
       k.weight = w;
       k.depth = node.depth + 1;
@@ -370,7 +371,15 @@ Color Integrator::li(const Ray& camera_ray, const SampleContext& sc, RenderStats
           if (reflect)
             spawn(RayKind::Reflection, offset_ray_origin(p, nf, offset_scale_), normalize(refl),
                   w * wr, 1);
-          if (transmit) {
+          if (transmit && m.ior == 1.0) {
+            // Index-matched (robustness #14): R = 0 and the ray goes on unbent.
+            // The very same ray continues past this hit instead of restarting
+            // from an offset origin, so a clear ior-1 object renders bit for bit
+            // like its absence, while still counting as a refraction for
+            // max_depth and min_weight as §6 defines them.
+            spawn(RayKind::Refraction, node.ray.org, d, w * wt, 2,
+                  std::nextafter(hit.t, float(INFINITY)));
+          } else if (transmit) {
             Vec3d t = refract({d.x, d.y, d.z}, {nf.x, nf.y, nf.z}, f);
             spawn(RayKind::Refraction, offset_ray_origin(p, -nf, offset_scale_),
                   normalize(to_float(t.x, t.y, t.z)), w * wt, 2);
