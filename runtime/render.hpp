@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "runtime/image_format.hpp"  // is_supported_image_extension
 #include "runtime/ir/ir.hpp"
 
 namespace snell::rt {
@@ -78,12 +79,15 @@ struct OutputInfo {
 // the OCIO config at `ocio_config` (a path; empty: $OCIO, else the shipped one).
 // The file is written to a temporary name beside the target and renamed into
 // place, so an existing file is never left half-written. Returns an error message,
-// or an empty string on success.
+// or an empty string on success. The writer lives in a module loaded on first use
+// (image_out.cpp); a missing module is an error message, like a failed write.
 std::string write_image(const std::string& path, const Image& image, const OutputInfo& info,
                         const std::string& ocio_config);
 
-// True when `path`'s extension is one write_image knows.
-bool is_supported_image_extension(const std::string& path);
+// Loads the image-output module now rather than at the first write_image (the
+// CLI calls it on a background thread while the render runs). Returns an error
+// message, or empty when the module is ready. Safe to call from any thread.
+std::string preload_image_writer();
 
 // One-line descriptions for logs and test failures.
 std::string to_string(const Image& image);
