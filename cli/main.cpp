@@ -212,6 +212,33 @@ int run_render(const Options& o) {
 
 }  // namespace
 
+namespace {
+// Runs the subcommand the command line chose.
+int dispatch(CLI::App* render, CLI::App* check, CLI::App* dump, CLI::App* sweep, const Options& o,
+             cli::SweepOptions& so, const std::vector<std::string>& vary,
+             const std::string& series) {
+  if (render->parsed()) return run_render(o);
+  if (check->parsed()) return run_check(o);
+  if (dump->parsed()) return dump_ast(o.scene);
+  if (sweep->parsed()) {
+    so.scene = o.scene;
+    std::string error;
+    if (!build_compile_options(o, so.compile, error)) return usage_error(error);
+    for (const std::string& v : vary) {
+      cli::SweepAxis axis;
+      if (!cli::parse_axis(v, axis))
+        return usage_error("--vary takes KEY=V1,V2,..., got '" + v + "'");
+      so.vary.push_back(axis);
+    }
+    if (!series.empty() && !cli::parse_axis(series, so.series))
+      return usage_error("--series takes KEY=V1,V2,..., got '" + series + "'");
+    return cli::run_sweep(so);
+  }
+  return kExitUsage;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   CLI::App app{"snell: a scene language and ray tracer", "snell"};
   app.require_subcommand(1);
@@ -287,22 +314,17 @@ int main(int argc, char** argv) {
     int code = app.exit(e);
     return code == 0 ? kExitOk : kExitUsage;
   }
-  if (render->parsed()) return run_render(o);
-  if (check->parsed()) return run_check(o);
-  if (dump->parsed()) return dump_ast(o.scene);
-  if (sweep->parsed()) {
-    so.scene = o.scene;
-    std::string error;
-    if (!build_compile_options(o, so.compile, error)) return usage_error(error);
-    for (const std::string& v : vary) {
-      cli::SweepAxis axis;
-      if (!cli::parse_axis(v, axis))
-        return usage_error("--vary takes KEY=V1,V2,..., got '" + v + "'");
-      so.vary.push_back(axis);
-    }
-    if (!series.empty() && !cli::parse_axis(series, so.series))
-      return usage_error("--series takes KEY=V1,V2,..., got '" + series + "'");
-    return cli::run_sweep(so);
+  // Last line of defence: nothing a user types may end in an abort. Memory the
+  // machine does not have is reported (exit 1: the scene asks for it); anything
+  // else escaping is a Snell bug, reported as such.
+  try {
+    return dispatch(render, check, dump, sweep, o, so, vary, series);
+  } catch (const std::bad_alloc&) {
+    std::cerr << "snell: error: out of memory (the scene needs more memory than this machine "
+                 "has; lower the resolution, samples or geometry)\n";
+    return kExitScene;
+  } catch (const std::exception& e) {
+    std::cerr << "snell: error: internal error: " << e.what() << "\n";
+    return kExitScene;
   }
-  return kExitUsage;
 }

@@ -6,6 +6,7 @@
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -47,21 +48,33 @@ bool read_file(const std::string& path, std::string& text, std::string& message)
 
 void run_with_large_stack(const std::function<void()>& fn) {
   constexpr std::size_t kStack = std::size_t(1) << 30;  // reserved, touched only as used
+  // An exception (out of memory) is carried to the calling thread and rethrown
+  // there: escaping a thread's start routine would abort the program.
+  struct Job {
+    const std::function<void()>* fn;
+    std::exception_ptr error;
+  } job{&fn, nullptr};
   pthread_attr_t attr;
   pthread_attr_init(&attr);
   pthread_attr_setstacksize(&attr, kStack);
   pthread_t thread;
   auto trampoline = [](void* arg) -> void* {
-    (*static_cast<const std::function<void()>*>(arg))();
+    Job* j = static_cast<Job*>(arg);
+    try {
+      (*j->fn)();
+    } catch (...) {
+      j->error = std::current_exception();
+    }
     return nullptr;
   };
-  if (pthread_create(&thread, &attr, trampoline, const_cast<std::function<void()>*>(&fn)) != 0) {
+  if (pthread_create(&thread, &attr, trampoline, &job) != 0) {
     pthread_attr_destroy(&attr);
     fn();  // no thread available: run here
     return;
   }
   pthread_attr_destroy(&attr);
   pthread_join(thread, nullptr);
+  if (job.error) std::rethrow_exception(job.error);
 }
 
 std::string stdlib_dir(const CompileOptions& options) {

@@ -1,5 +1,7 @@
 #include "compiler/properties.hpp"
 
+#include <fmt/format.h>
+
 #include <cmath>
 #include <deque>
 #include <memory>
@@ -59,6 +61,7 @@ bool range_ok(Check c, double x) {
     case Check::NonNegative:
       return x >= 0;
     case Check::AtLeast1:
+    case Check::Pixels:
       return x >= 1;
     case Check::Fov:
       return x > 0 && x < 180;
@@ -76,6 +79,7 @@ std::string check_range(Check c, double x) {
     case Check::NonNegative:
       return "must be >= 0";
     case Check::AtLeast1:
+    case Check::Pixels:
       return "must be >= 1";
     case Check::Fov:
       return "must be in (0, 180) degrees";
@@ -94,6 +98,8 @@ std::string range_words(Check c) {
       return " >= 0";
     case Check::AtLeast1:
       return " >= 1";
+    case Check::Pixels:
+      return " >= 1, at most 268435456 pixels in all";
     case Check::Fov:
       return " in (0, 180)";
     case Check::Ior:
@@ -219,7 +225,12 @@ std::string check_value(const PropInfo& p, Value& v, bool* integral) {
           return "'" + std::string(p.name) + "' is too large";
       }
       if (p.check == Check::Shutter && !(v.v.x <= v.v.y)) return "'shutter' needs open <= close";
-      return check_components(2);
+      if (std::string e = check_components(2); !e.empty()) return e;
+      if (p.check == Check::Pixels && v.v.x * v.v.y > kMaxPixels)
+        return fmt::format(
+            "'{}' is at most 268435456 pixels in all (e.g. 16384x16384), not {}x{} = {} pixels",
+            p.name, v.v.x, v.v.y, v.v.x * v.v.y);
+      return {};
     }
     case PropType::Vec3:
     case PropType::Color:

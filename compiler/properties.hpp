@@ -35,7 +35,10 @@ enum class PropType {
   Block,
 };
 
-enum class Check { Any, Positive, NonNegative, AtLeast1, Fov, Ior, NonZero, Shutter };
+// Pixels: every component >= 1 and at most kMaxPixels in all (the image's
+// float RGB film must fit in memory: 2^28 pixels is 3 GiB).
+enum class Check { Any, Positive, NonNegative, AtLeast1, Fov, Ior, NonZero, Shutter, Pixels };
+inline constexpr double kMaxPixels = 268435456.0;  // 2^28, e.g. 16384 x 16384
 
 inline constexpr unsigned Req = 1, Rep = 2, Obj = 4;
 

@@ -171,6 +171,10 @@ TEST_CASE("exit codes follow spec §10", "[e2e]") {
   CHECK(run("render " + (tmp / "ok.scn") + " -o " + (tmp / "out.bmp")) == 2);
   CHECK(run("render " + (tmp / "ok.scn") + " --set nope=1") == 2);
   CHECK(run("render " + (tmp / "ok.scn") + " --res 10by10") == 2);
+  // A film the machine cannot hold is refused up front, never an abort.
+  CHECK(run("render " + (tmp / "ok.scn") + " --quiet --res 100000x100000") == 2);
+  std::ofstream(tmp / "huge.scn") << "settings { resolution <100000, 100000> }\nsphere { }\n";
+  CHECK(run("render " + (tmp / "huge.scn") + " --quiet -o " + (tmp / "huge.png")) == 1);
   CHECK(run("render " + (tmp / "ok.scn") + " --quiet -o " + (tmp / "no/such/dir/x.png")) == 3);
 }
 
