@@ -185,6 +185,11 @@ Color Integrator::direct(Vec3f p, Vec3f nf, float time, std::uint64_t key, const
     // A light at (numerically) zero distance has no defined direction: it adds
     // nothing rather than an infinity (robustness #4: d² underflows at 1e-20).
     if (!(cos_s > 0) || !(d2 > 0)) continue;
+    // The light must also lie beyond the offset origin: p is off the true surface
+    // by rounding, so cos_s of a light in the receiver's plane is ±1e-7, not 0.
+    // Within the offset the side is unknowable; such a light adds exactly 0
+    // (robustness #27). It changes nothing for a light clearly above the surface.
+    if (!(dot(nf, l.pos - o) > 0)) continue;
     Ray shadow{o, l.pos - o, 1.0f, time};
     ++stats.shadow_rays;
     if (embree_.occluded(shadow)) continue;
@@ -207,7 +212,7 @@ Color Integrator::direct(Vec3f p, Vec3f nf, float time, std::uint64_t key, const
         float d2 = dot(to, to);
         float cos_s = dot(nf, to);
         float cos_l = -dot(l.n, to);
-        if (!(cos_s > 0) || !(d2 > 0)) continue;
+        if (!(cos_s > 0) || !(d2 > 0) || !(dot(nf, q - o) > 0)) continue;  // as above
         if (!l.two_sided && !(cos_l > 0)) continue;
         Vec3f side = cos_l > 0 ? l.n : -l.n;  // the light's face towards p
         Vec3f target = offset_ray_origin(q, side, offset_scale_);
