@@ -55,7 +55,13 @@ bool Evaluator::step_exhausted(Span at) {
 
 void Evaluator::define(const std::shared_ptr<Env>& env, std::int32_t symbol, Value v, Span span) {
   symbol_bound_[symbol] = 1;
-  if (const Binding* old = env->find_local(symbol)) {
+  if (Binding* old = env->find_local(symbol)) {
+    // An imported name is a library default: the file's own definition replaces it
+    // (`import "materials.scn"; let glass = ...;` is the core's own example).
+    if (old->imported) {
+      *old = {symbol, std::move(v), span, false};
+      return;
+    }
     error(DiagKind::Redefinition, span,
           "'" + symbol_names_[symbol] + "' is already defined in this scope")
         .note(old->span, "first defined here");
@@ -287,15 +293,12 @@ void Evaluator::exec_import(const Stmt& s, const std::shared_ptr<Env>& env) {
     exported = run_file(*f->program);
     imported_[f->file] = exported;
   }
+  // The importing file's own definitions win over imported ones, whichever comes
+  // first; between two imports the later one wins (as a later #include would).
   for (const Binding& b : exported->vars) {
     if (b.imported) continue;
-    if (const Binding* old = env->find_local(b.symbol)) {
-      if (old->span.file == b.span.file && old->span.begin == b.span.begin) continue;
-      error(DiagKind::Redefinition, s.span,
-            "import of '" + s.name + "' defines '" + symbol_names_[b.symbol] +
-                "', which is already defined in this scope")
-          .note(old->span, "already defined here")
-          .note(b.span, "defined by the import here");
+    if (Binding* old = env->find_local(b.symbol)) {
+      if (old->imported) *old = {b.symbol, b.value, b.span, true};
       continue;
     }
     env->vars.push_back({b.symbol, b.value, b.span, true});

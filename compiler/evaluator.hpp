@@ -37,6 +37,11 @@ struct Env {
       if (b.symbol == symbol) return &b;
     return nullptr;
   }
+  Binding* find_local(std::int32_t symbol) {
+    for (Binding& b : vars)
+      if (b.symbol == symbol) return &b;
+    return nullptr;
+  }
 };
 
 inline constexpr int kMaxCallDepth = 10000;

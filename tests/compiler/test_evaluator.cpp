@@ -253,6 +253,47 @@ TEST_CASE("imports: folder of the importer, -I, stdlib; once per scene; cycles",
   fs::remove_all(dir);
 }
 
+TEST_CASE("a file's own definitions replace imported names, before or after the import",
+          "[compiler]") {
+  // The core's §4 example imports materials.scn (which has a `glass`) and then
+  // defines its own `glass`: that must compile, and the scene's glass wins.
+  auto c =
+      run("import \"materials.scn\";\n"
+          "let glass = dielectric <1.5, <0.05, 0.2, 0.3>>;\n"
+          "sphere { material glass }\n");
+  INFO(diag_kinds(*c));
+  REQUIRE(c->status == compile::CompileStatus::Ok);
+  CHECK(c->scene.materials[c->scene.shapes[0].material].ior == 1.5);
+  CHECK(c->scene.materials[c->scene.shapes[0].material].absorb.z == 0.3);
+
+  // Defined first, imported second: the file's own `water` stays.
+  c = run("let water = 7;\nimport \"materials.scn\";\nsphere { radius water }\n");
+  INFO(diag_kinds(*c));
+  REQUIRE(c->status == compile::CompileStatus::Ok);
+  CHECK(c->scene.shapes[0].radius == 7);
+
+  // A file's own name defined twice is still an error, imports or not.
+  CHECK(first_error("import \"colors.scn\";\nlet red = 1;\nlet red = 2;") == "Redefinition");
+  // fn replaces an imported name too.
+  CHECK(num("red(2)", "import \"colors.scn\";\nfn red(x) = x * 3;") == 6);
+
+  // Between two imports, the later one's binding is seen.
+  fs::path dir = fs::temp_directory_path() / "snell_import_shadow_test";
+  fs::create_directories(dir);
+  std::ofstream(dir / "one.scn") << "let k = 1;\nfn get_k() = k;\n";
+  std::ofstream(dir / "two.scn") << "let k = 2;\n";
+  std::ofstream(dir / "main.scn") << "import \"one.scn\";\nimport \"two.scn\";\n"
+                                     "sphere { radius k }\nsphere { radius get_k() }\n";
+  compile::CompileOptions o;
+  o.stdlib_dir = std::string(SNELL_SOURCE_DIR) + "/stdlib";
+  c = compile::compile_file((dir / "main.scn").string(), o);
+  INFO(diag_kinds(*c));
+  REQUIRE(c->status == compile::CompileStatus::Ok);
+  CHECK(c->scene.shapes[0].radius == 2);
+  CHECK(c->scene.shapes[1].radius == 1);  // one.scn's function sees one.scn's k
+  fs::remove_all(dir);
+}
+
 TEST_CASE("runaway programs stop with an error at the place", "[compiler]") {
   compile::CompileOptions o;
   o.step_budget = 100000;
