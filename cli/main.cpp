@@ -91,10 +91,11 @@ int compile_scene(const Options& o, std::unique_ptr<compile::Compilation>& out) 
   switch (out->status) {
     case compile::CompileStatus::Ok:
       break;
-    case compile::CompileStatus::SceneErrors: {
+    case compile::CompileStatus::SceneErrors:
+    case compile::CompileStatus::FileErrors: {
       std::size_t n = out->diags.error_count();
       std::cerr << n << " error" << (n == 1 ? "" : "s") << " in " << o.scene << "\n";
-      return kExitScene;
+      return out->status == compile::CompileStatus::FileErrors ? kExitIo : kExitScene;
     }
     case compile::CompileStatus::UsageError:
       return usage_error(out->message);

@@ -134,6 +134,9 @@ class Sweeper {
       case compile::CompileStatus::SceneErrors:
         code = kExitScene;
         return false;
+      case compile::CompileStatus::FileErrors:
+        code = kExitIo;
+        return false;
       case compile::CompileStatus::UsageError:
         std::cerr << "snell sweep: error: " << comp->message << "\n";
         code = kExitUsage;

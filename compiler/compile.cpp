@@ -272,8 +272,17 @@ std::unique_ptr<Compilation> compile_source(const std::string& path, std::string
     if (!driver.apply_overrides(builder, eval)) return;
     c->scene = builder.finish();
   });
-  if (c->status == CompileStatus::Ok && c->diags.has_errors())
-    c->status = CompileStatus::SceneErrors;
+  if (c->status == CompileStatus::Ok && c->diags.has_errors()) {
+    // §10: exit 3 is "a file could not be read". When that is all that went wrong
+    // (a missing import or mesh file), say so with the status; any other error
+    // makes it a scene error.
+    bool only_files = true;
+    for (const lang::Diagnostic& d : c->diags.diagnostics())
+      if (d.severity == lang::Severity::Error && d.kind != lang::DiagKind::FileUnreadable &&
+          d.kind != lang::DiagKind::ImportNotFound)
+        only_files = false;
+    c->status = only_files ? CompileStatus::FileErrors : CompileStatus::SceneErrors;
+  }
   return c;
 }
 

@@ -30,6 +30,8 @@ enum class CompileStatus {
   SceneErrors,  // exit 1
   UsageError,   // exit 2: a bad --set
   IoError,      // exit 3: the scene file could not be read
+  FileErrors,   // exit 3: every error is a file the scene names (an import, a mesh)
+                // that is missing or unreadable; the diagnostics say which
 };
 
 // Everything one compilation owns; diagnostics point into `sources`.

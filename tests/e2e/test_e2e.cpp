@@ -176,6 +176,16 @@ TEST_CASE("exit codes follow spec §10", "[e2e]") {
   std::ofstream(tmp / "huge.scn") << "settings { resolution <100000, 100000> }\nsphere { }\n";
   CHECK(run("render " + (tmp / "huge.scn") + " --quiet -o " + (tmp / "huge.png")) == 1);
   CHECK(run("render " + (tmp / "ok.scn") + " --quiet -o " + (tmp / "no/such/dir/x.png")) == 3);
+  // A file the scene names that cannot be read is exit 3 too; with any other
+  // error beside it, the scene's errors decide (1).
+  std::ofstream(tmp / "nomesh.scn") << "mesh { file \"nowhere.obj\" }\n";
+  std::ofstream(tmp / "noimport.scn") << "import \"nowhere.scn\";\nsphere { }\n";
+  std::ofstream(tmp / "both.scn") << "mesh { file \"nowhere.obj\" }\nsphere { radus 1 }\n";
+  CHECK(run("check " + (tmp / "nomesh.scn")) == 3);
+  CHECK(run("render " + (tmp / "nomesh.scn") + " --quiet -o " + (tmp / "m.png")) == 3);
+  CHECK(!fs::exists(tmp / "m.png"));
+  CHECK(run("check " + (tmp / "noimport.scn")) == 3);
+  CHECK(run("check " + (tmp / "both.scn")) == 1);
 }
 
 TEST_CASE("a failed write leaves an existing output untouched", "[e2e]") {
