@@ -27,6 +27,9 @@ std::string_view SourceFile::line_text(std::uint32_t line) const {
 }
 
 FileId SourceManager::add(std::string path, std::string text) {
+  // A UTF-8 byte-order mark (what Windows editors write first) is not part of the
+  // scene: dropped here, so tokens, columns and printed source lines all ignore it.
+  if (text.compare(0, 3, "\xEF\xBB\xBF") == 0) text.erase(0, 3);
   files_.push_back(std::make_unique<SourceFile>(std::move(path), std::move(text)));
   return static_cast<FileId>(files_.size() - 1);
 }

@@ -157,6 +157,14 @@ TEST_CASE("comments", "[lexer]") {
   CHECK(lex_text("/* \xED\xA0\x80 */").diags == std::vector<std::string>{"InvalidUtf8@1:4"});
 }
 
+TEST_CASE("a UTF-8 byte-order mark at the start of a file is skipped", "[lexer]") {
+  CHECK(lex_text("\xEF\xBB\xBFsphere { }").kinds() ==
+        Kinds{K::Identifier, K::LBrace, K::RBrace, K::EndOfFile});
+  CHECK(lex_text("\xEF\xBB\xBFsphere { }").diags.empty());
+  // Anywhere else it is the invisible character it is, and an error.
+  CHECK(lex_text("a \xEF\xBB\xBF").diags == std::vector<std::string>{"InvalidCharacter@1:3"});
+}
+
 TEST_CASE("no >> token: two vectors close", "[lexer]") {
   CHECK(lex_text("<1, <2, 3>>").kinds() == Kinds{K::Less, K::Number, K::Comma, K::Less, K::Number,
                                                  K::Comma, K::Number, K::Greater, K::Greater,
