@@ -199,6 +199,59 @@ void sphere_occluded(const RTCOccludedFunctionNArguments* args) {
   report_sphere_occlusion(args, [&s](float) -> const SphereData& { return s; });
 }
 
+// The hit point of a static triangle from Embree's barycentrics, p = v0 + u·e1 + v·e2:
+// an error in (u, v) moves p within the plane, never off it (as pbrt-v4's
+// Triangle::InteractionFromIntersection rebuilds its hit points). Where the three
+// vertices share a coordinate (an axis-aligned face) the edges' component is
+// exactly 0 and p keeps that coordinate exactly; b0·v0 + u·v1 + v·v2 would be off
+// by an ulp of it, since b0 + u + v rounds (2.4 % of the path through a 1e-5 slab
+// 3 units away).
+void triangle_point(const float* vb, const unsigned* ib, unsigned prim, float u, float v,
+                    Vec3f& p) {
+  const float* a = vb + 3 * ib[3 * prim];
+  const float* b = vb + 3 * ib[3 * prim + 1];
+  const float* c = vb + 3 * ib[3 * prim + 2];
+  p = {a[0] + u * (b[0] - a[0]) + v * (c[0] - a[0]), a[1] + u * (b[1] - a[1]) + v * (c[1] - a[1]),
+       a[2] + u * (b[2] - a[2]) + v * (c[2] - a[2])};
+}
+
+// How far a ray leaving a point of triangle abc must start (Hit::offset), in ulps
+// (2^-24) of two sources; a constant of the triangle, computed once:
+// - the point's own error off the plane, and Embree's rounding of the vertices when
+//   it translates them to the new ray's origin: a few ulps of each coordinate,
+//   weighted by how much that coordinate moves along the normal: Σ_i |n_i|·M_i
+//   (M_i: largest |v_j,i|). An axis-aligned face needs ulps of its plane coordinate
+//   only, however large it is.
+// - Embree's normal, rebuilt from rounded edges: its direction is off by the
+//   rounding of each component's cross products, seen from the origin over the
+//   triangle's extent: Σ_i R_i·(|e1_j e2_k| + |e1_k e2_j|) / |e1 × e2| (R_i: the
+//   extent along i). Zero for an axis-aligned face (every product it rounds is
+//   along n); large for slivers, whose normal is ill-conditioned.
+// kOffsetUlps: hc01's 6e4 random triangles at 1e-8..1e8 see self-hits at 0.5 and
+// none from 1 (docs/hardcases.md); 8 leaves a factor 8. A result of 0 (a face in a
+// coordinate plane through the camera) falls back to offset_ray_origin.
+constexpr float kOffsetUlps = 8;
+float triangle_offset(const float* a, const float* b, const float* c) {
+  float e1[3], e2[3], big[3], extent[3], n[3];
+  for (int i = 0; i < 3; ++i) {
+    e1[i] = b[i] - a[i], e2[i] = c[i] - a[i];
+    float lo = std::fmin(a[i], std::fmin(b[i], c[i])), hi = std::fmax(a[i], std::fmax(b[i], c[i]));
+    big[i] = std::fmax(std::fabs(lo), std::fabs(hi));
+    extent[i] = hi - lo;
+  }
+  float cross_abs = 0, cross_sq = 0;
+  for (int i = 0; i < 3; ++i) {
+    int j = (i + 1) % 3, k = (i + 2) % 3;
+    n[i] = e1[j] * e2[k] - e1[k] * e2[j];
+    cross_sq += n[i] * n[i];
+    cross_abs += extent[i] * (std::fabs(e1[j] * e2[k]) + std::fabs(e1[k] * e2[j]));
+  }
+  if (!(cross_sq > 0)) return 0;  // degenerate: never hit
+  float len = std::sqrt(cross_sq), w = cross_abs / len;
+  for (int i = 0; i < 3; ++i) w += std::fabs(n[i]) / len * big[i];
+  return kOffsetUlps * 0x1p-24f * w;
+}
+
 void embree_error(void* user, RTCError code, const char* str) {
   auto* msg = static_cast<std::string*>(user);
   if (msg->empty()) *msg = fmt::format("embree error {}: {}", int(code), str ? str : "");
@@ -218,6 +271,11 @@ struct EmbreeScene::Impl {
   unsigned tri_geom = RTC_INVALID_GEOMETRY_ID, sphere_geom = RTC_INVALID_GEOMETRY_ID,
            moving_sphere_geom = RTC_INVALID_GEOMETRY_ID, light_geom = RTC_INVALID_GEOMETRY_ID;
   std::vector<std::uint32_t> tri_owner;
+  // The static triangles' buffers as Embree holds them (camera-relative float), to
+  // rebuild hit points from barycentrics.
+  const float* tri_vb = nullptr;
+  const unsigned* tri_ib = nullptr;
+  std::vector<float> tri_offset;         // by primID: triangle_offset
   std::vector<std::int64_t> geom_shape;  // by geomID: the moving shape, or -1
   std::size_t triangle_count = 0, moving_shapes = 0, motion_steps = 0;
 
@@ -227,7 +285,8 @@ struct EmbreeScene::Impl {
   }
 
   void add_triangles(const std::vector<Vec3>& verts, const std::vector<std::uint32_t>& idx,
-                     unsigned& geom_id) {
+                     unsigned& geom_id, const float** vb_out = nullptr,
+                     const unsigned** ib_out = nullptr) {
     if (idx.empty()) return;
     RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
     auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(
@@ -239,6 +298,7 @@ struct EmbreeScene::Impl {
     auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
         g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), idx.size() / 3));
     for (std::size_t i = 0; i < idx.size(); ++i) ib[i] = idx[i];
+    if (vb_out) *vb_out = vb, *ib_out = ib;
     rtcCommitGeometry(g);
     geom_id = rtcAttachGeometry(scene, g);
     rtcReleaseGeometry(g);
@@ -406,7 +466,11 @@ EmbreeScene::EmbreeScene(const ir::Scene& sc, ir::Vec3 origin)
     }
   }
   im.triangle_count = ti.size() / 3;
-  im.add_triangles(tv, ti, im.tri_geom);
+  im.add_triangles(tv, ti, im.tri_geom, &im.tri_vb, &im.tri_ib);
+  im.tri_offset.resize(ti.size() / 3);
+  for (std::size_t t = 0; t < im.tri_offset.size(); ++t)
+    im.tri_offset[t] = triangle_offset(im.tri_vb + 3 * ti[3 * t], im.tri_vb + 3 * ti[3 * t + 1],
+                                       im.tri_vb + 3 * ti[3 * t + 2]);
 
   auto add_user = [&](void* data, std::size_t n, RTCBoundsFunction bounds,
                       RTCIntersectFunctionN isect, RTCOccludedFunctionN occl, unsigned& id) {
@@ -518,6 +582,12 @@ bool EmbreeScene::intersect(const Ray& r, Hit& hit) const {
       hit.kind = Hit::Kind::Shape;
       hit.index = im.tri_owner[rh.hit.primID];
     }
+    if (rh.hit.geomID == im.tri_geom) {
+      triangle_point(im.tri_vb, im.tri_ib, rh.hit.primID, rh.hit.u, rh.hit.v, hit.p);
+      hit.offset = im.tri_offset[rh.hit.primID];
+    } else {
+      hit.p = r.org + r.dir * hit.t, hit.offset = 0;
+    }
   }
   double tmax = found ? double(hit.t) : double(r.tmax);
   for (const PlaneData& p : im.planes) {
@@ -528,6 +598,7 @@ bool EmbreeScene::intersect(const Ray& r, Hit& hit) const {
       found = true;
       hit.t = static_cast<float>(t);
       hit.ng = to_float(n.x, n.y, n.z);
+      hit.p = r.org + r.dir * hit.t, hit.offset = 0;
       hit.kind = Hit::Kind::Shape;
       hit.index = p.shape;
     }

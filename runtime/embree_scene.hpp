@@ -25,6 +25,7 @@
 // (tests/runtime/test_robust.cpp sees 0 re-hits at scales 1e-2..1e5).
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -48,9 +49,32 @@ struct Ray {
 struct Hit {
   float t = INFINITY;
   Vec3f ng;  // geometric normal, unit, outward for closed shapes (§8)
+  // The surface point. On a static triangle it is rebuilt from the barycentrics, so
+  // it lies on the triangle's plane to within a few ulps of the vertices, and
+  // `offset` > 0 is the distance along the normal that a ray leaving it must start
+  // at to clear the surface (its error bound, and Embree's when it re-tests that
+  // triangle). Elsewhere it is o + t·d, and `offset` 0 asks for the Wächter–Binder
+  // offset (offset_ray_origin), which covers the larger error of o + t·d.
+  Vec3f p;
+  float offset = 0;
   enum class Kind : std::uint8_t { Shape, AreaLight } kind = Kind::Shape;
   std::uint32_t index = 0;  // into ir::Scene::shapes or ::area_lights
 };
+
+// Where a ray leaving `h` to the side of unit `n` starts: `h.p` moved off the
+// surface by the hit's bounded offset, or by Wächter–Binder's where it has none
+// (`scale`: offset_scale). Robustness #1 and #18: the bounded offset is tens of
+// ulps of the triangle's vertices instead of 256 ulps of the point, so slabs
+// 1e-5 thick are still two surfaces.
+inline Vec3f spawn_origin(const Hit& h, Vec3f n, float scale) {
+  if (!(h.offset > 0)) return offset_ray_origin(h.p, n, scale);
+  Vec3f o = h.p + n * h.offset;
+  // Round away from the surface, so rounding never gives back part of the offset.
+  auto away = [](float x, float dir) {
+    return dir > 0 ? std::nextafter(x, INFINITY) : dir < 0 ? std::nextafter(x, -INFINITY) : x;
+  };
+  return {away(o.x, n.x), away(o.y, n.y), away(o.z, n.z)};
+}
 
 std::string to_string(const Ray& r);
 std::string to_string(const Hit& h);

@@ -174,10 +174,9 @@ Color Integrator::emitted(const LightF& l, Vec3f dir) const {
 // Shadow rays leave from the offset hit point and end at the offset light sample, so
 // the light's own surface never blocks them; everything else does (§7).
 template <class K>
-Color Integrator::direct(Vec3f p, Vec3f nf, float time, std::uint64_t key, const SampleContext& sc,
-                         RenderStats& stats) const {
+Color Integrator::direct(Vec3f p, Vec3f o, Vec3f nf, float time, std::uint64_t key,
+                         const SampleContext& sc, RenderStats& stats) const {
   Color e(0);
-  Vec3f o = offset_ray_origin(p, nf, offset_scale_);
   for (const PointF& l : points_) {
     Vec3f to = l.pos - p;
     float d2 = dot(to, to);
@@ -244,10 +243,10 @@ Color Integrator::li(const Ray& camera_ray, const SampleContext& sc, RenderStats
   for (;;) {
     double t_node = cost ? CostClock::now_ns() : 0, nested = 0;
     // Direct light is timed as shadow cost and taken out of the node's own time.
-    auto direct_timed = [&](Vec3f p, Vec3f nf) {
-      if (!cost) return direct<K>(p, nf, node.ray.time, node.key, sc, stats);
+    auto direct_timed = [&](Vec3f p, Vec3f o, Vec3f nf) {
+      if (!cost) return direct<K>(p, o, nf, node.ray.time, node.key, sc, stats);
       double t0 = CostClock::now_ns();
-      Color e = direct<K>(p, nf, node.ray.time, node.key, sc, stats);
+      Color e = direct<K>(p, o, nf, node.ray.time, node.key, sc, stats);
       double dt = cost->since(t0);
       cost->ns[kCostShadow] += dt;
       nested += dt + cost->overhead_ns;
@@ -314,7 +313,7 @@ Color Integrator::li(const Ray& camera_ray, const SampleContext& sc, RenderStats
     } else {
       const ir::Shape& shape = scene_.shapes[hit.index];
       const ir::Material& m = mats[shape.material];
-      Vec3f p = node.ray.org + d * hit.t;
+      Vec3f p = hit.p;
       p_surface = p;
       Vec3f ng = hit.ng;               // outward
       bool entering = dot(d, ng) < 0;  // §8: against the outward normal
@@ -330,11 +329,11 @@ Color Integrator::li(const Ray& camera_ray, const SampleContext& sc, RenderStats
       switch (m.kind) {
         case ir::MaterialKind::Diffuse: {
           Color albedo = texture(m.color, p, ng);
-          contrib = w * albedo * direct_timed(p, nf) * kInvPi;
+          contrib = w * albedo * direct_timed(p, spawn_origin(hit, nf, offset_scale_), nf) * kInvPi;
           break;
         }
         case ir::MaterialKind::Mirror:
-          spawn(RayKind::Reflection, offset_ray_origin(p, nf, offset_scale_), normalize(refl),
+          spawn(RayKind::Reflection, spawn_origin(hit, nf, offset_scale_), normalize(refl),
                 w * texture(m.color, p, ng), 1);
           break;
         case ir::MaterialKind::Glossy: {
@@ -343,7 +342,7 @@ Color Integrator::li(const Ray& camera_ray, const SampleContext& sc, RenderStats
             Sample2 s = sample2(sc.spec, sc.pixel, sc.index, node_dim(node.key, 7));
             r = glossy_direction(r, nf, float(m.blur), s.u, s.v);
           }
-          spawn(RayKind::Glossy, offset_ray_origin(p, nf, offset_scale_), r,
+          spawn(RayKind::Glossy, spawn_origin(hit, nf, offset_scale_), r,
                 w * texture(m.color, p, ng), 1);
           break;
         }
@@ -353,7 +352,12 @@ Color Integrator::li(const Ray& camera_ray, const SampleContext& sc, RenderStats
             // Beer over the path inside this object (nested media are not modelled),
             // measured from the surface point the ray left, not its offset origin:
             // near the origin the offset is 2^-16 absolute, visible in thin slabs.
-            double dist = double(length(p - node.start));
+            // Summed as (origin - start) + t·d rather than p - start: the first is
+            // exact (two nearby floats) and t·d is good to ulps of the path itself,
+            // where p - start is good only to ulps of p (2.4 % of a 1e-5 slab 3 units
+            // from the camera).
+            Vec3f path = (node.ray.org - node.start) + d * hit.t;
+            double dist = double(length(path));
             w = w *
                 to_float(beer(m.absorb.x, dist), beer(m.absorb.y, dist), beer(m.absorb.z, dist));
           }
@@ -374,7 +378,7 @@ Color Integrator::li(const Ray& camera_ray, const SampleContext& sc, RenderStats
             wr = wt = 1;
           }
           if (reflect)
-            spawn(RayKind::Reflection, offset_ray_origin(p, nf, offset_scale_), normalize(refl),
+            spawn(RayKind::Reflection, spawn_origin(hit, nf, offset_scale_), normalize(refl),
                   w * wr, 1);
           if (transmit && m.ior == 1.0) {
             // Index-matched (robustness #14): R = 0 and the ray goes on unbent.
@@ -386,7 +390,7 @@ Color Integrator::li(const Ray& camera_ray, const SampleContext& sc, RenderStats
                   std::nextafter(hit.t, float(INFINITY)));
           } else if (transmit) {
             Vec3d t = refract({d.x, d.y, d.z}, {nf.x, nf.y, nf.z}, f);
-            spawn(RayKind::Refraction, offset_ray_origin(p, -nf, offset_scale_),
+            spawn(RayKind::Refraction, spawn_origin(hit, -nf, offset_scale_),
                   normalize(to_float(t.x, t.y, t.z)), w * wt, 2);
           }
           break;
@@ -396,8 +400,9 @@ Color Integrator::li(const Ray& camera_ray, const SampleContext& sc, RenderStats
           Interface f = make_interface(cos_i, m.ior);
           double R = reflectance(f, fresnel_);
           Color albedo = texture(m.color, p, ng);
-          contrib = w * albedo * direct_timed(p, nf) * (kInvPi * float(1 - R));
-          spawn(RayKind::Reflection, offset_ray_origin(p, nf, offset_scale_), normalize(refl),
+          contrib = w * albedo * direct_timed(p, spawn_origin(hit, nf, offset_scale_), nf) *
+                    (kInvPi * float(1 - R));
+          spawn(RayKind::Reflection, spawn_origin(hit, nf, offset_scale_), normalize(refl),
                 w * float(R), 1);
           break;
         }

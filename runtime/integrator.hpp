@@ -112,8 +112,9 @@ class Integrator {
 
   Color texture(const ir::Texture& t, Vec3f p, Vec3f n_out) const;
   template <class K>
-  Color direct(Vec3f p, Vec3f n_facing, float time, std::uint64_t key, const SampleContext& sc,
-               RenderStats& stats) const;
+  // `o`: the shadow rays' origin, p moved off the surface (spawn_origin).
+  Color direct(Vec3f p, Vec3f o, Vec3f n_facing, float time, std::uint64_t key,
+               const SampleContext& sc, RenderStats& stats) const;
   Color emitted(const LightF& l, Vec3f dir) const;
 
   const ir::Scene& scene_;

@@ -58,13 +58,12 @@ TEST_CASE("hc01 reintersection: spawned rays never re-hit their triangle, 1e-8..
     rt::Hit hit;
     if (!es.intersect(ray, hit)) continue;  // the float ray may just miss a sliver
     ++triangles;
-    rt::Vec3f p = ray.org + ray.dir * hit.t;
     rt::Vec3f toward = rt::dot(ray.dir, hit.ng) < 0 ? hit.ng : -hit.ng;  // reflect side
     for (int k = 0; k < 1000; ++k) {
       rt::Vec3f side = k % 2 ? toward : -toward;  // reflect, then transmit
       rt::Vec3f dir = f(unit(rng));
       if (rt::dot(dir, side) < 0) dir = -dir;
-      rt::Ray out{rt::offset_ray_origin(p, side), dir, INFINITY, 0};
+      rt::Ray out{rt::spawn_origin(hit, side, 1), dir, INFINITY, 0};
       rt::Hit h2;
       ++spawned;
       if (es.intersect(out, h2)) ++self_hits;

@@ -43,12 +43,11 @@ TEST_CASE("offset rays never re-hit their triangle or sphere", "[robust][propert
     ray.dir = rt::normalize(rt::to_float(dd.x, dd.y, dd.z));
     rt::Hit hit;
     if (!es.intersect(ray, hit)) continue;
-    rt::Vec3f p = ray.org + ray.dir * hit.t;
     for (int k = 0; k < 50; ++k) {
       ir::Vec3 w = unit();
       rt::Vec3f dir = rt::to_float(w.x, w.y, w.z);
       rt::Vec3f n = rt::dot(dir, hit.ng) > 0 ? hit.ng : -hit.ng;  // the side it leaves on
-      rt::Ray out{rt::offset_ray_origin(p, n), dir, INFINITY, 0};
+      rt::Ray out{rt::spawn_origin(hit, n, 1), dir, INFINITY, 0};
       rt::Hit h2;
       ++spawned;
       if (es.intersect(out, h2)) {
