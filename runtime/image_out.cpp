@@ -1,8 +1,8 @@
 // write_image() without linking OpenImageIO: the writer (image_io.cpp, OIIO and
 // OCIO) is a module, dlopen'ed once on first use. Linking OIIO directly made every
 // start of `snell` bind ~260 shared libraries (0.3 s of a `snell check`); now only
-// a command that writes an image pays it, and `snell render` pays it on a thread
-// beside the render (preload_image_writer).
+// a command that writes an image pays it, and `snell render` pays it just before
+// the render (preload_image_writer), so a missing module fails before the work.
 //
 // Where the module is looked for: the build tree's copy (tests and programs run in
 // place), then the installed one. Both paths are fixed when Snell is configured.

@@ -85,8 +85,8 @@ std::string write_image(const std::string& path, const Image& image, const Outpu
                         const std::string& ocio_config);
 
 // Loads the image-output module now rather than at the first write_image (the
-// CLI calls it on a background thread while the render runs). Returns an error
-// message, or empty when the module is ready. Safe to call from any thread.
+// CLI calls it before the render, so a writer that cannot load fails early).
+// Returns an error message, or empty when the module is ready. Thread-safe.
 std::string preload_image_writer();
 
 // One-line descriptions for logs and test failures.
