@@ -626,7 +626,8 @@ std::string to_string(const Ray& r) {
 }
 
 std::string to_string(const Hit& h) {
-  return fmt::format("hit {{ t {} ng {} {} {} }}", h.t, rt::to_string(h.ng),
+  return fmt::format("hit {{ t {} ng {} p {} offset {} {} {} }}", h.t, rt::to_string(h.ng),
+                     rt::to_string(h.p), h.offset,
                      h.kind == Hit::Kind::Shape ? "shape" : "area_light", h.index);
 }
 
