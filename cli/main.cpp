@@ -102,9 +102,11 @@ int compile_scene(const Options& o, std::unique_ptr<compile::Compilation>& out) 
       std::cerr << "snell: error: " << out->message << "\n";
       return kExitIo;
   }
-  std::vector<std::string> problems = ir::validate(out->scene);
+  // The compiler reports these as diagnostics already; this is the runtime's
+  // contract, kept for an IR that did not come from it.
+  std::vector<ir::Problem> problems = ir::validate(out->scene);
   if (!problems.empty()) {
-    for (const std::string& p : problems) std::cerr << p << ": error: invalid scene\n";
+    for (const ir::Problem& p : problems) std::cerr << ir::to_string(p, out->scene) << "\n";
     return kExitScene;
   }
   return -1;

@@ -3,6 +3,7 @@
 #include <pthread.h>
 #include <unistd.h>
 
+#include <cctype>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
@@ -241,6 +242,25 @@ class Driver {
 
 }  // namespace
 
+namespace {
+// What the compiler's own checks cannot see until the scene is whole: the runtime's
+// ranges measured from the camera (ir::validate). Each becomes an error at the
+// keyword of the item that has it.
+void report_runtime_limits(Compilation& c) {
+  for (const ir::Problem& p : ir::validate(c.scene)) {
+    lang::Span span{};
+    if (p.src.line > 0 && p.src.file < c.sources.size()) {
+      const lang::SourceFile& f = c.sources.file(p.src.file);
+      std::uint32_t b = f.offset_of({p.src.line, p.src.col}), e = b;
+      std::string_view t = f.text();
+      while (e < t.size() && (std::isalnum(static_cast<unsigned char>(t[e])) || t[e] == '_')) ++e;
+      span = {p.src.file, b, e};
+    }
+    c.diags.report(lang::DiagKind::InvalidValue, span, p.what);
+  }
+}
+}  // namespace
+
 std::unique_ptr<Compilation> compile_file(const std::string& path, const CompileOptions& options) {
   std::string text, message;
   if (!read_file(path, text, message)) {
@@ -271,6 +291,7 @@ std::unique_ptr<Compilation> compile_source(const std::string& path, std::string
     if (c->diags.has_errors()) return;
     if (!driver.apply_overrides(builder, eval)) return;
     c->scene = builder.finish();
+    report_runtime_limits(*c);
   });
   if (c->status == CompileStatus::Ok && c->diags.has_errors()) {
     // §10: exit 3 is "a file could not be read". When that is all that went wrong

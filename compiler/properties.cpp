@@ -59,7 +59,7 @@ bool range_ok(Check c, double x) {
     case Check::Positive:
       return x > 0;
     case Check::NonNegative:
-      return x >= 0;
+      return x >= 0 && x <= kMaxMagnitude;
     case Check::AtLeast1:
     case Check::Pixels:
       return x >= 1;
@@ -77,7 +77,8 @@ std::string check_range(Check c, double x) {
     case Check::Positive:
       return "must be > 0";
     case Check::NonNegative:
-      return "must be >= 0";
+      return x < 0 ? "must be >= 0"
+                   : "must be at most 1e30 (the renderer computes in single precision)";
     case Check::AtLeast1:
     case Check::Pixels:
       return "must be >= 1";

@@ -17,6 +17,13 @@ LineCol SourceFile::line_col(std::uint32_t offset) const {
   return {line, offset - line_starts_[line - 1] + 1};
 }
 
+std::uint32_t SourceFile::offset_of(LineCol lc) const {
+  if (lc.line == 0 || lc.line > line_starts_.size())
+    return static_cast<std::uint32_t>(text_.size());
+  std::uint64_t o = std::uint64_t(line_starts_[lc.line - 1]) + (lc.col > 0 ? lc.col - 1 : 0);
+  return static_cast<std::uint32_t>(std::min<std::uint64_t>(o, text_.size()));
+}
+
 std::string_view SourceFile::line_text(std::uint32_t line) const {
   if (line == 0 || line > line_starts_.size()) return {};
   std::uint32_t b = line_starts_[line - 1];

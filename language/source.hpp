@@ -31,6 +31,9 @@ class SourceFile {
   const std::string& path() const { return path_; }
   std::string_view text() const { return text_; }
   LineCol line_col(std::uint32_t offset) const;
+  // The offset of a 1-based line and byte column, the inverse of line_col
+  // (clamped to the file's end).
+  std::uint32_t offset_of(LineCol lc) const;
   // The text of a 1-based line, without its newline.
   std::string_view line_text(std::uint32_t line) const;
   std::uint32_t line_count() const { return static_cast<std::uint32_t>(line_starts_.size()); }

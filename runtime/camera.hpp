@@ -76,7 +76,10 @@ class Camera {
       concentric_disk(lens_u, lens_v, lx, ly);
       Vec3f focus = d * focal_distance_;
       r.org = right_ * (lx * lens_radius_) + up_ * (ly * lens_radius_);
-      r.dir = normalize(focus - r.org);
+      // In double: with a wide fov and a far focal plane |focus|² overflows float.
+      ir::Vec3 w(double(focus.x) - r.org.x, double(focus.y) - r.org.y, double(focus.z) - r.org.z);
+      w = ir::normalize(w);
+      r.dir = to_float(w.x, w.y, w.z);
       return r;
     }
     r.org = Vec3f(0, 0, 0);

@@ -519,6 +519,7 @@ namespace {
 // Planes in double from the float ray; the float origin was already offset by the
 // caller, so the sign of (d - n·o) is reliable.
 // A moving plane is placed at the ray's time first.
+constexpr double kMaxPlaneHit = 1e17;  // camera-relative; scenes lie within 1e15 (ir.hpp)
 bool hit_plane(const PlaneData& p, const Ray& r, double tmax, Vec3 origin, double& t, Vec3& n_out) {
   Vec3 o(r.org.x, r.org.y, r.org.z), d(r.dir.x, r.dir.y, r.dir.z);
   Vec3 n = p.n;
@@ -535,7 +536,11 @@ bool hit_plane(const PlaneData& p, const Ray& r, double tmax, Vec3 origin, doubl
   if (denom == 0) return false;
   t = (pd - ir::dot(n, o)) / denom;
   double tnear = r.tnear;
-  return (t > tnear) && (t < tmax) && (static_cast<float>(t) > 0);
+  if (!((t > tnear) && (t < tmax) && (static_cast<float>(t) > 0))) return false;
+  // A grazing hit can land arbitrarily far away; past kMaxPlaneHit the ray is taken
+  // to escape, so no ray Embree is given starts beyond its range (FLT_LARGE, 1.8e18).
+  Vec3 q = o + d * t;
+  return std::fmax(std::fabs(q.x), std::fmax(std::fabs(q.y), std::fabs(q.z))) <= kMaxPlaneHit;
 }
 
 RTCRayHit make_rayhit(const Ray& r) {

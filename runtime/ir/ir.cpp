@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 
 namespace snell::ir {
 namespace {
@@ -158,10 +159,97 @@ Features analyze_features(const Scene& scene) {
   return f;
 }
 
-std::vector<std::string> validate(const Scene& scene) {
-  std::vector<std::string> problems;
+std::string to_string(const Problem& p, const Scene& scene) {
+  return (p.src.line == 0 ? std::string("snell") : to_string(p.src, scene)) + ": error: " + p.what;
+}
+
+namespace {
+// The largest |coordinate| of the corners of the box lo..hi placed by `xf`,
+// relative to `origin`.
+double placed_box_reach(const Transform& xf, Vec3 lo, Vec3 hi, Vec3 origin) {
+  double r = 0;
+  for (int i = 0; i < 8; ++i) {
+    Vec3 p = xf.point({i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z}) - origin;
+    r = std::fmax(r, std::fmax(std::fabs(p.x), std::fmax(std::fabs(p.y), std::fabs(p.z))));
+  }
+  return r;
+}
+double reach(Vec3 p, Vec3 origin) {
+  Vec3 d = p - origin;
+  return std::fmax(std::fabs(d.x), std::fmax(std::fabs(d.y), std::fabs(d.z)));
+}
+double largest(Vec3 v) {
+  return std::fmax(std::fabs(v.x), std::fmax(std::fabs(v.y), std::fabs(v.z)));
+}
+std::string far_message(const std::string& what, double r) {
+  char buf[160];
+  std::snprintf(buf, sizeof buf,
+                "%s reaches %.3g from the camera; Snell traces in single precision "
+                "around the camera and takes scenes within %.0e of it",
+                what.c_str(), r, kMaxCameraDistance);
+  return buf;
+}
+}  // namespace
+
+// The float runtime's ranges (kMaxCameraDistance, kMaxRadiometric).
+template <class Bad>
+void check_ranges(const Scene& scene, Bad&& bad) {
+  const Vec3 o = scene.camera.location;
+  const double kFar = kMaxCameraDistance;
+  const Camera& c = scene.camera;
+  if (c.aperture / 2 > kFar) bad(c.src, far_message("the lens (aperture / 2)", c.aperture / 2));
+  if (c.focal_distance > kFar) bad(c.src, far_message("the focal plane", c.focal_distance));
+  auto too_bright = [](Vec3 v) { return largest(v) > kMaxRadiometric; };
+  if (too_bright(scene.background)) bad({}, "background radiance must be at most 1e30");
+  for (const Material& m : scene.materials)
+    if (too_bright(m.color.color) || too_bright(m.color.color2))
+      bad(m.src, "material colours must be at most 1e30");
+  for (const Shape& s : scene.shapes) {
+    double r = 0;
+    switch (s.kind) {
+      case ShapeKind::Sphere:
+        r = placed_box_reach(s.world_from_object, s.center - Vec3(s.radius),
+                             s.center + Vec3(s.radius), o);
+        break;
+      case ShapeKind::Box:
+        r = placed_box_reach(s.world_from_object, s.min, s.max, o);
+        break;
+      case ShapeKind::Triangle:
+        for (Vec3 p : {s.a, s.b, s.c}) r = std::fmax(r, reach(s.world_from_object.point(p), o));
+        break;
+      case ShapeKind::Mesh:
+        if (s.mesh < scene.meshes.size())
+          for (const Vec3& p : scene.meshes[s.mesh].positions)
+            r = std::fmax(r, reach(s.world_from_object.point(p), o));
+        break;
+      case ShapeKind::Plane: {
+        // Infinite: its nearest point to the camera must be in range.
+        Vec3 p0 = s.world_from_object.point(s.normal * s.distance);
+        Vec3 n = normalize(s.world_from_object.normal(s.normal));
+        r = std::fabs(dot(n, p0 - o));
+        break;
+      }
+    }
+    if (!(r <= kFar)) bad(s.src, far_message("this " + to_string(s.kind), r));
+  }
+  for (const PointLight& l : scene.point_lights) {
+    if (!(reach(l.position, o) <= kFar))
+      bad(l.src, far_message("this point light", reach(l.position, o)));
+    if (too_bright(l.intensity)) bad(l.src, "point light intensity must be at most 1e30");
+  }
+  for (const AreaLight& l : scene.area_lights) {
+    double r = 0;
+    for (Vec3 p : {l.corner, l.corner + l.edge1, l.corner + l.edge2, l.corner + l.edge1 + l.edge2})
+      r = std::fmax(r, reach(p, o));
+    if (!(r <= kFar)) bad(l.src, far_message("this area light", r));
+    if (too_bright(l.radiance)) bad(l.src, "area light radiance must be at most 1e30");
+  }
+}
+
+std::vector<Problem> validate(const Scene& scene) {
+  std::vector<Problem> problems;
   auto bad = [&](const SourceRef& src, const std::string& what) {
-    problems.push_back(to_string(src, scene) + ": " + what);
+    problems.push_back({src, what});
   };
   const Settings& st = scene.settings;
   if (st.width < 1 || st.height < 1) bad(st.src, "resolution must be at least 1x1");
@@ -216,13 +304,14 @@ std::vector<std::string> validate(const Scene& scene) {
   for (const Mesh& m : scene.meshes) {
     for (const Vec3& p : m.positions)
       if (!is_finite(p)) {
-        problems.push_back(m.path + ": non-finite vertex position");
+        problems.push_back({{}, m.path + ": non-finite vertex position"});
         break;
       }
-    if (m.indices.size() % 3 != 0) problems.push_back(m.path + ": index count not a multiple of 3");
+    if (m.indices.size() % 3 != 0)
+      problems.push_back({{}, m.path + ": index count not a multiple of 3"});
     for (std::uint32_t i : m.indices)
       if (i >= m.positions.size()) {
-        problems.push_back(m.path + ": vertex index out of range");
+        problems.push_back({{}, m.path + ": vertex index out of range"});
         break;
       }
   }
@@ -236,6 +325,8 @@ std::vector<std::string> validate(const Scene& scene) {
     if (length(cross(l.edge1, l.edge2)) == 0) bad(l.src, "area light has zero area");
     if (l.samples_u < 1 || l.samples_v < 1) bad(l.src, "area light samples must be >= 1");
   }
+  if (!problems.empty()) return problems;  // the ranges below assume finite numbers
+  check_ranges(scene, bad);
   return problems;
 }
 

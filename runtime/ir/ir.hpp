@@ -170,9 +170,24 @@ struct Features {
 
 Features analyze_features(const Scene& scene);
 
+// What the runtime can trace: it works in float around the camera, and Embree
+// drops geometry and rejects rays beyond 1.8e18 (FLT_LARGE). Every object's bounds,
+// light and lens point must lie within kMaxCameraDistance of the camera (planes: the
+// plane's nearest point), leaving headroom for offsets and far hits; radiometric
+// values (colours, intensity, radiance, background) are at most kMaxRadiometric.
+inline constexpr double kMaxCameraDistance = 1e15;
+inline constexpr double kMaxRadiometric = 1e30;
+
+// One thing the runtime cannot take, and the item that has it (line 0: no source).
+struct Problem {
+  SourceRef src;
+  std::string what;
+};
+std::string to_string(const Problem& p, const Scene& scene);  // "file:line:col: error: ..."
+
 // Structural checks the runtime relies on (indices in range, finite numbers,
-// positive sizes). Returns one line per problem; empty when valid.
-std::vector<std::string> validate(const Scene& scene);
+// positive sizes, the ranges above). Empty when valid.
+std::vector<Problem> validate(const Scene& scene);
 
 std::string to_string(const SourceRef& ref, const Scene& scene);
 std::string to_string(const Texture& t);

@@ -44,7 +44,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     auto problems = ir::validate(c->scene);
     if (!problems.empty()) {
       std::string all;
-      for (const auto& p : problems) all += p + "\n";
+      for (const auto& p : problems) all += ir::to_string(p, c->scene) + "\n";
       std::fprintf(stderr, "compiled scene fails ir::validate:\n%s", all.c_str());
       __builtin_trap();
     }

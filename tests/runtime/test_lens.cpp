@@ -53,6 +53,26 @@ TEST_CASE("every lens ray reaches the pinhole ray's point on the focal plane", "
   CHECK(worst < 1e-5);
 }
 
+TEST_CASE("lens rays stay finite and unit at the extremes of fov and focal distance",
+          "[lens][robust]") {
+  // |focus|² overflows float when a wide fov meets a far focal plane (fov 179.99999°:
+  // film corners 1.1e7 wide per unit; focal distance 1e14): the direction is
+  // normalised in double. Embree asserts on a non-finite ray; Snell never makes one.
+  ir::Camera c;
+  c.fov = 179.99999;
+  c.aperture = 1e10;
+  c.focal_distance = 1e14;
+  rt::Camera cam(c, 16, 16);
+  for (double fx : {0.0, 8.0, 15.999})
+    for (double fy : {0.0, 15.999})
+      for (float lu : {0.0f, 0.5f, 0.99999994f}) {
+        rt::Ray r = cam.generate(fx, fy, lu, 1 - lu);
+        INFO(rt::to_string(r));
+        REQUIRE(rt::is_finite(r.dir));
+        CHECK(rt::length(r.dir) == Approx(1).margin(1e-6));
+      }
+}
+
 namespace {
 // A black half-plane (image left) at depth z before a white background, seen by a lens of
 // diameter 0.1 focused at 5, on one row of 201 pixels spanning x in [-0.1, 0.1] on

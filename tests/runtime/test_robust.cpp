@@ -76,3 +76,18 @@ TEST_CASE("box normals point outward under mirroring transforms", "[robust]") {
     }
   }
 }
+
+TEST_CASE("a grazing plane hit beyond 1e17 counts as a miss, so no ray leaves from there",
+          "[robust]") {
+  // Embree rejects rays that start beyond 1.8e18 (an assertion in Debian's build);
+  // planes are intersected outside it and may be hit arbitrarily far at grazing
+  // angles. A hit whose point lies past 1e17 of the camera is a miss.
+  ir::Scene s = base_scene(1, 1);
+  s.shapes.push_back(plane({0, 1, 0}, -1, 0));
+  s.shapes.push_back(sphere({0, 0, 5}, 1, 0));  // something in Embree's BVH too
+  rt::EmbreeScene es(s, {0, 0, 0});
+  rt::Hit h;
+  CHECK(es.intersect(rt::Ray{{0, 0, 0}, rt::normalize(rt::Vec3f{1, -1e-10f, 0}), INFINITY, 0}, h));
+  CHECK(h.t == Approx(1e10).epsilon(1e-6));
+  CHECK_FALSE(es.intersect(rt::Ray{{0, 0, 0}, {1, -1e-18f, 0}, INFINITY, 0}, h));
+}
