@@ -520,7 +520,10 @@ namespace {
 // caller, so the sign of (d - n·o) is reliable.
 // A moving plane is placed at the ray's time first.
 constexpr double kMaxPlaneHit = 1e17;  // camera-relative; scenes lie within 1e15 (ir.hpp)
-bool hit_plane(const PlaneData& p, const Ray& r, double tmax, Vec3 origin, double& t, Vec3& n_out) {
+// `tie`: a distance along the plane's normal within which the plane beats a hit at
+// tmax (see EmbreeScene::intersect).
+bool hit_plane(const PlaneData& p, const Ray& r, double tmax, double tie, Vec3 origin, double& t,
+               Vec3& n_out) {
   Vec3 o(r.org.x, r.org.y, r.org.z), d(r.dir.x, r.dir.y, r.dir.z);
   Vec3 n = p.n;
   double pd = p.d;
@@ -536,7 +539,8 @@ bool hit_plane(const PlaneData& p, const Ray& r, double tmax, Vec3 origin, doubl
   if (denom == 0) return false;
   t = (pd - ir::dot(n, o)) / denom;
   double tnear = r.tnear;
-  if (!((t > tnear) && (t < tmax) && (static_cast<float>(t) > 0))) return false;
+  if (!((t > tnear) && (t < tmax + tie / std::fabs(denom)) && (static_cast<float>(t) > 0)))
+    return false;
   // A grazing hit can land arbitrarily far away; past kMaxPlaneHit the ray is taken
   // to escape, so no ray Embree is given starts beyond its range (FLT_LARGE, 1.8e18).
   Vec3 q = o + d * t;
@@ -595,11 +599,18 @@ bool EmbreeScene::intersect(const Ray& r, Hit& hit) const {
     }
   }
   double tmax = found ? double(hit.t) : double(r.tmax);
+  // Coincident surfaces (a box resting on a plane: its bottom face and the floor):
+  // the face is a float triangle, the plane exact, so their hits differ by rounding
+  // and the nearer one flipped from ray to ray (a speckled band at the foot of the
+  // glass block in examples/glass). Within the face's error bound (its offset, at
+  // least 32 ulps of the point) the plane wins: the floor under a block resting on it.
+  double tie = found ? std::fmax(double(hit.offset), 0x1p-19 * double(max_abs(hit.p))) : 0;
   for (const PlaneData& p : im.planes) {
     double t;
     Vec3 n;
-    if (hit_plane(p, r, tmax, origin_, t, n)) {
+    if (hit_plane(p, r, tmax, tie, origin_, t, n)) {
       tmax = t;
+      tie = 0;  // between planes, the nearer t
       found = true;
       hit.t = static_cast<float>(t);
       hit.ng = to_float(n.x, n.y, n.z);
@@ -616,7 +627,7 @@ bool EmbreeScene::occluded(const Ray& r) const {
   for (const PlaneData& p : im.planes) {
     double t;
     Vec3 n;
-    if (hit_plane(p, r, r.tmax, origin_, t, n)) return true;
+    if (hit_plane(p, r, r.tmax, 0, origin_, t, n)) return true;
   }
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);

@@ -61,6 +61,9 @@ inline Vec3f normalize(Vec3f a) {
 inline float max_component(Vec3f a) {
   return std::fmax(a.x, std::fmax(a.y, a.z));
 }
+inline float max_abs(Vec3f a) {
+  return std::fmax(std::fabs(a.x), std::fmax(std::fabs(a.y), std::fabs(a.z)));
+}
 inline bool is_finite(Vec3f a) {
   return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z);
 }
