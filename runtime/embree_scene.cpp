@@ -262,7 +262,7 @@ float triangle_offset(const float* a, const float* b, const float* c) {
 // the projection; kSphereOffsetUlps = 8 matches the triangles' margin. Small
 // spheres far away keep their shape: 256 ulps (Wächter–Binder) of 100 units are
 // 2e-3, a tenth of a bead of radius 0.02 (hc23's bead: errors 0.134 -> 0.009).
-constexpr double kSphereOffsetUlps = 8;
+constexpr double kSphereOffsetUlps = 8;  // planes use it too
 void sphere_point(const SphereSet& set, unsigned prim, const Ray& r, float t, Hit& hit) {
   const SphereData& s = set.spheres[prim];
   Vec3 p0(double(r.org.x) + double(r.dir.x) * t, double(r.org.y) + double(r.dir.y) * t,
@@ -558,7 +558,7 @@ constexpr double kMaxPlaneHit = 1e17;  // camera-relative; scenes lie within 1e1
 // `tie`: a distance along the plane's normal within which the plane beats a hit at
 // tmax (see EmbreeScene::intersect).
 bool hit_plane(const PlaneData& p, const Ray& r, double tmax, double tie, Vec3 origin, double& t,
-               Vec3& n_out) {
+               Vec3& n_out, Vec3* point = nullptr) {
   Vec3 o(r.org.x, r.org.y, r.org.z), d(r.dir.x, r.dir.y, r.dir.z);
   Vec3 n = p.n;
   double pd = p.d;
@@ -579,7 +579,11 @@ bool hit_plane(const PlaneData& p, const Ray& r, double tmax, double tie, Vec3 o
   // A grazing hit can land arbitrarily far away; past kMaxPlaneHit the ray is taken
   // to escape, so no ray Embree is given starts beyond its range (FLT_LARGE, 1.8e18).
   Vec3 q = o + d * t;
-  return std::fmax(std::fabs(q.x), std::fmax(std::fabs(q.y), std::fabs(q.z))) <= kMaxPlaneHit;
+  if (!(std::fmax(std::fabs(q.x), std::fmax(std::fabs(q.y), std::fabs(q.z))) <= kMaxPlaneHit))
+    return false;
+  // The hit point, projected onto the plane in double (o + t·d is off it by ulps of t).
+  if (point) *point = q - n * (ir::dot(n, q) - pd);
+  return true;
 }
 
 RTCRayHit make_rayhit(const Ray& r) {
@@ -645,13 +649,17 @@ bool EmbreeScene::intersect(const Ray& r, Hit& hit) const {
   for (const PlaneData& p : im.planes) {
     double t;
     Vec3 n;
-    if (hit_plane(p, r, tmax, tie, origin_, t, n)) {
+    Vec3 q;
+    if (hit_plane(p, r, tmax, tie, origin_, t, n, &q)) {
       tmax = t;
       tie = 0;  // between planes, the nearer t
       found = true;
       hit.t = static_cast<float>(t);
       hit.ng = to_float(n.x, n.y, n.z);
-      hit.p = r.org + r.dir * hit.t, hit.offset = 0;
+      // Off the plane only by its rounding to float; the plane is re-tested in
+      // double from the float origin, so a few ulps clear it (as for spheres).
+      hit.p = to_float(q.x, q.y, q.z);
+      hit.offset = float(kSphereOffsetUlps * 0x1p-24 * double(max_abs(hit.p)));
       hit.kind = Hit::Kind::Shape;
       hit.index = p.shape;
     }

@@ -143,10 +143,17 @@ long shadow_blocked(double scale, bool occluder, int n, std::mt19937_64& rng) {
       const float k = rt::offset_scale(s, cam);  // as the integrator offsets
       long blocked = 0;
       for (int i = 0; i < n; ++i) {
+        // The floor point as the integrator gets it: a hit of a ray from above.
         ir::Vec3 pw = ir::Vec3(4 * u(rng) - 2, 0, 4 * u(rng) - 2) * scale - cam;
+        rt::Hit floor;
+        ir::Vec3 above = pw + ir::Vec3(0, 0.5 * scale, 0);
+        if (!es.intersect(rt::Ray{f(above), {0, -1, 0}, INFINITY, 0}, floor)) {
+          ++blocked;  // a miss would be a failure too
+          continue;
+        }
         ir::Vec3 qw = l.corner + l.edge1 * u(rng) + l.edge2 * u(rng) - cam;
-        rt::Vec3f p = f(pw), q = f(qw);
-        rt::Vec3f o = rt::offset_ray_origin(p, {0, 1, 0}, k);
+        rt::Vec3f q = f(qw);
+        rt::Vec3f o = rt::spawn_origin(floor, {0, 1, 0}, k);
         rt::Vec3f target = rt::offset_ray_origin(q, {0, -1, 0}, k);
         rt::Ray shadow{o, target - o, 1.0f, 0};
         if (es.occluded(shadow)) ++blocked;
