@@ -326,15 +326,16 @@ Color Integrator::li(const Ray& camera_ray, const SampleContext& sc, RenderStats
                         ir::to_string(shape.kind), ir::to_string(m.kind),
                         ir::to_string(shape.src, scene_), hit.t, entering ? "entering" : "exiting");
       Vec3f refl = d + nf * (2 * cos_i);
+      // Where rays leaving on the ray's side start (shadow and reflection rays).
+      const Vec3f o_out = spawn_origin(hit, nf, offset_scale_);
       switch (m.kind) {
         case ir::MaterialKind::Diffuse: {
           Color albedo = texture(m.color, p, ng);
-          contrib = w * albedo * direct_timed(p, spawn_origin(hit, nf, offset_scale_), nf) * kInvPi;
+          contrib = w * albedo * direct_timed(p, o_out, nf) * kInvPi;
           break;
         }
         case ir::MaterialKind::Mirror:
-          spawn(RayKind::Reflection, spawn_origin(hit, nf, offset_scale_), normalize(refl),
-                w * texture(m.color, p, ng), 1);
+          spawn(RayKind::Reflection, o_out, normalize(refl), w * texture(m.color, p, ng), 1);
           break;
         case ir::MaterialKind::Glossy: {
           Vec3f r = normalize(refl);
@@ -342,8 +343,7 @@ Color Integrator::li(const Ray& camera_ray, const SampleContext& sc, RenderStats
             Sample2 s = sample2(sc.spec, sc.pixel, sc.index, node_dim(node.key, 7));
             r = glossy_direction(r, nf, float(m.blur), s.u, s.v);
           }
-          spawn(RayKind::Glossy, spawn_origin(hit, nf, offset_scale_), r,
-                w * texture(m.color, p, ng), 1);
+          spawn(RayKind::Glossy, o_out, r, w * texture(m.color, p, ng), 1);
           break;
         }
         case ir::MaterialKind::Dielectric: {
@@ -377,9 +377,7 @@ Color Integrator::li(const Ray& camera_ray, const SampleContext& sc, RenderStats
             transmit = !reflect;
             wr = wt = 1;
           }
-          if (reflect)
-            spawn(RayKind::Reflection, spawn_origin(hit, nf, offset_scale_), normalize(refl),
-                  w * wr, 1);
+          if (reflect) spawn(RayKind::Reflection, o_out, normalize(refl), w * wr, 1);
           if (transmit && m.ior == 1.0) {
             // Index-matched (robustness #14): R = 0 and the ray goes on unbent.
             // The very same ray continues past this hit instead of restarting
@@ -400,10 +398,8 @@ Color Integrator::li(const Ray& camera_ray, const SampleContext& sc, RenderStats
           Interface f = make_interface(cos_i, m.ior);
           double R = reflectance(f, fresnel_);
           Color albedo = texture(m.color, p, ng);
-          contrib = w * albedo * direct_timed(p, spawn_origin(hit, nf, offset_scale_), nf) *
-                    (kInvPi * float(1 - R));
-          spawn(RayKind::Reflection, spawn_origin(hit, nf, offset_scale_), normalize(refl),
-                w * float(R), 1);
+          contrib = w * albedo * direct_timed(p, o_out, nf) * (kInvPi * float(1 - R));
+          spawn(RayKind::Reflection, o_out, normalize(refl), w * float(R), 1);
           break;
         }
       }
