@@ -418,19 +418,24 @@ TEST_CASE("hc21 Beer under instance scaling: unit sphere scaled by 2 equals radi
   CHECK(d.max < 1e-5);
 }
 
+namespace {
+// §3.5: an absorbing glass sphere (η 1.5, σr = 1) in a white environment, the
+// untruncated tree, at impact parameter b.
+double absorbing_sphere_L(double b) {
+  double R = rt::fresnel_dielectric(std::sqrt(1 - b * b), 1.5, ir::FresnelMode::Exact);
+  double ct = std::sqrt(1 - (b / 1.5) * (b / 1.5)), A = std::exp(-2 * ct);
+  return R + (1 - R) * (1 - R) * A / (1 - R * A);
+}
+}  // namespace
+
 TEST_CASE("hc23 absorbing glass sphere: L = R + T^2 A / (1 - R A) per pixel",
           "[hardcase][scene][beer]") {
   // §3.5, η 1.5, σr = 1, white environment, untruncated (max_depth 60, min_weight 0):
   // b = 0 → 0.16540386, 0.5 → 0.18180242, 0.9 → 0.27631585. Each pixel is checked
   // against the formula at its own ray's b; margin 2e-4 as tests/runtime's furnace.
-  auto L = [](double b) {
-    double R = rt::fresnel_dielectric(std::sqrt(1 - b * b), 1.5, ir::FresnelMode::Exact);
-    double ct = std::sqrt(1 - (b / 1.5) * (b / 1.5)), A = std::exp(-2 * ct);
-    return R + (1 - R) * (1 - R) * A / (1 - R * A);
-  };
-  CHECK(L(0) == Approx(0.16540386).margin(1e-8));
-  CHECK(L(0.5) == Approx(0.18180242).margin(1e-8));
-  CHECK(L(0.9) == Approx(0.27631585).margin(1e-8));
+  CHECK(absorbing_sphere_L(0) == Approx(0.16540386).margin(1e-8));
+  CHECK(absorbing_sphere_L(0.5) == Approx(0.18180242).margin(1e-8));
+  CHECK(absorbing_sphere_L(0.9) == Approx(0.27631585).margin(1e-8));
   ir::Scene s = sphere_in_white(dielectric(1.5, ir::Vec3(1)));
   rt::RenderResult r = rt::render(s, {});
   int checked = 0;
@@ -439,7 +444,7 @@ TEST_CASE("hc23 absorbing glass sphere: L = R + T^2 A / (1 - R A) per pixel",
       double b = impact(s, x, y, {0, 0, 4}, 1);
       if (b > 0.97) continue;
       INFO("pixel " << x << "," << y << " b " << b);
-      CHECK(r.image.at(x, y)[0] == Approx(L(b)).margin(2e-4));
+      CHECK(r.image.at(x, y)[0] == Approx(absorbing_sphere_L(b)).margin(2e-4));
       ++checked;
     }
   CHECK(checked > 200);
@@ -455,11 +460,6 @@ TEST_CASE("hc23 a small absorbing bead far away: the same L = R + T^2 A / (1 - R
   // started deep inside and pixels were off by up to 0.134. What is left is float
   // geometry: the bead is only ~260 float steps across (ulp(50) / r = 3.8e-3), so
   // chords are off by ~1 % and L by up to 0.009 (measured); margin 0.02.
-  auto L = [](double b) {
-    double R = rt::fresnel_dielectric(std::sqrt(1 - b * b), 1.5, ir::FresnelMode::Exact);
-    double ct = std::sqrt(1 - (b / 1.5) * (b / 1.5)), A = std::exp(-2 * ct);
-    return R + (1 - R) * (1 - R) * A / (1 - R * A);
-  };
   for (auto [radius, distance] : {std::pair{1e-3, 50.0}, std::pair{1e-2, 400.0}}) {
     ir::Scene s = base_scene(21, 21, 1);
     s.background = {1, 1, 1};
@@ -475,7 +475,7 @@ TEST_CASE("hc23 a small absorbing bead far away: the same L = R + T^2 A / (1 - R
         double b = impact(s, x, y, c, radius);
         if (b > 0.97) continue;
         INFO("radius " << radius << " pixel " << x << "," << y << " b " << b);
-        CHECK(r.image.at(x, y)[0] == Approx(L(b)).margin(0.02));
+        CHECK(r.image.at(x, y)[0] == Approx(absorbing_sphere_L(b)).margin(0.02));
         ++checked;
       }
     CHECK(checked > 100);
