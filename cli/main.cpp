@@ -181,6 +181,16 @@ int run_render(const Options& o) {
                        std::to_string(scene.settings.width) + "x" +
                        std::to_string(scene.settings.height) + " image");
 
+  // An output whose folder is missing fails now, not after the render (exit 3, §10).
+  for (const std::string& out : outputs) {
+    fs::path dir = fs::path(out).parent_path();
+    std::error_code ec;
+    if (!dir.empty() && !fs::is_directory(dir, ec)) {
+      std::cerr << "snell: error: cannot write " << out << ": the folder " << dir.string()
+                << (fs::exists(dir, ec) ? " is not a folder" : " does not exist") << "\n";
+      return kExitIo;
+    }
+  }
   // The image writer (OIIO, ~0.25 s to load) loads before the render: a writer that
   // cannot load fails now, not after the render is done. Not on a thread beside
   // the render: its dlopen holds the loader lock, which Embree's and TBB's thread
