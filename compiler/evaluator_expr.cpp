@@ -118,11 +118,13 @@ Value Evaluator::eval_vector(const Expr& e, const std::shared_ptr<Env>& env) {
     Value v = eval(*e.args[i], env);
     if (v.is_error()) {
       bad = true;
-    } else if (v.type != Type::Number) {
+    } else if (v.type != Type::Number && v.type != Type::Bool) {
       error(DiagKind::TypeMismatch, e.args[i]->span,
             "a vector's components must be numbers, not a " + std::string(type_name(v.type)));
       bad = true;
     } else if (i < 3) {
+      // A bool component is 1 or 0: §3 writes `<(a > b), 1, 2>` as a vector, and POV-Ray
+      // users expect a comparison to be a number there. Nowhere else is a bool a number.
       c[i] = v.n;
     }
   }

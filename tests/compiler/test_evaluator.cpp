@@ -75,6 +75,12 @@ TEST_CASE("vectors: component-wise arithmetic, promotion, components", "[compile
   CHECK(vec("-<1, 2, 3>") == ir::Vec3{-1, -2, -3});
   CHECK(num("<1, 2, 3>.y + <4, 5>.x") == 6);
   CHECK(vec("0.5") == ir::Vec3{0.5, 0.5, 0.5});  // number promoted where a vector is expected
+  // §3's own example: a parenthesised comparison is a component, 1 or 0.
+  CHECK(vec("<(a > b), 1, 2>", "let a = 2; let b = 1;") == ir::Vec3{1, 1, 2});
+  CHECK(vec("<(a < b), (a == 2), 2>", "let a = 2; let b = 1;") == ir::Vec3{0, 1, 2});
+  // Only there: a bool is still not a number in arithmetic or a property.
+  CHECK(first_error("let x = (1 < 2) + 1;") == "TypeMismatch");
+  CHECK(first_error("sphere { radius (1 < 2) }") == "InvalidValue");
 }
 
 TEST_CASE("builtins: trigonometry in degrees, component-wise maths", "[compiler]") {
