@@ -12,6 +12,7 @@
 #include <memory>
 #include <string>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include "compiler/lower.hpp"
@@ -222,6 +223,9 @@ class Evaluator {
   // that shared_ptr never frees. The destructor clears these scopes' bindings once
   // evaluation is over (the IR holds no values), which frees everything.
   std::vector<std::weak_ptr<Env>> closure_scopes_;
+  // Constructors already warned about (EnergyGain), by source offset: a loop that
+  // makes the same material a thousand times is told once.
+  std::unordered_set<std::uint64_t> energy_warned_;
   std::deque<std::vector<Value>> args_pool_;  // argument lists of calls in progress
   std::size_t args_depth_ = 0;
   std::vector<NumOp> num_ops_;  // the compiled numeric expressions (fast_number)

@@ -1,4 +1,6 @@
 // Expression evaluation: operators, calls, vectors, components, constructors.
+#include <fmt/format.h>
+
 #include <cmath>
 
 #include "compiler/arith.hpp"
@@ -436,6 +438,20 @@ Value Evaluator::eval_constructor(const Expr& e, const std::shared_ptr<Env>& env
       }
   }
   if (!ok) return Value::error();
+  // A mirror or glossy surface that reflects more than it receives is legal, but
+  // two of them facing each other multiply without bound (to inf, then dropped
+  // samples): say so once per place.
+  if (block->name == "mirror" || block->name == "glossy")
+    for (const EvaluatedProp& p : props) {
+      if (p.info->name != "color" || p.value.type != Type::Vec3) continue;
+      double m = std::fmax(p.value.v.x, std::fmax(p.value.v.y, p.value.v.z));
+      std::uint64_t key = (std::uint64_t(p.value_span.file) << 32) | p.value_span.begin;
+      if (m > 1 && p.value_span.end > p.value_span.begin && energy_warned_.insert(key).second)
+        error(DiagKind::EnergyGain, p.value_span,
+              fmt::format("'{}' reflects more light than it receives (a colour component of "
+                          "{:g} > 1): facing reflections grow without bound",
+                          block->name, m));
+    }
   return make_constructor_value(*block, props);
 }
 

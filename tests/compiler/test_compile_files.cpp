@@ -104,7 +104,8 @@ TEST_CASE("every compile diagnostic kind has a tests/lang case", "[compiler][lan
         "ZeroStep",         "ReturnOutsideFunction", "MissingReturn",      "RecursionLimit",
         "ValueAsStatement", "UnknownBlock",          "UnknownProperty",    "DuplicateProperty",
         "MissingProperty",  "InvalidValue",          "DuplicateSceneItem", "DegenerateGeometry",
-        "ImportNotFound",   "ImportCycle",           "FileUnreadable",     "BadVectorArity"}) {
+        "ImportNotFound",   "ImportCycle",           "FileUnreadable",     "BadVectorArity",
+        "EnergyGain"}) {
     INFO(kind);
     CHECK(all.find(std::string(" ") + kind) != std::string::npos);
   }
