@@ -232,14 +232,15 @@ void triangle_point(const float* vb, const unsigned* ib, unsigned prim, float u,
 // coordinate plane through the camera) falls back to offset_ray_origin.
 constexpr float kOffsetUlps = 8;
 float triangle_offset(const float* a, const float* b, const float* c) {
-  float e1[3], e2[3], big[3], extent[3], n[3];
+  // In double: the cross products of edges 1e10 long overflow float.
+  double e1[3], e2[3], big[3], extent[3], n[3];
   for (int i = 0; i < 3; ++i) {
-    e1[i] = b[i] - a[i], e2[i] = c[i] - a[i];
-    float lo = std::fmin(a[i], std::fmin(b[i], c[i])), hi = std::fmax(a[i], std::fmax(b[i], c[i]));
+    e1[i] = double(b[i]) - a[i], e2[i] = double(c[i]) - a[i];
+    double lo = std::fmin(a[i], std::fmin(b[i], c[i])), hi = std::fmax(a[i], std::fmax(b[i], c[i]));
     big[i] = std::fmax(std::fabs(lo), std::fabs(hi));
     extent[i] = hi - lo;
   }
-  float cross_abs = 0, cross_sq = 0;
+  double cross_abs = 0, cross_sq = 0;
   for (int i = 0; i < 3; ++i) {
     int j = (i + 1) % 3, k = (i + 2) % 3;
     n[i] = e1[j] * e2[k] - e1[k] * e2[j];
@@ -247,9 +248,11 @@ float triangle_offset(const float* a, const float* b, const float* c) {
     cross_abs += extent[i] * (std::fabs(e1[j] * e2[k]) + std::fabs(e1[k] * e2[j]));
   }
   if (!(cross_sq > 0)) return 0;  // degenerate: never hit
-  float len = std::sqrt(cross_sq), w = cross_abs / len;
+  double len = std::sqrt(cross_sq), w = cross_abs / len;
   for (int i = 0; i < 3; ++i) w += std::fabs(n[i]) / len * big[i];
-  return kOffsetUlps * 0x1p-24f * w;
+  double offset = kOffsetUlps * 0x1p-24 * w;
+  // Finite and at most a float's range, or 0 (Wächter–Binder) when not.
+  return offset < 1e30 ? float(offset) : 0.0f;
 }
 
 // The hit point of a static sphere, projected onto the sphere in double (object
@@ -269,11 +272,9 @@ void sphere_point(const SphereSet& set, unsigned prim, const Ray& r, float t, Hi
           double(r.org.z) + double(r.dir.z) * t);
   Vec3 p;
   if (s.similarity) {
-    // One Newton step along the (float, unit) normal instead of a normalisation:
-    // p0 is off the sphere by ulps of t, so the step's second-order error vanishes.
-    Vec3 f = p0 - s.rel_center;
-    double step = (s.rel_radius * s.rel_radius - ir::dot(f, f)) / (2 * s.rel_radius);
-    p = p0 + Vec3(hit.ng.x, hit.ng.y, hit.ng.z) * step;
+    // A normalisation, not a Newton step along the normal: p0 is off by ulps of t,
+    // which for a tiny sphere far away can be many radii.
+    p = s.rel_center + ir::normalize(p0 - s.rel_center) * s.rel_radius;
   } else {
     Vec3 q = xform_point(s.object_from_rel, p0);
     q = s.center + ir::normalize(q - s.center) * s.radius;
@@ -554,7 +555,7 @@ namespace {
 // Planes in double from the float ray; the float origin was already offset by the
 // caller, so the sign of (d - n·o) is reliable.
 // A moving plane is placed at the ray's time first.
-constexpr double kMaxPlaneHit = 1e17;  // camera-relative; scenes lie within 1e15 (ir.hpp)
+constexpr double kMaxPlaneHit = 1e17;  // camera-relative; scenes lie within 1e12 (ir.hpp)
 // `tie`: a distance along the plane's normal within which the plane beats a hit at
 // tmax (see EmbreeScene::intersect).
 bool hit_plane(const PlaneData& p, const Ray& r, double tmax, double tie, Vec3 origin, double& t,
@@ -610,7 +611,10 @@ bool EmbreeScene::intersect(const Ray& r, Hit& hit) const {
   RTCRayHit rh = make_rayhit(r);
   rtcIntersect1(im.scene, &ctx, &rh);
   bool found = false;
-  if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
+  // Embree's float test overflows on triangles ~1e13 across (t = inf, Ng = 0); the
+  // compiler keeps scenes within 1e12 of the camera, and such a hit is a miss here.
+  if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID && rh.ray.tfar < INFINITY &&
+      (rh.hit.Ng_x != 0 || rh.hit.Ng_y != 0 || rh.hit.Ng_z != 0)) {
     found = true;
     hit.t = rh.ray.tfar;
     hit.ng = normalize(Vec3f(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));

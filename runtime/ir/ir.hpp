@@ -170,12 +170,13 @@ struct Features {
 
 Features analyze_features(const Scene& scene);
 
-// What the runtime can trace: it works in float around the camera, and Embree
-// drops geometry and rejects rays beyond 1.8e18 (FLT_LARGE). Every object's bounds,
-// light and lens point must lie within kMaxCameraDistance of the camera (planes: the
-// plane's nearest point), leaving headroom for offsets and far hits; radiometric
-// values (colours, intensity, radiance, background) are at most kMaxRadiometric.
-inline constexpr double kMaxCameraDistance = 1e15;
+// What the runtime can trace: it works in float around the camera; Embree drops
+// geometry and rejects rays beyond 1.8e18 (FLT_LARGE), and its triangle test
+// overflows float (t = inf) on triangles ~1e13 across (edge³ > 3.4e38). Every
+// object's bounds, light and lens point must lie within kMaxCameraDistance of the
+// camera (planes: the plane's nearest point); radiometric values (colours,
+// intensity, radiance, background) are at most kMaxRadiometric.
+inline constexpr double kMaxCameraDistance = 1e12;
 inline constexpr double kMaxRadiometric = 1e30;
 
 // One thing the runtime cannot take, and the item that has it (line 0: no source).
