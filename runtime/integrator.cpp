@@ -150,15 +150,26 @@ Integrator::Integrator(const ir::Scene& scene, const EmbreeScene& embree)
 // §8 checker: p (world space) moved inward by S/100 along the outward normal, cell
 // floor(p / S), even i + j + k takes color1. World space means adding the camera
 // location back in double.
+namespace {
+// The parity of floor(x) for every finite x, without converting a huge x to an
+// integer (undefined behaviour past 2^63): every double of magnitude >= 2^53 is an
+// even integer. (A checker of size 1e-9 seen 1e10 away has cell indices ~1e19.)
+int floor_parity(double x) {
+  double f = std::floor(x);
+  if (!(std::fabs(f) < 9007199254740992.0)) return 0;
+  return int(static_cast<long long>(f) & 1);
+}
+}  // namespace
+
 Color Integrator::texture(const ir::Texture& t, Vec3f p, Vec3f n_out) const {
   if (t.kind == ir::Texture::Kind::Constant) return to_color(t.color);
   ir::Vec3 o = embree_.origin();
   double s = t.size;
   ir::Vec3 w(double(p.x) + o.x - n_out.x * s / 100, double(p.y) + o.y - n_out.y * s / 100,
              double(p.z) + o.z - n_out.z * s / 100);
-  long long i = (long long)std::floor(w.x / s), j = (long long)std::floor(w.y / s),
-            k = (long long)std::floor(w.z / s);
-  return ((i + j + k) & 1) == 0 ? to_color(t.color) : to_color(t.color2);
+  // i + j + k is even exactly when the three parities cancel.
+  int odd = floor_parity(w.x / s) ^ floor_parity(w.y / s) ^ floor_parity(w.z / s);
+  return odd == 0 ? to_color(t.color) : to_color(t.color2);
 }
 
 // Radiance an area light sends along `dir` (the ray's direction, towards the light):
