@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "compiler/value.hpp"
+#include "runtime/ir/ir.hpp"
 
 namespace snell::compile {
 
@@ -38,9 +39,9 @@ enum class PropType {
 // Pixels: every component >= 1 and at most kMaxPixels in all (the image's
 // float RGB film must fit in memory: 2^28 pixels is 3 GiB).
 // The largest value a NonNegative property (colours, intensities, radiance, absorb,
-// blur, aperture, min_weight) may take: the renderer works in float (3.4e38), and
-// 1e30 leaves room for sums over lights and samples.
-inline constexpr double kMaxMagnitude = 1e30;
+// blur, aperture, min_weight) may take: the runtime's radiometric limit (the
+// renderer works in float, 3.4e38; 1e30 leaves room for sums over lights and samples).
+inline constexpr double kMaxMagnitude = ir::kMaxRadiometric;
 enum class Check { Any, Positive, NonNegative, AtLeast1, Fov, Ior, NonZero, Shutter, Pixels };
 inline constexpr double kMaxPixels = 268435456.0;  // 2^28, e.g. 16384 x 16384
 

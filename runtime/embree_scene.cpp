@@ -649,7 +649,9 @@ bool EmbreeScene::intersect(const Ray& r, Hit& hit) const {
   // and the nearer one flipped from ray to ray (a speckled band at the foot of the
   // glass block in examples/glass). Within the face's error bound (its offset, at
   // least 32 ulps of the point) the plane wins: the floor under a block resting on it.
-  double tie = found ? std::fmax(double(hit.offset), 0x1p-19 * double(max_abs(hit.p))) : 0;
+  double tie = found && !im.planes.empty()
+                   ? std::fmax(double(hit.offset), 0x1p-19 * double(max_abs(hit.p)))
+                   : 0;
   for (const PlaneData& p : im.planes) {
     double t;
     Vec3 n;

@@ -166,20 +166,19 @@ std::string to_string(const Problem& p, const Scene& scene) {
 namespace {
 // The largest |coordinate| of the corners of the box lo..hi placed by `xf`,
 // relative to `origin`.
-double placed_box_reach(const Transform& xf, Vec3 lo, Vec3 hi, Vec3 origin) {
-  double r = 0;
-  for (int i = 0; i < 8; ++i) {
-    Vec3 p = xf.point({i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z}) - origin;
-    r = std::fmax(r, std::fmax(std::fabs(p.x), std::fmax(std::fabs(p.y), std::fabs(p.z))));
-  }
-  return r;
-}
-double reach(Vec3 p, Vec3 origin) {
-  Vec3 d = p - origin;
-  return std::fmax(std::fabs(d.x), std::fmax(std::fabs(d.y), std::fabs(d.z)));
-}
 double largest(Vec3 v) {
   return std::fmax(std::fabs(v.x), std::fmax(std::fabs(v.y), std::fabs(v.z)));
+}
+double reach(Vec3 p, Vec3 origin) {
+  return largest(p - origin);
+}
+double placed_box_reach(const Transform& xf, Vec3 lo, Vec3 hi, Vec3 origin) {
+  double r = 0;
+  for (int i = 0; i < 8; ++i)
+    r = std::fmax(
+        r,
+        reach(xf.point({i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z}), origin));
+  return r;
 }
 std::string far_message(const std::string& what, double r) {
   char buf[160];
