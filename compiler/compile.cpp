@@ -193,9 +193,7 @@ class Driver {
         return false;
       }
       std::string expr = text;
-      bool word = (prop->type == PropType::Sampler || prop->type == PropType::Fresnel ||
-                   prop->type == PropType::Branching || prop->type == PropType::Termination) &&
-                  !expr.empty() && expr.front() != '"';
+      bool word = is_enum(prop->type) && !expr.empty() && expr.front() != '"';
       if (word) expr = "\"" + expr + "\"";
       // Parsed and evaluated as a .scn expression in a file of its own.
       lang::SourceManager src;

@@ -8,6 +8,8 @@
 #include <cstring>
 #include <filesystem>
 #include <new>
+
+#include "compiler/ir_binding.hpp"
 #ifdef __linux__
 #include <sys/mman.h>
 #endif
@@ -20,9 +22,7 @@ using lang::Span;
 namespace {
 
 const EvaluatedProp* get(const std::vector<EvaluatedProp>& props, PropId id) {
-  for (const EvaluatedProp& p : props)
-    if (p.info->id == static_cast<std::int32_t>(id)) return &p;
-  return nullptr;
+  return find_evaluated(props, id);
 }
 
 ir::Vec3 vec(const std::vector<EvaluatedProp>& props, PropId id) {
@@ -31,13 +31,6 @@ ir::Vec3 vec(const std::vector<EvaluatedProp>& props, PropId id) {
 
 double num(const std::vector<EvaluatedProp>& props, PropId id) {
   return get(props, id)->value.n;
-}
-
-ir::Texture texture_of(const Value& v) {
-  if (v.type == Type::Pattern) return v.pat();
-  ir::Texture t;
-  t.color = v.v;
-  return t;
 }
 
 // Appends the transform ops of `props` (translate/rotate/scale, in the order
@@ -64,38 +57,10 @@ ir::Transform transforms(const std::vector<EvaluatedProp>& props) {
 
 }  // namespace
 
-Value make_constructor_value(const BlockInfo& block, const std::vector<EvaluatedProp>& props) {
-  std::string_view n = block.name;
-  if (n == "checker") {
-    ir::Texture t;
-    t.kind = ir::Texture::Kind::Checker;
-    t.color = vec(props, PropId::checker_color1);
-    t.color2 = vec(props, PropId::checker_color2);
-    t.size = num(props, PropId::checker_size);
-    return Value::of_pattern(t);
-  }
-  ir::Material m;
-  if (n == "diffuse") {
-    m.kind = ir::MaterialKind::Diffuse;
-    m.color = texture_of(get(props, PropId::diffuse_color)->value);
-  } else if (n == "mirror") {
-    m.kind = ir::MaterialKind::Mirror;
-    m.color = texture_of(get(props, PropId::mirror_color)->value);
-  } else if (n == "glossy") {
-    m.kind = ir::MaterialKind::Glossy;
-    m.color = texture_of(get(props, PropId::glossy_color)->value);
-    m.blur = num(props, PropId::glossy_blur);
-  } else if (n == "dielectric") {
-    m.kind = ir::MaterialKind::Dielectric;
-    m.color.color = {1, 1, 1};
-    m.ior = num(props, PropId::dielectric_ior);
-    m.absorb = vec(props, PropId::dielectric_absorb);
-  } else if (n == "glazed") {
-    m.kind = ir::MaterialKind::Glazed;
-    m.color = texture_of(get(props, PropId::glazed_color)->value);
-    m.ior = num(props, PropId::glazed_ior);
-  }
-  return Value::of_material(std::move(m));
+const EvaluatedProp* find_evaluated(const std::vector<EvaluatedProp>& props, PropId id) {
+  for (const EvaluatedProp& p : props)
+    if (p.info->id == static_cast<std::int32_t>(id)) return &p;
+  return nullptr;
 }
 
 SceneBuilder::SceneBuilder(const lang::SourceManager& sources, lang::DiagnosticEngine& diags)
@@ -122,18 +87,34 @@ bool SceneBuilder::first_of_kind(std::string_view kind, Span span) {
   return false;
 }
 
-std::uint64_t SceneBuilder::material_hash(const ir::Material& m) {
-  std::uint64_t h = 0xcbf29ce484222325ull ^ static_cast<std::uint64_t>(m.kind);
-  auto mix = [&](double d) {
+namespace {
+// FNV-1a over every number of a kind struct, textures included (fields.hpp).
+struct Hasher {
+  std::uint64_t h = 0xcbf29ce484222325ull;
+  void mix(std::uint64_t x) { h = (h ^ x) * 0x100000001b3ull; }
+  void operator()(double d) {
     if (d == 0) d = 0;  // -0 and +0 compare equal, so they must hash equal
     std::uint64_t x;
     std::memcpy(&x, &d, sizeof x);
-    h = (h ^ x) * 0x100000001b3ull;
-  };
-  mix(m.color.color.x), mix(m.color.color.y), mix(m.color.color.z);
-  mix(m.color.color2.x), mix(m.color.color2.y), mix(m.color.color2.z), mix(m.color.size);
-  mix(m.blur), mix(m.ior), mix(m.absorb.x), mix(m.absorb.y), mix(m.absorb.z);
-  h ^= static_cast<std::uint64_t>(m.color.kind) << 7;
+    mix(x);
+  }
+  void operator()(ir::Vec3 v) { (*this)(v.x), (*this)(v.y), (*this)(v.z); }
+  void operator()(const ir::Texture& t) {
+    mix(t.pattern.index() << 7);
+    std::visit([&](const auto& p) { fields(p); }, t.pattern);
+  }
+  template <class T>
+  void fields(const T& kind) {
+    ir::for_each_field(kind, [&](const char*, const auto& v) { (*this)(v); });
+  }
+};
+}  // namespace
+
+std::uint64_t SceneBuilder::material_hash(const ir::Material& m) {
+  Hasher hs;
+  hs.mix(m.model.index());
+  std::visit([&](const auto& k) { hs.fields(k); }, m.model);
+  std::uint64_t h = hs.h;
   h = (h ^ (h >> 30)) * 0xBF58476D1CE4E5B9ull;  // SplitMix64 finaliser: spread all bits
   h = (h ^ (h >> 27)) * 0x94D049BB133111EBull;
   return h ^ (h >> 31);
@@ -218,6 +199,11 @@ void SceneBuilder::set_background(const Value& color, Span span) {
 
 void SceneBuilder::add_item(const BlockInfo& block, Span kw,
                             const std::vector<EvaluatedProp>& props) {
+  if (block.shape_kind >= 0) {
+    add_object(block, kw, props);
+    return;
+  }
+  // The few singleton and light items (shapes are kinds, found above).
   std::string_view n = block.name;
   if (n == "settings") {
     if (!first_of_kind(n, kw)) return;
@@ -258,8 +244,6 @@ void SceneBuilder::add_item(const BlockInfo& block, Span kw,
       return;
     }
     scene_.area_lights.push_back(l);
-  } else {
-    add_object(block, kw, props);
   }
 }
 
@@ -269,29 +253,15 @@ void SceneBuilder::apply_settings(const std::vector<EvaluatedProp>& props) {
 
 void SceneBuilder::override_setting(const PropInfo& prop, const Value& v) {
   ir::Settings& s = scene_.settings;
-  std::string_view n = prop.name;
-  if (n == "resolution") {
+  if (prop.id == static_cast<std::int32_t>(PropId::settings_resolution)) {
     s.width = static_cast<std::uint32_t>(v.v.x);
     s.height = static_cast<std::uint32_t>(v.v.y);
-  } else if (n == "samples") {
-    s.samples = static_cast<std::uint32_t>(v.n);
-  } else if (n == "sampler") {
-    s.sampler = v.str() == "independent" ? ir::SamplerKind::Independent
-                : v.str() == "sobol"     ? ir::SamplerKind::Sobol
-                                         : ir::SamplerKind::Stratified;
-  } else if (n == "max_depth") {
-    s.max_depth = static_cast<std::uint32_t>(v.n);
-  } else if (n == "min_weight") {
-    s.min_weight = v.n;
-  } else if (n == "fresnel") {
-    s.fresnel = v.str() == "schlick" ? ir::FresnelMode::Schlick : ir::FresnelMode::Exact;
-  } else if (n == "branching") {
-    s.branching = v.str() == "stochastic" ? ir::Branching::Stochastic : ir::Branching::Split;
-  } else if (n == "termination") {
-    s.termination = v.str() == "roulette" ? ir::Termination::Roulette : ir::Termination::Cutoff;
-  } else if (n == "seed") {
-    s.seed = static_cast<std::uint64_t>(v.n);
+    return;
   }
+  // Every other setting is the ir::Settings field of its name (properties.def).
+  ir::for_each_field(s, [&](const char* field, auto& f) {
+    if (prop.name == field) assign(f, v);
+  });
 }
 
 void SceneBuilder::apply_camera(const std::vector<EvaluatedProp>& props) {
@@ -323,52 +293,14 @@ void SceneBuilder::apply_camera(const std::vector<EvaluatedProp>& props) {
 
 void SceneBuilder::add_object(const BlockInfo& block, Span kw,
                               const std::vector<EvaluatedProp>& props) {
-  // Built in place (a Shape is ~500 bytes; a million of them copied once more
+  // Built in place (a Shape is ~370 bytes; a million of them copied once more
   // is measurable) and taken back out if a check below fails.
   ir::Shape& s = scene_.shapes.emplace_back();
   s.src = ref(kw);
-  std::string_view n = block.name;
-  if (n == "sphere") {
-    s.kind = ir::ShapeKind::Sphere;
-    s.center = vec(props, PropId::sphere_center);
-    s.radius = num(props, PropId::sphere_radius);
-  } else if (n == "plane") {
-    s.kind = ir::ShapeKind::Plane;
-    ir::Vec3 nrm = vec(props, PropId::plane_normal);
-    double len = ir::length(nrm);
-    // dot(p, n) = d with n normalised: the plane is the same set of points.
-    s.normal = nrm / len;
-    s.distance = num(props, PropId::plane_distance) / len;
-  } else if (n == "box") {
-    s.kind = ir::ShapeKind::Box;
-    s.min = vec(props, PropId::box_min);
-    s.max = vec(props, PropId::box_max);
-    if (!(s.min.x <= s.max.x && s.min.y <= s.max.y && s.min.z <= s.max.z)) {
-      diags_
-          .report(DiagKind::InvalidValue, get(props, PropId::box_max)->value_span,
-                  "a box's 'max' must be >= its 'min' in every component")
-          .note(get(props, PropId::box_min)->value_span, "min is " + ir::to_string(s.min));
-      scene_.shapes.pop_back();
-      return;
-    }
-  } else if (n == "triangle") {
-    s.kind = ir::ShapeKind::Triangle;
-    s.a = vec(props, PropId::triangle_a);
-    s.b = vec(props, PropId::triangle_b);
-    s.c = vec(props, PropId::triangle_c);
-    if (ir::length(ir::cross(s.b - s.a, s.c - s.a)) == 0) {
-      diags_.report(DiagKind::DegenerateGeometry, kw,
-                    "this triangle has no area (its corners are collinear); it is left out");
-      scene_.shapes.pop_back();
-      return;
-    }
-  } else if (n == "mesh") {
-    s.kind = ir::ShapeKind::Mesh;
-    const EvaluatedProp* f = get(props, PropId::mesh_file);
-    if (!load_mesh(f->value.str(), f->value_span, s.mesh)) {
-      scene_.shapes.pop_back();
-      return;
-    }
+  LowerContext cx{*this, kw, props, diags_};
+  if (!lower_shape(block, cx, s.geom)) {
+    scene_.shapes.pop_back();
+    return;
   }
   const EvaluatedProp* mat = get(props, PropId::object_material);
   if (mat) {
@@ -419,7 +351,7 @@ bool SceneBuilder::load_mesh(const std::string& file, Span span, std::uint32_t& 
                   "cannot read mesh '" + key + "': " + reader.Error());
     return false;
   }
-  ir::Mesh mesh;
+  ir::MeshData mesh;
   mesh.path = key;
   const auto& verts = reader.GetAttrib().vertices;
   for (std::size_t i = 0; i + 2 < verts.size(); i += 3)

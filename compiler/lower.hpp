@@ -25,8 +25,26 @@ struct EvaluatedProp {
   std::vector<EvaluatedProp> nested;  // a Block property (motion { ... })
 };
 
-// Builds an ir::Material or ir::Texture value from a constructor's properties.
+// Builds an ir::Material or ir::Texture value from a constructor's properties
+// (lower_kinds.cpp: the block's kind struct, filled field by field).
 Value make_constructor_value(const BlockInfo& block, const std::vector<EvaluatedProp>& props);
+
+class SceneBuilder;
+const EvaluatedProp* find_evaluated(const std::vector<EvaluatedProp>& props, PropId id);
+
+// What a kind's lowering hook (lower_kinds.cpp) sees: the block's keyword, its
+// checked properties, the diagnostics, and the builder (for its mesh table).
+struct LowerContext {
+  SceneBuilder& builder;
+  lang::Span keyword;
+  const std::vector<EvaluatedProp>& props;
+  lang::DiagnosticEngine& diags;
+  const EvaluatedProp* get(PropId id) const { return find_evaluated(props, id); }
+};
+
+// The object-space geometry of a shape block (its kind struct, filled field by
+// field, then the kind's own checks); false when an error was reported.
+bool lower_shape(const BlockInfo& block, LowerContext& cx, ir::ShapeGeom& out);
 
 inline constexpr std::size_t kMaxSceneObjects = 20'000'000;
 
@@ -57,6 +75,10 @@ class SceneBuilder {
   // Fills defaults (focal_distance), the file table, and returns the scene.
   ir::Scene finish();
 
+  // Loads (once per file) the mesh `file` named at `span`; false when an error
+  // was reported.
+  bool load_mesh(const std::string& file, lang::Span span, std::uint32_t& index);
+
  private:
   ir::SourceRef ref(lang::Span span) const;
   // The last two spans ref() resolved (an object's keyword and its material's):
@@ -71,7 +93,6 @@ class SceneBuilder {
   void add_object(const BlockInfo& block, lang::Span kw, const std::vector<EvaluatedProp>& props);
   void apply_settings(const std::vector<EvaluatedProp>& props);
   void apply_camera(const std::vector<EvaluatedProp>& props);
-  bool load_mesh(const std::string& file, lang::Span span, std::uint32_t& index);
   bool first_of_kind(std::string_view kind, lang::Span span);
 
   const lang::SourceManager& sources_;

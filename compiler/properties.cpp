@@ -6,6 +6,8 @@
 #include <deque>
 #include <memory>
 
+#include "compiler/ir_binding.hpp"
+
 namespace snell::compile {
 
 const PropInfo* const* detail::prop_index = nullptr;
@@ -20,7 +22,9 @@ struct Registry {
   Registry() {
 #define SNELL_BLOCK(name, kind) blocks.push_back({#name, BlockKind::kind, {}, false});
 #define SNELL_PROP(block, name, type, check, flags, def) \
-  props.push_back({#block, #name, PropType::type, Check::check, static_cast<unsigned>(flags), def});
+  add(#block, #name, PropType::type, Check::check, static_cast<unsigned>(flags), def);
+#define SNELL_SETTING(name, type, check, def) \
+  add("settings", #name, PropType::type, Check::check, 0, def);
 #include "compiler/properties.def"
     for (std::size_t i = 0; i < props.size(); ++i) {
       props[i].id = static_cast<std::int32_t>(i);
@@ -30,9 +34,53 @@ struct Registry {
     for (const PropInfo& p : props)
       for (BlockInfo& b : blocks)
         if (b.name == p.block) b.props.push_back(&p);
+    // The kinds of runtime/ir/kinds.def: their blocks, and the IR defaults of
+    // their properties (and of the settings).
+    int index = 0;
+#define SNELL_SHAPE(name, Type) bind_kind<ir::Type>(#name, index++, &BlockInfo::shape_kind);
+#include "runtime/ir/kinds.def"
+    index = 0;
+#define SNELL_MATERIAL(name, Type) bind_kind<ir::Type>(#name, index++, &BlockInfo::material_kind);
+#include "runtime/ir/kinds.def"
+    index = 0;
+#define SNELL_PATTERN(name, Type) bind_kind<ir::Type>(#name, index++, &BlockInfo::pattern_kind);
+#include "runtime/ir/kinds.def"
+    const ir::Settings settings;
+    BlockInfo& sb = block("settings");
+    ir::for_each_field(
+        settings, [&](const char* field, const auto& v) { ir_default(sb, field, to_value(v)); });
+    ir_default(sb, "resolution", Value::vec2(settings.width, settings.height));
+    for (BlockInfo& b : blocks) b.is_object = b.shape_kind >= 0;
+  }
+
+  void add(std::string_view block, std::string_view name, PropType type, Check check,
+           unsigned flags, Value def) {
+    props.push_back({block, name, type, check, flags, std::move(def)});
+  }
+  void add(std::string_view block, std::string_view name, PropType type, Check check,
+           unsigned flags, FromIR) {
+    add(block, name, type, check, flags, Value::none());
+    props.back().default_from_ir = true;
+  }
+  BlockInfo& block(std::string_view name) {
     for (BlockInfo& b : blocks)
-      b.is_object = b.name == "sphere" || b.name == "plane" || b.name == "box" ||
-                    b.name == "triangle" || b.name == "mesh";
+      if (b.name == name) return b;
+    static BlockInfo none{"", BlockKind::Nested, {}, false};  // a kind without a block:
+    return none;                                              // the registry test reports it
+  }
+  // Fills the default of `block`'s property `field` when its row says IR.
+  void ir_default(BlockInfo& b, std::string_view field, Value v) {
+    for (const PropInfo* p : b.props)
+      if (p->name == field && p->default_from_ir)
+        const_cast<PropInfo*>(p)->default_value = std::move(v);
+  }
+  template <class T>
+  void bind_kind(std::string_view name, int index, int BlockInfo::*slot) {
+    BlockInfo& b = block(name);
+    b.*slot = index;
+    const T kind{};
+    ir::for_each_field(
+        kind, [&](const char* field, const auto& v) { ir_default(b, field, to_value(v)); });
   }
 };
 
@@ -145,6 +193,16 @@ std::vector<std::string_view> block_names(BlockKind kind) {
   return out;
 }
 
+bool is_enum(PropType t) {
+  switch (t) {
+#define SNELL_ENUM(Type, VALUES) case PropType::Type:
+#include "runtime/ir/kinds.def"
+    return true;
+    default:
+      return false;
+  }
+}
+
 std::string describe(const PropInfo& p) {
   std::string r = range_words(p.check);
   switch (p.type) {
@@ -162,14 +220,10 @@ std::string describe(const PropInfo& p) {
       return "true or false";
     case PropType::String:
       return "a string";
-    case PropType::Sampler:
-      return "\"independent\", \"stratified\" or \"sobol\"";
-    case PropType::Fresnel:
-      return "\"exact\" or \"schlick\"";
-    case PropType::Branching:
-      return "\"split\" or \"stochastic\"";
-    case PropType::Termination:
-      return "\"cutoff\" or \"roulette\"";
+#define SNELL_ENUM(Type, VALUES) \
+  case PropType::Type:           \
+    return ir::spellings_text<ir::Type>();
+#include "runtime/ir/kinds.def"
     case PropType::Material:
       return "a material (diffuse, mirror, glossy, dielectric, glazed)";
     case PropType::Color:
@@ -260,26 +314,15 @@ std::string check_value(const PropInfo& p, Value& v, bool* integral) {
       return v.type == Type::Bool ? "" : wrong();
     case PropType::String:
       return v.type == Type::String ? "" : wrong();
-    case PropType::Sampler:
-      if (v.type != Type::String) return wrong();
-      if (v.str() != "independent" && v.str() != "stratified" && v.str() != "sobol")
-        return "'sampler' takes " + describe(p) + ", not \"" + v.str() + "\"";
-      return {};
-    case PropType::Fresnel:
-      if (v.type != Type::String) return wrong();
-      if (v.str() != "exact" && v.str() != "schlick")
-        return "'fresnel' takes " + describe(p) + ", not \"" + v.str() + "\"";
-      return {};
-    case PropType::Branching:
-      if (v.type != Type::String) return wrong();
-      if (v.str() != "split" && v.str() != "stochastic")
-        return "'branching' takes " + describe(p) + ", not \"" + v.str() + "\"";
-      return {};
-    case PropType::Termination:
-      if (v.type != Type::String) return wrong();
-      if (v.str() != "cutoff" && v.str() != "roulette")
-        return "'termination' takes " + describe(p) + ", not \"" + v.str() + "\"";
-      return {};
+#define SNELL_ENUM(Enum, VALUES)                                                                 \
+  case PropType::Enum: {                                                                         \
+    ir::Enum e;                                                                                  \
+    if (v.type != Type::String) return wrong();                                                  \
+    if (!ir::parse_enum(v.str(), e))                                                             \
+      return "'" + std::string(p.name) + "' takes " + describe(p) + ", not \"" + v.str() + "\""; \
+    return {};                                                                                   \
+  }
+#include "runtime/ir/kinds.def"
     case PropType::Material:
       return v.type == Type::Material ? "" : wrong();
     case PropType::Block:

@@ -23,10 +23,10 @@ enum class PropType {
   Vec3,
   Bool,
   String,
-  Sampler,
-  Fresnel,
-  Branching,
-  Termination,
+// One type per settings enum of runtime/ir/kinds.def (SamplerKind, FresnelMode,
+// ...): a string spelling one of its values.
+#define SNELL_ENUM(Type, VALUES) Type,
+#include "runtime/ir/kinds.def"
   Material,
   Color,
   ColorOrPattern,
@@ -47,6 +47,12 @@ inline constexpr double kMaxPixels = 268435456.0;  // 2^28, e.g. 16384 x 16384
 
 inline constexpr unsigned Req = 1, Rep = 2, Obj = 4;
 
+// The default column's `IR`: the default is the IR struct's own (the kind's
+// struct in runtime/ir/shapes.hpp or materials.hpp, or ir::Settings), read when
+// the registry is built, so every default is written once.
+struct FromIR {};
+inline constexpr FromIR IR{};
+
 struct PropInfo {
   std::string_view block;
   std::string_view name;
@@ -54,7 +60,8 @@ struct PropInfo {
   Check check;
   unsigned flags;
   Value default_value;
-  std::int32_t id = -1;  // position in the registry (prop_by_id); -1 for ad-hoc entries
+  std::int32_t id = -1;          // position in the registry (prop_by_id); -1 for ad-hoc entries
+  bool default_from_ir = false;  // the row said IR (default_value is filled from it)
   bool required() const { return flags & Req; }
   bool repeats() const { return flags & Rep; }
 };
@@ -64,7 +71,14 @@ struct BlockInfo {
   BlockKind kind;
   std::vector<const PropInfo*> props;  // own properties, in table order
   bool is_object = false;              // also takes the `object` properties
+  // The IR kind the block makes (runtime/ir/kinds.def, matched by name when the
+  // registry is built): an index of ir::ShapeGeom, ir::MaterialModel or
+  // ir::PatternVariant, or -1.
+  int shape_kind = -1, material_kind = -1, pattern_kind = -1;
 };
+
+// True for the settings enums' property types.
+bool is_enum(PropType t);
 
 const BlockInfo* find_block(std::string_view name);
 const PropInfo* find_prop(const BlockInfo& block, std::string_view name);
@@ -74,6 +88,7 @@ const PropInfo* find_prop(const BlockInfo& block, std::string_view name);
 enum class PropId : std::int32_t {
 #define SNELL_BLOCK(name, kind)
 #define SNELL_PROP(block, name, type, check, flags, def) block##_##name,
+#define SNELL_SETTING(name, type, check, def) settings_##name,
 #include "compiler/properties.def"
   Count
 };

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "runtime/fresnel.hpp"
+#include "runtime/ir/bounds.hpp"
 #include "runtime/scatter.hpp"
 
 namespace snell::rt {
@@ -77,38 +78,14 @@ std::string to_string(const Node& n) {
 
 float offset_scale(const ir::Scene& scene, ir::Vec3 o) {
   double extent = 0;
-  auto grow = [&](ir::Vec3 p) {
-    ir::Vec3 d = p - o;
-    extent =
-        std::fmax(extent, std::fmax(std::fabs(d.x), std::fmax(std::fabs(d.y), std::fabs(d.z))));
-  };
-  auto grow_box = [&](const ir::Transform& t, ir::Vec3 lo, ir::Vec3 hi) {
-    for (int i = 0; i < 8; ++i)
-      grow(t.point({i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z}));
-  };
-  for (const ir::Shape& s : scene.shapes) {
-    const ir::Transform& t = s.world_from_object;
-    switch (s.kind) {
-      case ir::ShapeKind::Sphere:
-        grow_box(t, s.center - ir::Vec3(s.radius), s.center + ir::Vec3(s.radius));
-        break;
-      case ir::ShapeKind::Box:
-        grow_box(t, s.min, s.max);
-        break;
-      case ir::ShapeKind::Triangle:
-        grow(t.point(s.a)), grow(t.point(s.b)), grow(t.point(s.c));
-        break;
-      case ir::ShapeKind::Mesh:
-        if (s.mesh < scene.meshes.size())
-          for (const ir::Vec3& p : scene.meshes[s.mesh].positions) grow(t.point(p));
-        break;
-      case ir::ShapeKind::Plane:
-        break;
-    }
-  }
-  for (const ir::PointLight& l : scene.point_lights) grow(l.position);
+  for (const ir::Shape& s : scene.shapes)
+    ir::world_hull_points(s, scene,
+                          [&](ir::Vec3 p) { extent = std::fmax(extent, ir::reach(p, o)); });
+  for (const ir::PointLight& l : scene.point_lights)
+    extent = std::fmax(extent, ir::reach(l.position, o));
   for (const ir::AreaLight& l : scene.area_lights)
-    grow(l.corner), grow(l.corner + l.edge1 + l.edge2);
+    extent = std::fmax(std::fmax(extent, ir::reach(l.corner, o)),
+                       ir::reach(l.corner + l.edge1 + l.edge2, o));
   if (!(extent > 0) || !std::isfinite(extent)) return 1.0f;
   return float(std::fmin(1.0, std::fmax(extent, 1e-30)));
 }
@@ -162,14 +139,20 @@ int floor_parity(double x) {
 }  // namespace
 
 Color Integrator::texture(const ir::Texture& t, Vec3f p, Vec3f n_out) const {
-  if (t.kind == ir::Texture::Kind::Constant) return to_color(t.color);
-  ir::Vec3 o = embree_.origin();
-  double s = t.size;
-  ir::Vec3 w(double(p.x) + o.x - n_out.x * s / 100, double(p.y) + o.y - n_out.y * s / 100,
-             double(p.z) + o.z - n_out.z * s / 100);
-  // i + j + k is even exactly when the three parities cancel.
-  int odd = floor_parity(w.x / s) ^ floor_parity(w.y / s) ^ floor_parity(w.z / s);
-  return odd == 0 ? to_color(t.color) : to_color(t.color2);
+  return std::visit(
+      ir::Overloaded{
+          [](const ir::Constant& c) { return to_color(c.color); },
+          [&](const ir::Checker& c) {
+            ir::Vec3 o = embree_.origin();
+            double s = c.size;
+            ir::Vec3 w(double(p.x) + o.x - n_out.x * s / 100, double(p.y) + o.y - n_out.y * s / 100,
+                       double(p.z) + o.z - n_out.z * s / 100);
+            // i + j + k is even exactly when the three parities cancel.
+            int odd = floor_parity(w.x / s) ^ floor_parity(w.y / s) ^ floor_parity(w.z / s);
+            return odd == 0 ? to_color(c.color1) : to_color(c.color2);
+          },
+      },
+      t.pattern);
 }
 
 // Radiance an area light sends along `dir` (the ray's direction, towards the light):
@@ -323,7 +306,7 @@ Color Integrator::li(const Ray& camera_ray, const SampleContext& sc, RenderStats
                            ir::to_string(scene_.area_lights[hit.index].src, scene_), hit.t);
     } else {
       const ir::Shape& shape = scene_.shapes[hit.index];
-      const ir::Material& m = mats[shape.material];
+      const ir::Material& mat = mats[shape.material];
       Vec3f p = hit.p;
       p_surface = p;
       Vec3f ng = hit.ng;               // outward
@@ -334,86 +317,80 @@ Color Integrator::li(const Ray& camera_ray, const SampleContext& sc, RenderStats
       if (trace)
         desc =
             fmt::format("hits shape {} ({} {}, {}) t={:.6g} {}", hit.index,
-                        ir::to_string(shape.kind), ir::to_string(m.kind),
+                        ir::to_string(shape.kind()), ir::to_string(mat.kind()),
                         ir::to_string(shape.src, scene_), hit.t, entering ? "entering" : "exiting");
       Vec3f refl = d + nf * (2 * cos_i);
       // Where rays leaving on the ray's side start (shadow and reflection rays).
       const Vec3f o_out = spawn_origin(hit, nf, offset_scale_);
-      switch (m.kind) {
-        case ir::MaterialKind::Diffuse: {
-          Color albedo = texture(m.color, p, ng);
-          contrib = w * albedo * direct_timed(p, o_out, nf) * kInvPi;
-          break;
+      auto diffuse = [&](const ir::Diffuse& m) {
+        Color albedo = texture(m.color, p, ng);
+        contrib = w * albedo * direct_timed(p, o_out, nf) * kInvPi;
+      };
+      auto mirror = [&](const ir::Mirror& m) {
+        spawn(RayKind::Reflection, o_out, normalize(refl), w * texture(m.color, p, ng), 1);
+      };
+      auto glossy = [&](const ir::Glossy& m) {
+        Vec3f r = normalize(refl);
+        if (m.blur > 0) {  // blur 0: the mirror, and no sample drawn
+          Sample2 s = sample2(sc.spec, sc.pixel, sc.index, node_dim(node.key, 7));
+          r = glossy_direction(r, nf, float(m.blur), s.u, s.v);
         }
-        case ir::MaterialKind::Mirror:
-          spawn(RayKind::Reflection, o_out, normalize(refl), w * texture(m.color, p, ng), 1);
-          break;
-        case ir::MaterialKind::Glossy: {
-          Vec3f r = normalize(refl);
-          if (m.blur > 0) {  // blur 0: the mirror, and no sample drawn
-            Sample2 s = sample2(sc.spec, sc.pixel, sc.index, node_dim(node.key, 7));
-            r = glossy_direction(r, nf, float(m.blur), s.u, s.v);
-          }
-          spawn(RayKind::Glossy, o_out, r, w * texture(m.color, p, ng), 1);
-          break;
+        spawn(RayKind::Glossy, o_out, r, w * texture(m.color, p, ng), 1);
+      };
+      auto dielectric = [&](const ir::Dielectric& m) {
+        if constexpr (!K::dielectric) return;  // not compiled in: no dielectric here
+        if (K::absorption && !entering) {
+          // Beer over the path inside this object (nested media are not modelled),
+          // measured from the surface point the ray left, not its offset origin:
+          // near the origin the offset is 2^-16 absolute, visible in thin slabs.
+          // Summed as (origin - start) + t·d rather than p - start: the first is
+          // exact (two nearby floats) and t·d is good to ulps of the path itself,
+          // where p - start is good only to ulps of p (2.4 % of a 1e-5 slab 3 units
+          // from the camera).
+          Vec3f path = (node.ray.org - node.start) + d * hit.t;
+          double dist = double(length(path));
+          w = w * to_float(beer(m.absorb.x, dist), beer(m.absorb.y, dist), beer(m.absorb.z, dist));
         }
-        case ir::MaterialKind::Dielectric: {
-          if constexpr (!K::dielectric) break;  // not compiled in: no dielectric here
-          if (K::absorption && !entering) {
-            // Beer over the path inside this object (nested media are not modelled),
-            // measured from the surface point the ray left, not its offset origin:
-            // near the origin the offset is 2^-16 absolute, visible in thin slabs.
-            // Summed as (origin - start) + t·d rather than p - start: the first is
-            // exact (two nearby floats) and t·d is good to ulps of the path itself,
-            // where p - start is good only to ulps of p (2.4 % of a 1e-5 slab 3 units
-            // from the camera).
-            Vec3f path = (node.ray.org - node.start) + d * hit.t;
-            double dist = double(length(path));
-            w = w *
-                to_float(beer(m.absorb.x, dist), beer(m.absorb.y, dist), beer(m.absorb.z, dist));
-          }
-          double eta = entering ? m.ior : 1.0 / m.ior;
-          Interface f = make_interface(cos_i, eta);
-          double R = reflectance(f, fresnel_);
-          if (f.tir) ++stats.tir_events;
-          // Split: both children, weighted R and 1 - R (the lecture's tree).
-          // Stochastic: one child, reflection with probability R, at full weight;
-          // the same expectation, one path instead of a tree. Under total
-          // internal reflection R is 1, so both agree exactly.
-          bool reflect = true, transmit = !f.tir;
-          float wr = float(R), wt = float(1 - R);
-          if (stochastic_branching_ && !f.tir) {
-            float u = sample1(sc.spec, sc.pixel, sc.index, node_dim(node.key, 9));
-            reflect = u < float(R);
-            transmit = !reflect;
-            wr = wt = 1;
-          }
-          if (reflect) spawn(RayKind::Reflection, o_out, normalize(refl), w * wr, 1);
-          if (transmit && m.ior == 1.0) {
-            // Index-matched (robustness #14): R = 0 and the ray goes on unbent.
-            // The very same ray continues past this hit instead of restarting
-            // from an offset origin, so a clear ior-1 object renders bit for bit
-            // like its absence, while still counting as a refraction for
-            // max_depth and min_weight as §6 defines them.
-            spawn(RayKind::Refraction, node.ray.org, d, w * wt, 2,
-                  std::nextafter(hit.t, float(INFINITY)));
-          } else if (transmit) {
-            Vec3d t = refract({d.x, d.y, d.z}, {nf.x, nf.y, nf.z}, f);
-            spawn(RayKind::Refraction, spawn_origin(hit, -nf, offset_scale_),
-                  normalize(to_float(t.x, t.y, t.z)), w * wt, 2);
-          }
-          break;
+        double eta = entering ? m.ior : 1.0 / m.ior;
+        Interface f = make_interface(cos_i, eta);
+        double R = reflectance(f, fresnel_);
+        if (f.tir) ++stats.tir_events;
+        // Split: both children, weighted R and 1 - R (the lecture's tree).
+        // Stochastic: one child, reflection with probability R, at full weight;
+        // the same expectation, one path instead of a tree. Under total
+        // internal reflection R is 1, so both agree exactly.
+        bool reflect = true, transmit = !f.tir;
+        float wr = float(R), wt = float(1 - R);
+        if (stochastic_branching_ && !f.tir) {
+          float u = sample1(sc.spec, sc.pixel, sc.index, node_dim(node.key, 9));
+          reflect = u < float(R);
+          transmit = !reflect;
+          wr = wt = 1;
         }
-        case ir::MaterialKind::Glazed: {
-          // A clear coat of index ior over a diffuse base, seen from the ray's side.
-          Interface f = make_interface(cos_i, m.ior);
-          double R = reflectance(f, fresnel_);
-          Color albedo = texture(m.color, p, ng);
-          contrib = w * albedo * direct_timed(p, o_out, nf) * (kInvPi * float(1 - R));
-          spawn(RayKind::Reflection, o_out, normalize(refl), w * float(R), 1);
-          break;
+        if (reflect) spawn(RayKind::Reflection, o_out, normalize(refl), w * wr, 1);
+        if (transmit && m.ior == 1.0) {
+          // Index-matched (robustness #14): R = 0 and the ray goes on unbent.
+          // The very same ray continues past this hit instead of restarting
+          // from an offset origin, so a clear ior-1 object renders bit for bit
+          // like its absence, while still counting as a refraction for
+          // max_depth and min_weight as §6 defines them.
+          spawn(RayKind::Refraction, node.ray.org, d, w * wt, 2,
+                std::nextafter(hit.t, float(INFINITY)));
+        } else if (transmit) {
+          Vec3d t = refract({d.x, d.y, d.z}, {nf.x, nf.y, nf.z}, f);
+          spawn(RayKind::Refraction, spawn_origin(hit, -nf, offset_scale_),
+                normalize(to_float(t.x, t.y, t.z)), w * wt, 2);
         }
-      }
+      };
+      auto glazed = [&](const ir::Glazed& m) {
+        // A clear coat of index ior over a diffuse base, seen from the ray's side.
+        Interface f = make_interface(cos_i, m.ior);
+        double R = reflectance(f, fresnel_);
+        Color albedo = texture(m.color, p, ng);
+        contrib = w * albedo * direct_timed(p, o_out, nf) * (kInvPi * float(1 - R));
+        spawn(RayKind::Reflection, o_out, normalize(refl), w * float(R), 1);
+      };
+      std::visit(ir::Overloaded{diffuse, mirror, glossy, dielectric, glazed}, mat.model);
     }
     total += contrib;
     if (cost) cost->ns[int(node.kind)] += std::fmax(0.0, cost->since(t_node) - nested);

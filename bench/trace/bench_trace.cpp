@@ -37,14 +37,14 @@ struct BenchScene {
 
 ir::Shape make_box(ir::Vec3 lo, ir::Vec3 hi, std::uint32_t mat) {
   ir::Shape s;
-  s.kind = ir::ShapeKind::Box;
-  s.min = lo, s.max = hi, s.material = mat;
+  s.geom = ir::Box{lo, hi};
+  s.material = mat;
   return s;
 }
 ir::Shape make_sphere(ir::Vec3 c, double r, std::uint32_t mat) {
   ir::Shape s;
-  s.kind = ir::ShapeKind::Sphere;
-  s.center = c, s.radius = r, s.material = mat;
+  s.geom = ir::Sphere{c, r};
+  s.material = mat;
   return s;
 }
 
@@ -84,20 +84,9 @@ std::vector<BenchScene> scenes(std::uint32_t w, std::uint32_t h, std::uint32_t s
   }
   {  // glass and glazed spheres, checker floor, an area light: the full ray tree
     ir::Scene s = base(w, h, spp);
-    ir::Material floor;
-    floor.color.kind = ir::Texture::Kind::Checker;
-    floor.color.color = {0.9, 0.9, 0.9};
-    floor.color.color2 = {0.1, 0.1, 0.1};
-    s.materials.push_back(floor);
-    ir::Material glass;
-    glass.kind = ir::MaterialKind::Dielectric;
-    glass.ior = 1.5;
-    glass.absorb = {0.1, 0.2, 0.3};
-    s.materials.push_back(glass);
-    ir::Material glaze;
-    glaze.kind = ir::MaterialKind::Glazed;
-    glaze.color.color = {0.6, 0.1, 0.1};
-    s.materials.push_back(glaze);
+    s.materials.push_back(ir::Diffuse{ir::Checker{{0.9, 0.9, 0.9}, {0.1, 0.1, 0.1}, 1}});
+    s.materials.push_back(ir::Dielectric{1.5, {0.1, 0.2, 0.3}});
+    s.materials.push_back(ir::Glazed{ir::Vec3(0.6, 0.1, 0.1), 1.5});
     s.shapes.push_back(make_box({-12, -1, -12}, {12, 0, 12}, 1));
     for (int i = 0; i < 5; ++i)
       for (int j = 0; j < 5; ++j)
@@ -144,14 +133,14 @@ Measure run_raw(const ir::Scene& s, int threads) {
   std::vector<float> verts;
   std::vector<unsigned> idx;
   for (const ir::Shape& sh : s.shapes) {
-    if (sh.kind == ir::ShapeKind::Sphere) {
-      ir::Vec3 c = sh.world_from_object.point(sh.center) - o;
-      sph.insert(sph.end(), {float(c.x), float(c.y), float(c.z), float(sh.radius)});
-    } else if (sh.kind == ir::ShapeKind::Box) {
+    if (const ir::Sphere* sp = sh.as<ir::Sphere>()) {
+      ir::Vec3 c = sh.world_from_object.point(sp->center) - o;
+      sph.insert(sph.end(), {float(c.x), float(c.y), float(c.z), float(sp->radius)});
+    } else if (const ir::Box* b = sh.as<ir::Box>()) {
       unsigned base = unsigned(verts.size() / 3);
       for (int i = 0; i < 8; ++i) {
-        ir::Vec3 p(i & 1 ? sh.max.x : sh.min.x, i & 2 ? sh.max.y : sh.min.y,
-                   i & 4 ? sh.max.z : sh.min.z);
+        ir::Vec3 p(i & 1 ? b->max.x : b->min.x, i & 2 ? b->max.y : b->min.y,
+                   i & 4 ? b->max.z : b->min.z);
         p = sh.world_from_object.point(p) - o;
         verts.insert(verts.end(), {float(p.x), float(p.y), float(p.z)});
       }

@@ -9,83 +9,13 @@
 #include <string>
 #include <vector>
 
+#include "runtime/ir/enums.hpp"
+#include "runtime/ir/materials.hpp"
 #include "runtime/ir/math.hpp"
+#include "runtime/ir/shapes.hpp"
+#include "runtime/ir/source_ref.hpp"
 
 namespace snell::ir {
-
-// Where an IR item was written: an index into Scene::files, line and column.
-struct SourceRef {
-  std::uint32_t file = 0;
-  std::uint32_t line = 0;  // 0: made in C++, not from a scene file
-  std::uint32_t col = 0;
-};
-
-// A colour parameter: a constant or a pattern evaluated at the hit point (§8).
-struct Texture {
-  enum class Kind : std::uint8_t { Constant, Checker };
-  Kind kind = Kind::Constant;
-  Vec3 color{0.8, 0.8, 0.8};  // Constant; Checker: color1 (even cells)
-  Vec3 color2{0, 0, 0};       // Checker: odd cells
-  double size = 1;            // Checker: cell side
-  bool operator==(const Texture&) const = default;
-};
-
-enum class MaterialKind : std::uint8_t { Diffuse, Mirror, Glossy, Dielectric, Glazed };
-
-struct Material {
-  MaterialKind kind = MaterialKind::Diffuse;
-  Texture color;         // Diffuse, Mirror, Glossy, Glazed base
-  double blur = 0;       // Glossy: side of the perturbation square
-  double ior = 1.5;      // Dielectric, Glazed
-  Vec3 absorb{0, 0, 0};  // Dielectric: Beer coefficient per channel, per scene unit
-  SourceRef src;
-  // Equality ignores src: the materials table is deduplicated by value.
-  bool same_as(const Material& o) const {
-    return kind == o.kind && color == o.color && blur == o.blur && ior == o.ior &&
-           absorb == o.absorb;
-  }
-};
-
-// One transform step of a `motion { }` block (§8).
-struct TransformOp {
-  enum class Kind : std::uint8_t { Translate, Rotate, Scale };
-  Kind kind = Kind::Translate;
-  Vec3 value;
-};
-
-// How an object moves during the shutter interval. At time fraction u in [0, 1]
-// (0 = shutter open, 1 = shutter close) each op is applied partially: translate
-// u·V, rotate u·R (degrees, x then y then z), scale (1-u) + u·S. The object's
-// transform at u is motion_at(u) * world_from_object.
-struct Motion {
-  std::vector<TransformOp> ops;
-  bool moves() const;
-  Transform at(double u) const;
-};
-
-enum class ShapeKind : std::uint8_t { Sphere, Plane, Box, Triangle, Mesh };
-
-struct Shape {
-  ShapeKind kind = ShapeKind::Sphere;
-  // Object-space definition, as written in the block.
-  Vec3 center;                  // Sphere
-  double radius = 1;            // Sphere
-  Vec3 normal{0, 1, 0};         // Plane: unit length (normalised by lowering)
-  double distance = 0;          // Plane: points p with dot(p, normal) = distance
-  Vec3 min, max;                // Box
-  Vec3 a, b, c;                 // Triangle
-  std::uint32_t mesh = 0;       // Mesh: index into Scene::meshes
-  std::uint32_t material = 0;   // index into Scene::materials
-  Transform world_from_object;  // the object's transforms, in the order written
-  Motion motion;
-  SourceRef src;
-};
-
-struct Mesh {
-  std::string path;                    // as resolved on disk
-  std::vector<Vec3> positions;         // object space
-  std::vector<std::uint32_t> indices;  // three per triangle
-};
 
 struct PointLight {
   Vec3 position;
@@ -114,16 +44,13 @@ struct Camera {
   SourceRef src;
 };
 
-enum class SamplerKind : std::uint8_t { Independent, Stratified, Sobol };
-enum class FresnelMode : std::uint8_t { Exact, Schlick };
-// How a dielectric hit continues the ray tree: trace both the reflected and the
-// refracted ray ("split", the lecture's tree), or one of them chosen with
-// probability R and 1 − R, weighted so the estimate stays unbiased ("stochastic").
-enum class Branching : std::uint8_t { Split, Stochastic };
-// What happens to a branch whose weight falls below min_weight: dropped
-// ("cutoff", biased dark) or continued with probability weight/min_weight and
-// reweighted ("roulette", Russian roulette: unbiased, noisier).
-enum class Termination : std::uint8_t { Cutoff, Roulette };
+// Settings enums (kinds.def, enums.hpp). Branching: how a dielectric hit continues
+// the ray tree: trace both the reflected and the refracted ray ("split", the
+// lecture's tree), or one of them chosen with probability R and 1 − R, weighted so
+// the estimate stays unbiased ("stochastic"). Termination: what happens to a
+// branch whose weight falls below min_weight: dropped ("cutoff", biased dark) or
+// continued with probability weight/min_weight and reweighted ("roulette",
+// Russian roulette: unbiased, noisier).
 
 struct Settings {
   std::uint32_t width = 640, height = 480;
@@ -136,6 +63,15 @@ struct Settings {
   Termination termination = Termination::Cutoff;
   std::uint64_t seed = 0;
   SourceRef src;
+  // The settings properties that are one field each (resolution is two: width
+  // and height); compiler/properties.def binds them by name.
+  static constexpr auto fields() {
+    return std::tuple{
+        field("samples", &Settings::samples),         field("sampler", &Settings::sampler),
+        field("max_depth", &Settings::max_depth),     field("min_weight", &Settings::min_weight),
+        field("fresnel", &Settings::fresnel),         field("branching", &Settings::branching),
+        field("termination", &Settings::termination), field("seed", &Settings::seed)};
+  }
 };
 
 struct Scene {
@@ -145,7 +81,7 @@ struct Scene {
   Vec3 background{0, 0, 0};
   std::vector<Material> materials;
   std::vector<Shape> shapes;
-  std::vector<Mesh> meshes;
+  std::vector<MeshData> meshes;
   std::vector<PointLight> point_lights;
   std::vector<AreaLight> area_lights;
 };
@@ -194,17 +130,12 @@ std::string to_string(const SourceRef& ref, const Scene& scene);
 std::string to_string(const Texture& t);
 std::string to_string(const Material& m);
 std::string to_string(const Shape& s);
+std::string to_string(const MeshData& m);
 std::string to_string(const PointLight& l);
 std::string to_string(const AreaLight& l);
 std::string to_string(const Camera& c);
 std::string to_string(const Settings& s);
 std::string to_string(const Features& f);
-std::string to_string(SamplerKind k);
-std::string to_string(FresnelMode m);
-std::string to_string(Branching b);
-std::string to_string(Termination t);
-std::string to_string(MaterialKind k);
-std::string to_string(ShapeKind k);
 // A stable text dump of the whole scene (`snell render --dump-ir`).
 std::string to_string(const Scene& scene);
 

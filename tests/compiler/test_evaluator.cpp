@@ -34,14 +34,14 @@ double num(const std::string& expr, const std::string& prelude = "") {
   INFO(diag_kinds(*c));
   REQUIRE(c->status == compile::CompileStatus::Ok);
   REQUIRE(c->scene.shapes.size() == 1);
-  return c->scene.shapes[0].center.x;
+  return c->scene.shapes[0].as<ir::Sphere>()->center.x;
 }
 
 ir::Vec3 vec(const std::string& expr, const std::string& prelude = "") {
   auto c = run(prelude + "\nsphere { center " + expr + " }\n");
   INFO(diag_kinds(*c));
   REQUIRE(c->status == compile::CompileStatus::Ok);
-  return c->scene.shapes[0].center;
+  return c->scene.shapes[0].as<ir::Sphere>()->center;
 }
 
 std::string first_error(const std::string& src) {
@@ -140,7 +140,7 @@ TEST_CASE("for loops: bounds, positive and negative steps", "[compiler]") {
     INFO(diag_kinds(*c));
     REQUIRE(c->status == compile::CompileStatus::Ok);
     std::vector<double> xs;
-    for (const auto& s : c->scene.shapes) xs.push_back(s.center.x);
+    for (const auto& s : c->scene.shapes) xs.push_back(s.as<ir::Sphere>()->center.x);
     return xs;
   };
   CHECK(count("for i in 0 .. 3") == std::vector<double>{0, 1, 2});
@@ -191,11 +191,12 @@ TEST_CASE("materials: positional and named forms agree; the table is deduplicate
   CHECK(s.shapes[0].material == s.shapes[1].material);
   CHECK(s.shapes[2].material == s.shapes[3].material);
   CHECK(s.materials.size() == 5);
-  CHECK(s.materials[s.shapes[0].material].absorb == ir::Vec3{0.1, 0.1, 0.1});
-  CHECK(s.materials[s.shapes[4].material].color.kind == ir::Texture::Kind::Checker);
+  CHECK(s.materials[s.shapes[0].material].as<ir::Dielectric>()->absorb == ir::Vec3{0.1, 0.1, 0.1});
+  CHECK(s.materials[s.shapes[4].material].as<ir::Diffuse>()->color.kind() ==
+        ir::PatternKind::Checker);
   const auto& def = s.materials[s.shapes[6].material];
-  CHECK(def.kind == ir::MaterialKind::Diffuse);
-  CHECK(def.color.color == ir::Vec3{0.8, 0.8, 0.8});
+  REQUIRE(def.kind() == ir::MaterialKind::Diffuse);
+  CHECK(def.as<ir::Diffuse>()->color == ir::Texture(ir::Vec3{0.8, 0.8, 0.8}));
 }
 
 TEST_CASE("transforms apply in the order written", "[compiler]") {
@@ -247,8 +248,8 @@ TEST_CASE("imports: folder of the importer, -I, stdlib; once per scene; cycles",
   INFO(diag_kinds(*c));
   REQUIRE(c->status == compile::CompileStatus::Ok);
   REQUIRE(c->scene.shapes.size() == 2);  // a.scn ran once
-  CHECK(c->scene.shapes[1].radius == 2);
-  CHECK(c->scene.materials[c->scene.shapes[1].material].ior == 2.42);
+  CHECK(c->scene.shapes[1].as<ir::Sphere>()->radius == 2);
+  CHECK(c->scene.materials[c->scene.shapes[1].material].as<ir::Dielectric>()->ior == 2.42);
 
   o.include_dirs = {(dir / "inc").string()};
   CHECK(diag_kinds(*compile::compile_file((dir / "main.scn").string(), o)) ==
@@ -269,14 +270,14 @@ TEST_CASE("a file's own definitions replace imported names, before or after the 
           "sphere { material glass }\n");
   INFO(diag_kinds(*c));
   REQUIRE(c->status == compile::CompileStatus::Ok);
-  CHECK(c->scene.materials[c->scene.shapes[0].material].ior == 1.5);
-  CHECK(c->scene.materials[c->scene.shapes[0].material].absorb.z == 0.3);
+  CHECK(c->scene.materials[c->scene.shapes[0].material].as<ir::Dielectric>()->ior == 1.5);
+  CHECK(c->scene.materials[c->scene.shapes[0].material].as<ir::Dielectric>()->absorb.z == 0.3);
 
   // Defined first, imported second: the file's own `water` stays.
   c = run("let water = 7;\nimport \"materials.scn\";\nsphere { radius water }\n");
   INFO(diag_kinds(*c));
   REQUIRE(c->status == compile::CompileStatus::Ok);
-  CHECK(c->scene.shapes[0].radius == 7);
+  CHECK(c->scene.shapes[0].as<ir::Sphere>()->radius == 7);
 
   // A file's own name defined twice is still an error, imports or not.
   CHECK(first_error("import \"colors.scn\";\nlet red = 1;\nlet red = 2;") == "Redefinition");
@@ -295,8 +296,8 @@ TEST_CASE("a file's own definitions replace imported names, before or after the 
   c = compile::compile_file((dir / "main.scn").string(), o);
   INFO(diag_kinds(*c));
   REQUIRE(c->status == compile::CompileStatus::Ok);
-  CHECK(c->scene.shapes[0].radius == 2);
-  CHECK(c->scene.shapes[1].radius == 1);  // one.scn's function sees one.scn's k
+  CHECK(c->scene.shapes[0].as<ir::Sphere>()->radius == 2);
+  CHECK(c->scene.shapes[1].as<ir::Sphere>()->radius == 1);  // one.scn's function sees one.scn's k
   fs::remove_all(dir);
 }
 

@@ -53,10 +53,10 @@ TEST_CASE("fast path: shadowed builtins, mixed types, non-finite results", "[com
           "for i in 0 .. 3 { sphere { center <twice(i), -i, i % 2> radius 1 + i } }\n");
   REQUIRE(diags(*c) == "");
   REQUIRE(c->scene.shapes.size() == 4);
-  CHECK(c->scene.shapes[0].radius == 7);
-  CHECK(c->scene.shapes[0].center == ir::Vec3{2, 4, 6});
-  CHECK(c->scene.shapes[3].center == ir::Vec3{4, -2, 0});
-  CHECK(c->scene.shapes[3].radius == 3);
+  CHECK(c->scene.shapes[0].as<ir::Sphere>()->radius == 7);
+  CHECK(c->scene.shapes[0].as<ir::Sphere>()->center == ir::Vec3{2, 4, 6});
+  CHECK(c->scene.shapes[3].as<ir::Sphere>()->center == ir::Vec3{4, -2, 0});
+  CHECK(c->scene.shapes[3].as<ir::Sphere>()->radius == 3);
   // The error is reported at the operation whose result is not finite.
   CHECK(diags(*run("let a = 2;\nlet b = 1 + a / (a - 2);\n")) == "NonFiniteValue@2:13 ");
   CHECK(diags(*run("let b = 1 + sqrt(-1) * 2;\n")) == "NonFiniteValue@1:13 ");
@@ -80,11 +80,11 @@ TEST_CASE("fast path: compiled code falls back when a run differs", "[compiler][
           "sphere { center <h(5), g(9), 0> }\n");
   REQUIRE(diags(*c) == "");
   REQUIRE(c->scene.shapes.size() == 5);
-  CHECK(c->scene.shapes[0].center == ir::Vec3{3, 5, 0});
-  CHECK(c->scene.shapes[1].center == ir::Vec3{3, 5, 7});
-  CHECK(c->scene.shapes[2].center == ir::Vec3{7, 0, 0});
-  CHECK(c->scene.shapes[3].center == ir::Vec3{3, 0, 0});
-  CHECK(c->scene.shapes[4].center == ir::Vec3{10, 4, 0});
+  CHECK(c->scene.shapes[0].as<ir::Sphere>()->center == ir::Vec3{3, 5, 0});
+  CHECK(c->scene.shapes[1].as<ir::Sphere>()->center == ir::Vec3{3, 5, 7});
+  CHECK(c->scene.shapes[2].as<ir::Sphere>()->center == ir::Vec3{7, 0, 0});
+  CHECK(c->scene.shapes[3].as<ir::Sphere>()->center == ir::Vec3{3, 0, 0});
+  CHECK(c->scene.shapes[4].as<ir::Sphere>()->center == ir::Vec3{10, 4, 0});
   // A loop variable that shadows a builtin makes the call an error, as always.
   CHECK(diags(*run("fn k(x) = random(x) * 2;\nlet a = k(1);\n"
                    "for random in 0 .. 2 { sphere { center <random(1), 0, 0> } }\n")) ==

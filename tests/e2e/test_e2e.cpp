@@ -52,9 +52,10 @@ std::vector<float> read_rgb(const std::string& path, int& w, int& h) {
 double hit_spheres(const ir::Scene& s, ir::Vec3 o, ir::Vec3 d, double tmax) {
   double best = INFINITY;
   for (const ir::Shape& sh : s.shapes) {
-    if (sh.kind != ir::ShapeKind::Sphere) continue;
-    ir::Vec3 oc = o - sh.center;
-    double b = ir::dot(oc, d), c = ir::dot(oc, oc) - sh.radius * sh.radius;
+    const ir::Sphere* sp = sh.as<ir::Sphere>();
+    if (!sp) continue;
+    ir::Vec3 oc = o - sp->center;
+    double b = ir::dot(oc, d), c = ir::dot(oc, oc) - sp->radius * sp->radius;
     double disc = b * b - c;
     if (disc < 0) continue;
     double t = -b - std::sqrt(disc);
@@ -86,9 +87,10 @@ TEST_CASE("hello.scn: the lit floor follows albedo/pi * I cos(theta) / d^2", "[e
   const ir::PointLight& light = s.point_lights[0];
   const ir::Shape* floor = nullptr;
   for (const auto& sh : s.shapes)
-    if (sh.kind == ir::ShapeKind::Plane) floor = &sh;
+    if (sh.kind() == ir::ShapeKind::Plane) floor = &sh;
   REQUIRE(floor);
-  ir::Vec3 albedo = s.materials[floor->material].color.color;
+  ir::Vec3 albedo =
+      std::get<ir::Constant>(s.materials[floor->material].as<ir::Diffuse>()->color.pattern).color;
 
   // Pinhole camera of spec §6.
   const ir::Camera& cam = s.camera;
@@ -113,12 +115,14 @@ TEST_CASE("hello.scn: the lit floor follows albedo/pi * I cos(theta) / d^2", "[e
           double u = (px + (i + 0.5) / N) / W * 2 - 1;
           double v = 1 - (py + (j + 0.5) / N) / H * 2;
           ir::Vec3 d = ir::normalize(fwd + right * (u * half_w) + up * (v * half_h));
-          double denom = ir::dot(d, floor->normal);
+          double denom = ir::dot(d, floor->as<ir::Plane>()->normal);
           if (denom >= 0) {
             usable = false;
             break;
           }
-          double t = (floor->distance - ir::dot(cam.location, floor->normal)) / denom;
+          double t = (floor->as<ir::Plane>()->distance -
+                      ir::dot(cam.location, floor->as<ir::Plane>()->normal)) /
+                     denom;
           if (hit_spheres(s, cam.location, d, t) < t) {
             usable = false;
             break;
@@ -131,7 +135,7 @@ TEST_CASE("hello.scn: the lit floor follows albedo/pi * I cos(theta) / d^2", "[e
             usable = false;
             break;
           }
-          double cos_theta = ir::dot(ldir, floor->normal);
+          double cos_theta = ir::dot(ldir, floor->as<ir::Plane>()->normal);
           double e = cos_theta / (M_PI * dist * dist);
           lo = std::min(lo, e), hi = std::max(hi, e);
           sum = sum + albedo * light.intensity * e;

@@ -86,9 +86,9 @@ inline std::string diagnostics(const compile::Compilation& c) {
 // vertices are shared indices, so the mesh is closed and watertight by
 // construction; the jitter makes its triangles irregular (pbrt's Watertight
 // recipe).
-inline ir::Mesh uv_sphere(int rings, int segments, double r, double jitter, std::uint64_t seed,
-                          bool flip = false) {
-  ir::Mesh m;
+inline ir::MeshData uv_sphere(int rings, int segments, double r, double jitter, std::uint64_t seed,
+                              bool flip = false) {
+  ir::MeshData m;
   m.path = "uv_sphere";
   auto rnd = [&](std::uint64_t i) {
     return double(rt::hash64(seed * 0x9E3779B97F4A7C15ull + i) >> 11) * 0x1p-53;
@@ -126,11 +126,10 @@ inline ir::Mesh uv_sphere(int rings, int segments, double r, double jitter, std:
   return m;
 }
 
-inline std::uint32_t add_mesh(ir::Scene& s, ir::Mesh m, std::uint32_t material) {
+inline std::uint32_t add_mesh(ir::Scene& s, ir::MeshData m, std::uint32_t material) {
   s.meshes.push_back(std::move(m));
   ir::Shape sh;
-  sh.kind = ir::ShapeKind::Mesh;
-  sh.mesh = std::uint32_t(s.meshes.size() - 1);
+  sh.geom = ir::Mesh{std::uint32_t(s.meshes.size() - 1)};
   sh.material = material;
   s.shapes.push_back(sh);
   return std::uint32_t(s.shapes.size() - 1);

@@ -41,12 +41,11 @@ TEST_CASE("hc01 reintersection: spawned rays never re-hit their triangle, 1e-8..
     double mag = std::pow(10.0, -8 + 16 * u(rng));
     auto coord = [&] { return (2 * u(rng) - 1) * mag; };
     ir::Scene s = base_scene(1, 1);
-    ir::Shape t;
-    t.kind = ir::ShapeKind::Triangle;
+    ir::Triangle t;
     t.a = {coord(), coord(), coord()};
     t.b = {coord(), coord(), coord()};
     t.c = {coord(), coord(), coord()};
-    s.shapes.push_back(t);
+    s.shapes.push_back(shape_of(t, 0));
     ir::Vec3 n = ir::cross(t.b - t.a, t.c - t.a);
     if (!(ir::length(n) > 0)) continue;
     rt::EmbreeScene es(s, {0, 0, 0});
@@ -88,18 +87,16 @@ TEST_CASE("hc01 spheres: spawned rays never re-enter their sphere, 1e-6..1e6, an
   for (int trial = 0; trial < 2000; ++trial) {
     double r = std::pow(10.0, -6 + 12 * u(rng));
     ir::Scene s = base_scene(1, 1);
-    ir::Shape sp;
-    sp.kind = ir::ShapeKind::Sphere;
-    sp.center = unit(rng) * (r * 100 * u(rng));
-    sp.radius = r;
+    ir::Vec3 center = unit(rng) * (r * 100 * u(rng));
+    ir::Shape sp = sphere(center, r, 0);
     if (trial % 2)
-      sp.world_from_object = ir::Transform::translate(sp.center) *
+      sp.world_from_object = ir::Transform::translate(center) *
                              ir::Transform::rotate_xyz({360 * u(rng), 360 * u(rng), 0}) *
                              ir::Transform::scale({1, 0.5 + 2 * u(rng), 0.3 + u(rng)}) *
-                             ir::Transform::translate(sp.center * -1.0);
+                             ir::Transform::translate(center * -1.0);
     s.shapes.push_back(sp);
     rt::EmbreeScene es(s, {0, 0, 0});
-    ir::Vec3 target = sp.world_from_object.point(sp.center + unit(rng) * r);
+    ir::Vec3 target = sp.world_from_object.point(center + unit(rng) * r);
     ir::Vec3 from = target + unit(rng) * (4 * r);
     rt::Ray ray{f(from), rt::normalize(f(target - from)), INFINITY, 0};
     rt::Hit hit;
@@ -262,7 +259,7 @@ TEST_CASE("hc06 rays aimed exactly at mesh vertices miss less than 1e-4 of the t
   add_mesh(s, uv_sphere(16, 16, 1, 0.1, 6), 0);
   rt::EmbreeScene es(s, {0, 0, 0});
   {
-    const ir::Mesh& m = s.meshes[0];
+    const ir::MeshData& m = s.meshes[0];
     long vm = 0, total = 0;
     for (int rep = 0; rep < 40; ++rep)
       for (const ir::Vec3& v : m.positions) {
@@ -289,11 +286,10 @@ TEST_CASE("hc07 a ray starting exactly on a triangle and leaving it finds no hit
   for (int trial = 0; trial < 1000; ++trial) {
     double mag = std::pow(10.0, -3 + 7 * u(rng));
     ir::Scene s = base_scene(1, 1);
-    ir::Shape t;
-    t.kind = ir::ShapeKind::Triangle;
+    ir::Triangle t;
     ir::Vec3 centre = unit(rng) * (mag * 10 * u(rng));
     t.a = centre + unit(rng) * mag, t.b = centre + unit(rng) * mag, t.c = centre + unit(rng) * mag;
-    s.shapes.push_back(t);
+    s.shapes.push_back(shape_of(t, 0));
     ir::Vec3 n = ir::cross(t.b - t.a, t.c - t.a);
     if (!(ir::length(n) > 1e-3 * mag * mag)) continue;
     rt::EmbreeScene es(s, {0, 0, 0});

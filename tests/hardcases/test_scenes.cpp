@@ -126,15 +126,14 @@ TEST_CASE("hc08 degenerate triangles and mesh faces leave the image bit-identica
     s.point_lights.push_back({{2, 4, -3}, {40, 40, 40}, {}});
     if (junk) {
       auto tri = [&](ir::Vec3 a, ir::Vec3 b, ir::Vec3 c) {
-        ir::Shape t;
-        t.kind = ir::ShapeKind::Triangle;
+        ir::Triangle t;
         t.a = a, t.b = b, t.c = c;
-        s.shapes.push_back(t);
+        s.shapes.push_back(shape_of(t, 0));
       };
       tri({-2, 0.5, -1}, {0, 1.5, -1}, {2, 2.5, -1});  // collinear
       tri({-1, 0.2, -2}, {-1, 0.2, -2}, {1, 2, -2});   // repeated vertex
       tri({0.5, 0.5, -1.5}, {0.5, 0.5, -1.5}, {0.5, 0.5, -1.5});
-      ir::Mesh m;
+      ir::MeshData m;
       m.positions = {{-1, 0, -1}, {1, 1, -1}, {3, 2, -1}, {0, 3, 0}};
       m.indices = {0, 1, 2, 3, 3, 3, 0, 0, 1};
       add_mesh(s, m, 0);
@@ -153,10 +152,9 @@ TEST_CASE("hc08 ir::validate reports a non-finite triangle vertex", "[hardcase][
   // ir::validate promises "finite numbers" to a runtime driven by a C++-built IR.
   // Known to fail: validate does not look at triangle vertices (docs/hardcases.md #8).
   ir::Scene bad = base_scene(4, 4);
-  ir::Shape t;
-  t.kind = ir::ShapeKind::Triangle;
+  ir::Triangle t;
   t.a = {NAN, 0, 0}, t.b = {1, 0, 0}, t.c = {0, 1, 0};
-  bad.shapes.push_back(t);
+  bad.shapes.push_back(shape_of(t, 0));
   CHECK_FALSE(ir::validate(bad).empty());
 }
 
@@ -491,9 +489,7 @@ TEST_CASE("hc24 glossy rays never go below the surface, even at grazing incidenc
   s.background = {1, 1, 1};
   s.settings.max_depth = 1;
   s.settings.min_weight = 0;
-  ir::Material g = mirror({1, 1, 1});
-  g.kind = ir::MaterialKind::Glossy;
-  g.blur = 1.5;
+  ir::Material g = ir::Glossy{ir::Vec3(1), 1.5};
   s.shapes.push_back(plane({0, 1, 0}, 0, add_material(s, g)));
   look(s, {0, 0.35, -4}, {0, 0, 0}, 20);
   rt::RenderResult r = rt::render(s, {});
@@ -508,7 +504,7 @@ TEST_CASE("hc24 glossy rays never go below the surface, even at grazing incidenc
       t.shapes.push_back(plane({0, 1, 0}, 0, 0));
       t.point_lights.push_back({{2, 4, -3}, {40, 40, 40}, {}});
       ir::Material m = mirror({0.9, 0.8, 0.7});
-      if (glossy) m.kind = ir::MaterialKind::Glossy, m.blur = 0;
+      if (glossy) m = ir::Glossy{ir::Vec3(0.9, 0.8, 0.7), 0};
       t.shapes.push_back(sphere({0, 1, 0}, 1, add_material(t, m)));
       look(t, {0, 1.5, -5}, {0, 1, 0}, 50);
       return t;
@@ -525,11 +521,9 @@ TEST_CASE("hc27 hc29 lights behind, edge-on or on the receiver give exactly 0, n
   // point light on the receiver itself (d → 0: the pdf singularity of #29).
   auto base = [] {
     ir::Scene s = base_scene(32, 24, 4);
-    ir::Shape t;
-    t.kind = ir::ShapeKind::Triangle;
+    ir::Triangle t;
     t.a = {-3, 0, -3}, t.b = {-3, 0, 3}, t.c = {1, 0, 0};
-    t.material = 0;
-    s.shapes.push_back(t);
+    s.shapes.push_back(shape_of(t, 0));
     look(s, {-1.5, 3, -0.5}, {-1.5, 0, 0}, 30);
     return s;
   };
@@ -598,10 +592,9 @@ TEST_CASE("hc27 a light exactly in the receiver's plane gives exactly 0",
              {0, 0, 0}}}) {
     INFO(k.what);
     ir::Scene s = base_scene(32, 24, 4);
-    ir::Shape t;
-    t.kind = ir::ShapeKind::Triangle;
+    ir::Triangle t;
     t.a = k.a, t.b = k.b, t.c = k.c;
-    s.shapes.push_back(t);
+    s.shapes.push_back(shape_of(t, 0));
     look(s, k.eye, k.at, 30);
     s.point_lights.push_back({k.light, {50, 50, 50}, {}});
     rt::RenderResult r = rt::render(s, {});

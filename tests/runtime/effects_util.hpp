@@ -10,10 +10,7 @@
 namespace snell::test {
 
 inline ir::Material glossy(ir::Vec3 c, double blur) {
-  ir::Material m = diffuse(c);
-  m.kind = ir::MaterialKind::Glossy;
-  m.blur = blur;
-  return m;
+  return ir::Glossy{c, blur};
 }
 
 inline ir::Shape moving(ir::Shape s, ir::TransformOp::Kind kind, ir::Vec3 v) {

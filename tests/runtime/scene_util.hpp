@@ -24,28 +24,16 @@ inline std::uint32_t add_material(ir::Scene& s, ir::Material m) {
 }
 
 inline ir::Material diffuse(ir::Vec3 c) {
-  ir::Material m;
-  m.kind = ir::MaterialKind::Diffuse;
-  m.color.color = c;
-  return m;
+  return ir::Diffuse{c};
 }
 inline ir::Material mirror(ir::Vec3 c) {
-  ir::Material m = diffuse(c);
-  m.kind = ir::MaterialKind::Mirror;
-  return m;
+  return ir::Mirror{c};
 }
 inline ir::Material dielectric(double ior, ir::Vec3 absorb = {}) {
-  ir::Material m;
-  m.kind = ir::MaterialKind::Dielectric;
-  m.ior = ior;
-  m.absorb = absorb;
-  return m;
+  return ir::Dielectric{ior, absorb};
 }
 inline ir::Material glazed(ir::Vec3 c, double ior) {
-  ir::Material m = diffuse(c);
-  m.kind = ir::MaterialKind::Glazed;
-  m.ior = ior;
-  return m;
+  return ir::Glazed{c, ior};
 }
 
 // A square-gridded area light: `n`×`n` shadow samples, one-sided.
@@ -62,36 +50,26 @@ inline ir::AreaLight area_light(ir::Vec3 corner, ir::Vec3 edge1, ir::Vec3 edge2,
 
 // A diffuse material with the §8 checker pattern.
 inline ir::Material checker(ir::Vec3 c1, ir::Vec3 c2, double size) {
-  ir::Material m = diffuse(c1);
-  m.color.kind = ir::Texture::Kind::Checker;
-  m.color.color2 = c2;
-  m.color.size = size;
-  return m;
+  return ir::Diffuse{ir::Checker{c1, c2, size}};
 }
 
-inline ir::Shape sphere(ir::Vec3 c, double r, std::uint32_t mat) {
+inline ir::Shape shape_of(ir::ShapeGeom g, std::uint32_t mat) {
   ir::Shape s;
-  s.kind = ir::ShapeKind::Sphere;
-  s.center = c;
-  s.radius = r;
+  s.geom = g;
   s.material = mat;
   return s;
+}
+inline ir::Shape sphere(ir::Vec3 c, double r, std::uint32_t mat) {
+  return shape_of(ir::Sphere{c, r}, mat);
 }
 inline ir::Shape plane(ir::Vec3 n, double d, std::uint32_t mat) {
-  ir::Shape s;
-  s.kind = ir::ShapeKind::Plane;
-  s.normal = ir::normalize(n);
-  s.distance = d;
-  s.material = mat;
-  return s;
+  return shape_of(ir::Plane{ir::normalize(n), d}, mat);
 }
 inline ir::Shape box(ir::Vec3 lo, ir::Vec3 hi, std::uint32_t mat) {
-  ir::Shape s;
-  s.kind = ir::ShapeKind::Box;
-  s.min = lo;
-  s.max = hi;
-  s.material = mat;
-  return s;
+  return shape_of(ir::Box{lo, hi}, mat);
+}
+inline ir::Shape triangle(ir::Vec3 a, ir::Vec3 b, ir::Vec3 c, std::uint32_t mat) {
+  return shape_of(ir::Triangle{a, b, c}, mat);
 }
 
 inline void look(ir::Scene& s, ir::Vec3 from, ir::Vec3 at, double fov, ir::Vec3 up = {0, 1, 0}) {

@@ -26,16 +26,14 @@ TEST_CASE("offset rays never re-hit their triangle or sphere", "[robust][propert
     if (is_sphere) {
       s.shapes.push_back(sphere(where, scale * (0.1 + u(rng)), 0));
     } else {
-      ir::Shape t;
-      t.kind = ir::ShapeKind::Triangle;
-      t.a = where + unit() * scale, t.b = where + unit() * scale, t.c = where + unit() * scale;
-      s.shapes.push_back(t);
+      ir::Vec3 a = where + unit() * scale, b = where + unit() * scale, c = where + unit() * scale;
+      s.shapes.push_back(triangle(a, b, c, 0));
     }
     rt::EmbreeScene es(s, {0, 0, 0});
     // Aim at a point of the surface from outside.
-    ir::Vec3 target = is_sphere ? where + unit() * s.shapes[0].radius
-                                : s.shapes[0].a + (s.shapes[0].b - s.shapes[0].a) * 0.3 +
-                                      (s.shapes[0].c - s.shapes[0].a) * 0.3;
+    const ir::Triangle* t = s.shapes[0].as<ir::Triangle>();
+    ir::Vec3 target = is_sphere ? where + unit() * s.shapes[0].as<ir::Sphere>()->radius
+                                : t->a + (t->b - t->a) * 0.3 + (t->c - t->a) * 0.3;
     ir::Vec3 from = target + unit() * (3 * scale);
     rt::Ray ray;
     ray.org = rt::to_float(from.x, from.y, from.z);

@@ -1,17 +1,24 @@
-// Shape intersection in double precision, shared by the static and the moving
-// geometry of the Embree scene (embree_scene.cpp); no Embree types here.
+// Spheres (§5): intersected in object space in double precision, so any affine
+// transform (non-uniform scale, rotation) is exact; robust discriminant (Haines et
+// al., RTG ch. 7). Static spheres and spheres that move while the shutter is open
+// are two primitive sets of the user-geometry class (traits.hpp). No Embree types.
 #pragma once
 
 #include <cmath>
 #include <cstdint>
 #include <utility>
+#include <vector>
 
+#include "runtime/geometry/ray.hpp"
+#include "runtime/geometry/xform.hpp"
 #include "runtime/ir/ir.hpp"
 #include "runtime/vec.hpp"
 
-namespace snell::rt::shapes {
+namespace snell::rt::geom {
 
-using ir::Vec3;
+// How many ulps of a hit point's largest coordinate a ray leaving a sphere or a
+// plane starts off it (sphere.cpp: why 8).
+inline constexpr double kSurfaceOffsetUlps = 8;
 
 // A sphere prepared for object-space intersection from camera-relative rays.
 struct SphereData {
@@ -26,36 +33,6 @@ struct SphereData {
   double rel_radius = 1;
   std::uint32_t shape = 0;
 };
-
-struct PlaneData {
-  Vec3 n;        // unit world normal
-  double d = 0;  // dot(n, x) = d for camera-relative x
-  std::uint32_t shape = 0;
-  // A moving plane (motion on, shutter open) is placed at each ray's time instead.
-  const ir::Shape* moving = nullptr;
-};
-
-inline Vec3 xform_point(const ir::Mat4& m, Vec3 p) {
-  return {m(0, 0) * p.x + m(0, 1) * p.y + m(0, 2) * p.z + m(0, 3),
-          m(1, 0) * p.x + m(1, 1) * p.y + m(1, 2) * p.z + m(1, 3),
-          m(2, 0) * p.x + m(2, 1) * p.y + m(2, 2) * p.z + m(2, 3)};
-}
-inline Vec3 xform_vector(const ir::Mat4& m, Vec3 v) {
-  return {m(0, 0) * v.x + m(0, 1) * v.y + m(0, 2) * v.z,
-          m(1, 0) * v.x + m(1, 1) * v.y + m(1, 2) * v.z,
-          m(2, 0) * v.x + m(2, 1) * v.y + m(2, 2) * v.z};
-}
-// Normal to world: inverse transpose of world_from_object = transpose of object_from_world.
-inline Vec3 xform_normal_by_inverse(const ir::Mat4& inv, Vec3 n) {
-  return {inv(0, 0) * n.x + inv(1, 0) * n.y + inv(2, 0) * n.z,
-          inv(0, 1) * n.x + inv(1, 1) * n.y + inv(2, 1) * n.z,
-          inv(0, 2) * n.x + inv(1, 2) * n.y + inv(2, 2) * n.z};
-}
-inline double det3(const ir::Mat4& m) {
-  return m(0, 0) * (m(1, 1) * m(2, 2) - m(1, 2) * m(2, 1)) -
-         m(0, 1) * (m(1, 0) * m(2, 2) - m(1, 2) * m(2, 0)) +
-         m(0, 2) * (m(1, 0) * m(2, 1) - m(1, 1) * m(2, 0));
-}
 
 // Smallest and largest roots of |o + t d - c|² = r² in double, with the
 // discriminant in the cancellation-free form of Haines et al. (RTG ch. 7).
@@ -121,4 +98,55 @@ inline void sphere_box(const ir::Mat4& rel_from_object, Vec3 c, double r, double
   }
 }
 
-}  // namespace snell::rt::shapes
+// The static spheres: one user primitive each (the interface of traits.hpp).
+class SphereSet {
+ public:
+  void add(const ir::Shape& s, const ir::Sphere& g, std::uint32_t index, Vec3 origin);
+  std::size_t size() const { return spheres_.size(); }
+  std::uint32_t shape(unsigned prim) const { return spheres_[prim].shape; }
+  void bounds(unsigned prim, Box3& box) const {
+    sphere_box(rel_from_object_[prim], spheres_[prim].center, spheres_[prim].radius, box.lo,
+               box.hi);
+  }
+  bool hit(unsigned prim, float, Vec3f o, Vec3f d, float tnear, float tfar, float& t,
+           Vec3f& n) const {
+    return hit_sphere(spheres_[prim], o.x, o.y, o.z, d.x, d.y, d.z, tnear, tfar, t, n);
+  }
+  // The hit point projected onto the sphere in double, and its bounded offset.
+  void refine(unsigned prim, const Ray& r, float t, Hit& hit) const;
+
+ private:
+  std::vector<SphereData> spheres_;
+  std::vector<ir::Mat4> rel_from_object_;  // for the bounds and the projection
+};
+
+// Spheres that move during the open shutter: user geometry whose static bounds
+// hold the whole sweep; the intersector places the sphere at the ray's time
+// (Motion::at, exact rotation) and intersects it in object space in double.
+class MovingSphereSet {
+ public:
+  void add(const ir::Shape& s, const ir::Sphere& g, std::uint32_t index, Vec3 origin);
+  std::size_t size() const { return spheres_.size(); }
+  std::uint32_t shape(unsigned prim) const { return spheres_[prim].index; }
+  void bounds(unsigned prim, Box3& box) const;
+  bool hit(unsigned prim, float time, Vec3f o, Vec3f d, float tnear, float tfar, float& t,
+           Vec3f& n) const {
+    return hit_sphere(at(spheres_[prim], time), o.x, o.y, o.z, d.x, d.y, d.z, tnear, tfar, t, n);
+  }
+  // o + t·d, offset 0 (the Wächter–Binder offset covers its error).
+  void refine(unsigned, const Ray& r, float t, Hit& hit) const {
+    hit.p = r.org + r.dir * t, hit.offset = 0;
+  }
+
+ private:
+  struct Moving {
+    const ir::Shape* shape = nullptr;
+    ir::Sphere sphere;
+    Vec3 origin;
+    std::uint32_t index = 0;
+  };
+  static SphereData at(const Moving& m, float time);
+  std::vector<Moving> spheres_;
+};
+
+}  // namespace snell::rt::geom

@@ -1,0 +1,83 @@
+#include "runtime/geometry/plane.hpp"
+
+#include <cmath>
+
+#include "runtime/geometry/motion.hpp"
+#include "runtime/geometry/sphere.hpp"
+
+namespace snell::rt::geom {
+
+using ir::Vec3;
+
+void PlaneSet::add(const ir::Shape& s, const ir::Plane& g, std::uint32_t index, Vec3 origin,
+                   bool moving) {
+  const ir::Transform& xf = s.world_from_object;
+  Vec3 p0 = xf.point(g.normal * g.distance) - origin;
+  Vec3 n = ir::normalize(xf.normal(g.normal));
+  planes_.push_back({n, ir::dot(n, p0), index, moving ? &s : nullptr, moving ? &g : nullptr});
+  origin_ = origin;
+}
+
+// Planes in double from the float ray; the float origin was already offset by the
+// caller, so the sign of (d - n·o) is reliable. A moving plane is placed at the
+// ray's time first.
+constexpr double kMaxPlaneHit = 1e17;  // camera-relative; scenes lie within 1e12 (ir.hpp)
+bool PlaneSet::hit_plane(const PlaneData& p, const Ray& r, double tmax, double tie, double& t,
+                         Vec3& n_out, Vec3* point) const {
+  Vec3 o(r.org.x, r.org.y, r.org.z), d(r.dir.x, r.dir.y, r.dir.z);
+  Vec3 n = p.n;
+  double pd = p.d;
+  if (p.moving) {
+    ir::Transform xf = rel_at(*p.moving, origin_, shutter_fraction(r.time));
+    Vec3 p0 = xf.point(p.plane->normal * p.plane->distance);
+    n = ir::normalize(xf.normal(p.plane->normal));
+    pd = ir::dot(n, p0);
+  }
+  n_out = n;
+  double denom = ir::dot(n, d);
+  if (denom == 0) return false;
+  t = (pd - ir::dot(n, o)) / denom;
+  double tnear = r.tnear;
+  if (!((t > tnear) && (t < tmax + tie / std::fabs(denom)) && (static_cast<float>(t) > 0)))
+    return false;
+  // A grazing hit can land arbitrarily far away; past kMaxPlaneHit the ray is taken
+  // to escape, so no ray Embree is given starts beyond its range (FLT_LARGE, 1.8e18).
+  Vec3 q = o + d * t;
+  if (!(std::fmax(std::fabs(q.x), std::fmax(std::fabs(q.y), std::fabs(q.z))) <= kMaxPlaneHit))
+    return false;
+  // The hit point, projected onto the plane in double (o + t·d is off it by ulps of t).
+  if (point) *point = q - n * (ir::dot(n, q) - pd);
+  return true;
+}
+
+bool PlaneSet::intersect(const Ray& r, double& tmax, double tie, Hit& hit) const {
+  bool found = false;
+  for (const PlaneData& p : planes_) {
+    double t;
+    Vec3 n, q;
+    if (!hit_plane(p, r, tmax, tie, t, n, &q)) continue;
+    tmax = t;
+    tie = 0;  // between planes, the nearer t
+    found = true;
+    hit.t = static_cast<float>(t);
+    hit.ng = to_float(n.x, n.y, n.z);
+    // Off the plane only by its rounding to float; the plane is re-tested in
+    // double from the float origin, so a few ulps clear it (as for spheres).
+    hit.p = to_float(q.x, q.y, q.z);
+    hit.offset = float(kSurfaceOffsetUlps * 0x1p-24 * double(max_abs(hit.p)));
+    hit.kind = Hit::Kind::Shape;
+    hit.index = p.shape;
+  }
+  return found;
+}
+
+bool PlaneSet::occluded(const Ray& r) const {
+  for (const PlaneData& p : planes_) {
+    double t;
+    Vec3 n;
+    if (hit_plane(p, r, r.tmax, 0, t, n, nullptr)) return true;
+  }
+  return false;
+}
+
+}  // namespace snell::rt::geom

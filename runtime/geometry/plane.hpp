@@ -1,0 +1,41 @@
+// Planes (§5): infinite, so they stay outside the BVH (an infinite box would ruin
+// its quality) and are tested analytically, in double, by the scene query after
+// the BVH query: the unbounded class of traits.hpp. No Embree types.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "runtime/geometry/ray.hpp"
+#include "runtime/ir/ir.hpp"
+
+namespace snell::rt::geom {
+
+class PlaneSet {
+ public:
+  // `moving`: the plane moves while the shutter is open; it is then placed at each
+  // ray's time.
+  void add(const ir::Shape& s, const ir::Plane& g, std::uint32_t index, ir::Vec3 origin,
+           bool moving);
+  std::size_t size() const { return planes_.size(); }
+  bool empty() const { return planes_.empty(); }
+  // The nearest plane hit with t < tmax, or within `tie` (a distance along the
+  // plane's normal) beyond it: replaces `hit` and returns true. tmax is updated.
+  bool intersect(const Ray& r, double& tmax, double tie, Hit& hit) const;
+  bool occluded(const Ray& r) const;
+
+ private:
+  struct PlaneData {
+    ir::Vec3 n;    // unit world normal
+    double d = 0;  // dot(n, x) = d for camera-relative x
+    std::uint32_t shape = 0;
+    const ir::Shape* moving = nullptr;
+    const ir::Plane* plane = nullptr;
+  };
+  bool hit_plane(const PlaneData& p, const Ray& r, double tmax, double tie, double& t,
+                 ir::Vec3& n_out, ir::Vec3* point) const;
+  std::vector<PlaneData> planes_;
+  ir::Vec3 origin_;
+};
+
+}  // namespace snell::rt::geom

@@ -1,0 +1,100 @@
+#include "runtime/geometry/triangles.hpp"
+
+#include <cmath>
+
+namespace snell::rt::geom {
+
+using ir::Vec3;
+
+void object_triangles(const ir::Box& box, const ir::Scene&, bool flip, Soup& out) {
+  Vec3 lo = box.min, hi = box.max;
+  auto corner = [&](int i) {
+    return Vec3(i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z);
+  };
+  for (int axis = 0; axis < 3; ++axis)
+    for (int side = 0; side < 2; ++side) {
+      // The face's four corners in cyclic order, then wound outward.
+      int bit = 1 << axis, b1 = 1 << ((axis + 1) % 3), b2 = 1 << ((axis + 2) % 3);
+      int f = side ? bit : 0;
+      Vec3 q[4] = {corner(f), corner(f | b1), corner(f | b1 | b2), corner(f | b2)};
+      Vec3 outward;
+      outward[axis] = side ? 1 : -1;
+      bool wrong = ir::dot(ir::cross(q[1] - q[0], q[2] - q[0]), outward) < 0;
+      out.tri(q[0], q[1], q[2], flip != wrong);
+      out.tri(q[0], q[2], q[3], flip != wrong);
+    }
+}
+
+void object_triangles(const ir::Triangle& t, const ir::Scene&, bool flip, Soup& out) {
+  out.tri(t.a, t.b, t.c, flip);
+}
+
+void object_triangles(const ir::Mesh& mesh, const ir::Scene& sc, bool flip, Soup& out) {
+  if (mesh.mesh >= sc.meshes.size()) return;
+  const ir::MeshData& m = sc.meshes[mesh.mesh];
+  for (std::size_t i = 0; i + 2 < m.indices.size(); i += 3) {
+    if (m.indices[i] >= m.positions.size() || m.indices[i + 1] >= m.positions.size() ||
+        m.indices[i + 2] >= m.positions.size())
+      continue;
+    out.tri(m.positions[m.indices[i]], m.positions[m.indices[i + 1]], m.positions[m.indices[i + 2]],
+            flip);
+  }
+}
+
+// The hit point of a static triangle from Embree's barycentrics, p = v0 + u·e1 + v·e2:
+// an error in (u, v) moves p within the plane, never off it (as pbrt-v4's
+// Triangle::InteractionFromIntersection rebuilds its hit points). Where the three
+// vertices share a coordinate (an axis-aligned face) the edges' component is
+// exactly 0 and p keeps that coordinate exactly; b0·v0 + u·v1 + v·v2 would be off
+// by an ulp of it, since b0 + u + v rounds (2.4 % of the path through a 1e-5 slab
+// 3 units away).
+void triangle_point(const float* vb, const unsigned* ib, unsigned prim, float u, float v,
+                    Vec3f& p) {
+  const float* a = vb + 3 * ib[3 * prim];
+  const float* b = vb + 3 * ib[3 * prim + 1];
+  const float* c = vb + 3 * ib[3 * prim + 2];
+  p = {a[0] + u * (b[0] - a[0]) + v * (c[0] - a[0]), a[1] + u * (b[1] - a[1]) + v * (c[1] - a[1]),
+       a[2] + u * (b[2] - a[2]) + v * (c[2] - a[2])};
+}
+
+// How far a ray leaving a point of triangle abc must start (Hit::offset), in ulps
+// (2^-24) of two sources; a constant of the triangle, computed once:
+// - the point's own error off the plane, and Embree's rounding of the vertices when
+//   it translates them to the new ray's origin: a few ulps of each coordinate,
+//   weighted by how much that coordinate moves along the normal: Σ_i |n_i|·M_i
+//   (M_i: largest |v_j,i|). An axis-aligned face needs ulps of its plane coordinate
+//   only, however large it is.
+// - Embree's normal, rebuilt from rounded edges: its direction is off by the
+//   rounding of each component's cross products, seen from the origin over the
+//   triangle's extent: Σ_i R_i·(|e1_j e2_k| + |e1_k e2_j|) / |e1 × e2| (R_i: the
+//   extent along i). Zero for an axis-aligned face (every product it rounds is
+//   along n); large for slivers, whose normal is ill-conditioned.
+// kOffsetUlps: hc01's 6e4 random triangles at 1e-8..1e8 see self-hits at 0.5 and
+// none from 1 (docs/hardcases.md); 8 leaves a factor 8. A result of 0 (a face in a
+// coordinate plane through the camera) falls back to offset_ray_origin.
+constexpr float kOffsetUlps = 8;
+float triangle_offset(const float* a, const float* b, const float* c) {
+  // In double: the cross products of edges 1e10 long overflow float.
+  double e1[3], e2[3], big[3], extent[3], n[3];
+  for (int i = 0; i < 3; ++i) {
+    e1[i] = double(b[i]) - a[i], e2[i] = double(c[i]) - a[i];
+    double lo = std::fmin(a[i], std::fmin(b[i], c[i])), hi = std::fmax(a[i], std::fmax(b[i], c[i]));
+    big[i] = std::fmax(std::fabs(lo), std::fabs(hi));
+    extent[i] = hi - lo;
+  }
+  double cross_abs = 0, cross_sq = 0;
+  for (int i = 0; i < 3; ++i) {
+    int j = (i + 1) % 3, k = (i + 2) % 3;
+    n[i] = e1[j] * e2[k] - e1[k] * e2[j];
+    cross_sq += n[i] * n[i];
+    cross_abs += extent[i] * (std::fabs(e1[j] * e2[k]) + std::fabs(e1[k] * e2[j]));
+  }
+  if (!(cross_sq > 0)) return 0;  // degenerate: never hit
+  double len = std::sqrt(cross_sq), w = cross_abs / len;
+  for (int i = 0; i < 3; ++i) w += std::fabs(n[i]) / len * big[i];
+  double offset = kOffsetUlps * 0x1p-24 * w;
+  // Finite and at most a float's range, or 0 (Wächter–Binder) when not.
+  return offset < 1e30 ? float(offset) : 0.0f;
+}
+
+}  // namespace snell::rt::geom

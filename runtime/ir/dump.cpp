@@ -1,0 +1,167 @@
+#include "runtime/ir/dump.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <type_traits>
+#include <variant>
+
+#include "runtime/ir/ir.hpp"
+
+namespace snell::ir {
+
+std::string num(double v) {
+  if (v == 0) return "0";  // also folds -0
+  char buf[32];
+  auto res = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, res.ptr);
+}
+
+namespace {
+
+std::string quoted(const std::string& s) {
+  return "\"" + s + "\"";
+}
+
+}  // namespace
+
+std::string to_string(Vec3 v) {
+  return "<" + num(v.x) + ", " + num(v.y) + ", " + num(v.z) + ">";
+}
+
+std::string to_string(const Transform& t) {
+  if (t.is_identity()) return "identity";
+  std::string s = "[";
+  for (int r = 0; r < 3; ++r) {
+    if (r) s += "; ";
+    for (int c = 0; c < 4; ++c) s += (c ? " " : "") + num(t.m(r, c));
+  }
+  return s + "]";
+}
+
+std::string to_string(const SourceRef& ref, const Scene& scene) {
+  if (ref.line == 0) return "<built-in>";
+  std::string file = ref.file < scene.files.size() ? scene.files[ref.file] : "?";
+  return file + ":" + std::to_string(ref.line) + ":" + std::to_string(ref.col);
+}
+
+namespace {
+// " name value" for each field, in the struct's order: numbers shortest
+// round-trip, vectors <x, y, z>, textures as to_string(Texture), indices #N.
+std::string field_text(double v) {
+  return num(v);
+}
+std::string field_text(Vec3 v) {
+  return to_string(v);
+}
+std::string field_text(const Texture& t) {
+  return to_string(t);
+}
+std::string field_text(std::uint32_t index) {
+  return "#" + std::to_string(index);
+}
+template <class T>
+std::string fields_text(const T& kind) {
+  std::string s;
+  for_each_field(kind, [&](const char* name, const auto& v) {
+    s += " " + std::string(name) + " " + field_text(v);
+  });
+  return s;
+}
+template <class T>
+std::string kind_text(const T& kind) {
+  return std::string(KindName<T>::value) + " {" + fields_text(kind) + " }";
+}
+}  // namespace
+
+std::string to_string(const Texture& t) {
+  return std::visit(
+      [](const auto& p) -> std::string {
+        if constexpr (std::is_same_v<std::decay_t<decltype(p)>, Constant>)
+          return to_string(p.color);  // a plain colour prints as the colour
+        else
+          return kind_text(p);
+      },
+      t.pattern);
+}
+
+std::string to_string(const Material& m) {
+  return std::visit([](const auto& k) { return kind_text(k); }, m.model);
+}
+
+std::string to_string(const Shape& sh) {
+  std::string s = std::visit(
+      [](const auto& g) {
+        return std::string(KindName<std::decay_t<decltype(g)>>::value) + " {" + fields_text(g);
+      },
+      sh.geom);
+  s += " material #" + std::to_string(sh.material);
+  if (!sh.world_from_object.is_identity())
+    s += " world_from_object " + to_string(sh.world_from_object);
+  if (!sh.motion.ops.empty()) {
+    s += " motion {";
+    for (const TransformOp& op : sh.motion.ops) {
+      const char* k = op.kind == TransformOp::Kind::Translate ? " translate "
+                      : op.kind == TransformOp::Kind::Rotate  ? " rotate "
+                                                              : " scale ";
+      s += k + to_string(op.value);
+    }
+    s += " }";
+  }
+  return s + " }";
+}
+
+std::string to_string(const MeshData& m) {
+  return quoted(m.path) + " " + std::to_string(m.positions.size()) + " vertices " +
+         std::to_string(m.indices.size() / 3) + " triangles";
+}
+
+std::string to_string(const PointLight& l) {
+  return "point_light { position " + to_string(l.position) + " intensity " +
+         to_string(l.intensity) + " }";
+}
+
+std::string to_string(const AreaLight& l) {
+  return "area_light { corner " + to_string(l.corner) + " edge1 " + to_string(l.edge1) + " edge2 " +
+         to_string(l.edge2) + " radiance " + to_string(l.radiance) + " samples <" +
+         std::to_string(l.samples_u) + ", " + std::to_string(l.samples_v) + "> two_sided " +
+         (l.two_sided ? "true" : "false") + " }";
+}
+
+std::string to_string(const Camera& c) {
+  return "camera { location " + to_string(c.location) + " look_at " + to_string(c.look_at) +
+         " up " + to_string(c.up) + " fov " + num(c.fov) + " aperture " + num(c.aperture) +
+         " focal_distance " + num(c.focal_distance) + " shutter <" + num(c.shutter_open) + ", " +
+         num(c.shutter_close) + "> }";
+}
+
+std::string to_string(const Settings& s) {
+  return "settings { resolution <" + std::to_string(s.width) + ", " + std::to_string(s.height) +
+         "> samples " + std::to_string(s.samples) + " sampler " + quoted(to_string(s.sampler)) +
+         " max_depth " + std::to_string(s.max_depth) + " min_weight " + num(s.min_weight) +
+         " fresnel " + quoted(to_string(s.fresnel)) + " branching " +
+         quoted(to_string(s.branching)) + " termination " + quoted(to_string(s.termination)) +
+         " seed " + std::to_string(s.seed) + " }";
+}
+
+std::string to_string(const Features& f) {
+  std::string s;
+  for (const auto& [effect, reason] : f.reasons) s += effect + ": " + reason + "\n";
+  if (s.empty()) s = "(no effects beyond diffuse shading)\n";
+  return s;
+}
+
+std::string to_string(const Scene& scene) {
+  std::string s = to_string(scene.settings) + "\n" + to_string(scene.camera) + "\n";
+  s += "background " + to_string(scene.background) + "\n";
+  for (std::size_t i = 0; i < scene.materials.size(); ++i)
+    s += "material #" + std::to_string(i) + " " + to_string(scene.materials[i]) + "\n";
+  for (std::size_t i = 0; i < scene.meshes.size(); ++i)
+    s += "mesh #" + std::to_string(i) + " " + to_string(scene.meshes[i]) + "\n";
+  for (std::size_t i = 0; i < scene.shapes.size(); ++i)
+    s += "shape #" + std::to_string(i) + " " + to_string(scene.shapes[i]) + "\n";
+  for (const PointLight& l : scene.point_lights) s += to_string(l) + "\n";
+  for (const AreaLight& l : scene.area_lights) s += to_string(l) + "\n";
+  return s;
+}
+
+}  // namespace snell::ir

@@ -1,0 +1,107 @@
+#include <variant>
+
+#include "runtime/ir/dump.hpp"
+#include "runtime/ir/ir.hpp"
+
+namespace snell::ir {
+
+Features Features::all() {
+  Features f;
+  f.motion_blur = f.depth_of_field = f.point_lights = f.area_lights = f.mirror = f.glossy =
+      f.dielectric = f.absorption = f.glazed = f.textures = true;
+  f.reasons.push_back({"all", "--features=all forces the general kernel"});
+  return f;
+}
+
+Features analyze_features(const Scene& scene) {
+  Features f;
+  auto why = [&](const char* effect, std::string reason) {
+    f.reasons.push_back({effect, std::move(reason)});
+  };
+  const Camera& cam = scene.camera;
+  bool shutter_open = cam.shutter_close > cam.shutter_open;
+  std::size_t movers = 0;
+  std::size_t first_mover = 0;
+  for (std::size_t i = 0; i < scene.shapes.size(); ++i)
+    if (scene.shapes[i].motion.moves()) {
+      if (movers++ == 0) first_mover = i;
+    }
+  if (shutter_open && movers > 0) {
+    f.motion_blur = true;
+    why("motion blur", std::to_string(movers) + " object(s) move, the first at " +
+                           to_string(scene.shapes[first_mover].src, scene) +
+                           ", and the shutter is open from " + num(cam.shutter_open) + " to " +
+                           num(cam.shutter_close));
+  } else if (movers > 0) {
+    why("motion blur (off)", "objects have motion but the shutter is closed (shutter <" +
+                                 num(cam.shutter_open) + ", " + num(cam.shutter_close) + ">)");
+  } else if (shutter_open) {
+    why("motion blur (off)", "the shutter is open but nothing moves");
+  }
+  if (cam.aperture > 0) {
+    f.depth_of_field = true;
+    why("depth of field", "camera aperture " + num(cam.aperture) + " > 0 at " +
+                              to_string(cam.src, scene) + ", focused at " +
+                              num(cam.focal_distance));
+  }
+  if (!scene.point_lights.empty()) {
+    f.point_lights = true;
+    why("point lights", std::to_string(scene.point_lights.size()) +
+                            " point light(s): one shadow ray each per shading point");
+  }
+  if (!scene.area_lights.empty()) {
+    f.area_lights = true;
+    std::uint64_t rays = 0;
+    for (const AreaLight& l : scene.area_lights) rays += std::uint64_t(l.samples_u) * l.samples_v;
+    why("area lights", std::to_string(scene.area_lights.size()) + " area light(s): " +
+                           std::to_string(rays) + " shadow rays per shading point in all");
+  }
+  std::vector<bool> used(scene.materials.size(), false);
+  for (const Shape& s : scene.shapes)
+    if (s.material < used.size()) used[s.material] = true;
+  for (std::size_t i = 0; i < scene.materials.size(); ++i) {
+    if (!used[i]) continue;
+    const Material& m = scene.materials[i];
+    std::string where = to_string(m.src, scene);
+    auto once = [&](bool& flag, const char* effect, std::string reason) {
+      if (!flag) {
+        flag = true;
+        why(effect, std::move(reason));
+      }
+    };
+    auto textured = [&](const Texture& t) {
+      if (!t.is_constant())
+        once(f.textures, "textures", "a " + to_string(t.kind()) + " pattern at " + where);
+    };
+    std::visit(
+        Overloaded{
+            [&](const Diffuse& d) { textured(d.color); },
+            [&](const Mirror& k) {
+              textured(k.color);
+              once(f.mirror, "mirror", "a mirror material at " + where);
+            },
+            [&](const Glossy& g) {
+              textured(g.color);
+              if (g.blur > 0)
+                once(f.glossy, "glossy",
+                     "a glossy material with blur " + num(g.blur) + " at " + where);
+              else
+                once(f.mirror, "mirror", "a glossy material with blur 0 (a mirror) at " + where);
+            },
+            [&](const Dielectric& d) {
+              once(f.dielectric, "dielectric",
+                   "a dielectric of ior " + num(d.ior) + " at " + where);
+              if (max_component(d.absorb) > 0)
+                once(f.absorption, "absorption", "absorb " + to_string(d.absorb) + " at " + where);
+            },
+            [&](const Glazed& g) {
+              textured(g.color);
+              once(f.glazed, "glazed", "a glazed material at " + where);
+            },
+        },
+        m.model);
+  }
+  return f;
+}
+
+}  // namespace snell::ir

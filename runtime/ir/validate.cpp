@@ -1,0 +1,230 @@
+#include <cmath>
+#include <cstdio>
+#include <type_traits>
+#include <variant>
+
+#include "runtime/ir/bounds.hpp"
+#include "runtime/ir/dump.hpp"
+#include "runtime/ir/ir.hpp"
+
+namespace snell::ir {
+
+std::string to_string(const Problem& p, const Scene& scene) {
+  return (p.src.line == 0 ? std::string("snell") : to_string(p.src, scene)) + ": error: " + p.what;
+}
+
+namespace {
+double largest(Vec3 v) {
+  return std::fmax(std::fabs(v.x), std::fmax(std::fabs(v.y), std::fabs(v.z)));
+}
+
+// Every number of a kind struct, as the generic checks see it: f(double).
+void each_number(double v, auto&& f) {
+  f(v);
+}
+void each_number(Vec3 v, auto&& f) {
+  f(v.x), f(v.y), f(v.z);
+}
+void each_number(std::uint32_t, auto&&) {}  // indices are checked per kind
+void each_number(const Texture& t, auto&& f) {
+  std::visit(
+      [&](const auto& p) {
+        for_each_field(p, [&](const char*, const auto& v) { each_number(v, f); });
+      },
+      t.pattern);
+}
+template <class T>
+bool all_finite(const T& kind) {
+  bool ok = true;
+  for_each_field(kind, [&](const char*, const auto& v) {
+    each_number(v, [&](double x) { ok = ok && std::isfinite(x); });
+  });
+  return ok;
+}
+// Whether some colour of a material's textures is past the radiometric limit.
+template <class TooBright>
+bool too_bright_colours(const Material& m, TooBright too_bright) {
+  bool bright = false;
+  std::visit(
+      [&](const auto& k) {
+        for_each_field(k, [&](const char*, const auto& v) {
+          if constexpr (std::is_same_v<std::decay_t<decltype(v)>, Texture>)
+            std::visit(
+                [&](const auto& p) {
+                  for_each_field(p, [&](const char*, const auto& c) {
+                    if constexpr (std::is_same_v<std::decay_t<decltype(c)>, Vec3>)
+                      bright = bright || too_bright(c);
+                  });
+                },
+                v.pattern);
+        });
+      },
+      m.model);
+  return bright;
+}
+
+// Per-kind checks beyond finiteness; `bad(what)` reports one.
+template <class Bad>
+void check_kind(const Sphere& s, const Scene&, Bad&& bad) {
+  if (!(s.radius > 0)) bad("sphere radius must be > 0");
+}
+template <class Bad>
+void check_kind(const Plane& p, const Scene&, Bad&& bad) {
+  if (std::abs(length(p.normal) - 1) > 1e-9) bad("plane normal must be unit length");
+}
+template <class Bad>
+void check_kind(const Mesh& m, const Scene& scene, Bad&& bad) {
+  if (m.mesh >= scene.meshes.size()) bad("mesh index out of range");
+}
+template <class Bad>
+void check_kind(const Box&, const Scene&, Bad&&) {}
+template <class Bad>
+void check_kind(const Triangle&, const Scene&, Bad&&) {}
+
+template <class Bad>
+void check_texture(const Texture& t, Bad&& bad) {
+  if (const Checker* c = std::get_if<Checker>(&t.pattern); c && !(c->size > 0))
+    bad("checker size must be > 0");
+}
+template <class Bad>
+void check_kind(const Diffuse& m, Bad&& bad) {
+  check_texture(m.color, bad);
+}
+template <class Bad>
+void check_kind(const Mirror& m, Bad&& bad) {
+  check_texture(m.color, bad);
+}
+template <class Bad>
+void check_kind(const Glossy& m, Bad&& bad) {
+  check_texture(m.color, bad);
+  if (!(m.blur >= 0) || !std::isfinite(m.blur)) bad("blur must be finite and >= 0");
+}
+template <class Bad>
+void check_kind(const Dielectric& m, Bad&& bad) {
+  if (!(m.ior > 0) || !std::isfinite(m.ior)) bad("ior must be finite and > 0");
+  if (!(m.absorb.x >= 0 && m.absorb.y >= 0 && m.absorb.z >= 0)) bad("absorb must be >= 0");
+}
+template <class Bad>
+void check_kind(const Glazed& m, Bad&& bad) {
+  check_texture(m.color, bad);
+  if (!(m.ior > 0) || !std::isfinite(m.ior)) bad("ior must be finite and > 0");
+}
+std::string far_message(const std::string& what, double r) {
+  char buf[160];
+  std::snprintf(buf, sizeof buf,
+                "%s reaches %.3g from the camera; Snell traces in single precision "
+                "around the camera and takes scenes within %.0e of it",
+                what.c_str(), r, kMaxCameraDistance);
+  return buf;
+}
+}  // namespace
+
+// The float runtime's ranges (kMaxCameraDistance, kMaxRadiometric).
+template <class Bad>
+void check_ranges(const Scene& scene, Bad&& bad) {
+  const Vec3 o = scene.camera.location;
+  const double kFar = kMaxCameraDistance;
+  const Camera& c = scene.camera;
+  if (c.aperture / 2 > kFar) bad(c.src, far_message("the lens (aperture / 2)", c.aperture / 2));
+  if (c.focal_distance > kFar) bad(c.src, far_message("the focal plane", c.focal_distance));
+  auto too_bright = [](Vec3 v) { return largest(v) > kMaxRadiometric; };
+  if (too_bright(scene.background)) bad({}, "background radiance must be at most 1e30");
+  for (const Material& m : scene.materials)
+    if (too_bright_colours(m, too_bright)) bad(m.src, "material colours must be at most 1e30");
+  for (const Shape& s : scene.shapes) {
+    double r = object_reach(s, scene, o);
+    if (!(r <= kFar)) bad(s.src, far_message("this " + to_string(s.kind()), r));
+  }
+  for (const PointLight& l : scene.point_lights) {
+    if (!(reach(l.position, o) <= kFar))
+      bad(l.src, far_message("this point light", reach(l.position, o)));
+    if (too_bright(l.intensity)) bad(l.src, "point light intensity must be at most 1e30");
+  }
+  for (const AreaLight& l : scene.area_lights) {
+    double r = 0;
+    for (Vec3 p : {l.corner, l.corner + l.edge1, l.corner + l.edge2, l.corner + l.edge1 + l.edge2})
+      r = std::fmax(r, reach(p, o));
+    if (!(r <= kFar)) bad(l.src, far_message("this area light", r));
+    if (too_bright(l.radiance)) bad(l.src, "area light radiance must be at most 1e30");
+  }
+}
+
+std::vector<Problem> validate(const Scene& scene) {
+  std::vector<Problem> problems;
+  auto bad = [&](const SourceRef& src, const std::string& what) {
+    problems.push_back({src, what});
+  };
+  const Settings& st = scene.settings;
+  if (st.width < 1 || st.height < 1) bad(st.src, "resolution must be at least 1x1");
+  if (st.samples < 1) bad(st.src, "samples must be at least 1");
+  if (!(st.min_weight >= 0) || !std::isfinite(st.min_weight))
+    bad(st.src, "min_weight must be >= 0");
+  const Camera& c = scene.camera;
+  if (!is_finite(c.location) || !is_finite(c.look_at) || !is_finite(c.up))
+    bad(c.src, "camera vectors must be finite");
+  Vec3 fwd = c.look_at - c.location;
+  if (length(fwd) == 0)
+    bad(c.src, "camera look_at equals location");
+  else if (length(cross(fwd, c.up)) == 0)
+    bad(c.src, "camera up is parallel to the view direction");
+  if (!(c.fov > 0 && c.fov < 180)) bad(c.src, "fov must be in (0, 180)");
+  if (!(c.aperture >= 0)) bad(c.src, "aperture must be >= 0");
+  if (!(c.focal_distance > 0)) bad(c.src, "focal_distance must be > 0");
+  if (!(c.shutter_open <= c.shutter_close)) bad(c.src, "shutter open must be <= close");
+  if (!is_finite(scene.background)) bad({}, "background must be finite");
+  auto finite_transform = [](const Transform& t) {
+    for (double v : t.m.m)
+      if (!std::isfinite(v)) return false;
+    for (double v : t.inv.m)
+      if (!std::isfinite(v)) return false;
+    return true;
+  };
+  for (const Material& m : scene.materials) {
+    auto bad_here = [&](const std::string& what) { bad(m.src, what); };
+    std::visit(
+        [&](const auto& k) {
+          check_kind(k, bad_here);
+          if (!all_finite(k)) bad(m.src, "material colours and absorb must be finite");
+        },
+        m.model);
+  }
+  for (const Shape& s : scene.shapes) {
+    auto bad_here = [&](const std::string& what) { bad(s.src, what); };
+    bool finite = std::visit([](const auto& g) { return all_finite(g); }, s.geom);
+    if (!finite || !finite_transform(s.world_from_object))
+      bad(s.src, to_string(s.kind()) + " has a non-finite position, size or transform");
+    for (const TransformOp& op : s.motion.ops)
+      if (!is_finite(op.value)) bad(s.src, "motion has a non-finite value");
+    if (s.material >= scene.materials.size()) bad(s.src, "material index out of range");
+    std::visit([&](const auto& g) { check_kind(g, scene, bad_here); }, s.geom);
+  }
+  for (const MeshData& m : scene.meshes) {
+    for (const Vec3& p : m.positions)
+      if (!is_finite(p)) {
+        problems.push_back({{}, m.path + ": non-finite vertex position"});
+        break;
+      }
+    if (m.indices.size() % 3 != 0)
+      problems.push_back({{}, m.path + ": index count not a multiple of 3"});
+    for (std::uint32_t i : m.indices)
+      if (i >= m.positions.size()) {
+        problems.push_back({{}, m.path + ": vertex index out of range"});
+        break;
+      }
+  }
+  for (const PointLight& l : scene.point_lights)
+    if (!is_finite(l.position) || !is_finite(l.intensity))
+      bad(l.src, "point light position and intensity must be finite");
+  for (const AreaLight& l : scene.area_lights) {
+    if (!is_finite(l.corner) || !is_finite(l.edge1) || !is_finite(l.edge2) ||
+        !is_finite(l.radiance))
+      bad(l.src, "area light corner, edges and radiance must be finite");
+    if (length(cross(l.edge1, l.edge2)) == 0) bad(l.src, "area light has zero area");
+    if (l.samples_u < 1 || l.samples_v < 1) bad(l.src, "area light samples must be >= 1");
+  }
+  if (!problems.empty()) return problems;  // the ranges below assume finite numbers
+  check_ranges(scene, bad);
+  return problems;
+}
+
+}  // namespace snell::ir
