@@ -10,6 +10,7 @@
 #include <iostream>
 #include <optional>
 
+#include "cli/options.hpp"
 #include "cli/progress.hpp"
 #include "cli/sweep.hpp"
 #include "compiler/compile.hpp"
@@ -23,26 +24,6 @@ using namespace snell;
 
 constexpr int kExitOk = 0, kExitScene = 1, kExitUsage = 2, kExitIo = 3;
 
-struct Options {
-  std::string scene;
-  std::vector<std::string> outputs;
-  std::optional<int> spp;
-  std::string res;
-  int threads = 0;
-  std::optional<std::int64_t> seed;
-  std::vector<std::string> sets;
-  std::vector<std::string> include_dirs;
-  bool stats = false;
-  bool quiet = false;
-  std::size_t max_errors = 20;
-  std::uint64_t max_steps = compile::kDefaultStepBudget;
-  bool dump_ast = false;
-  bool dump_ir = false;
-  std::string pixel;
-  std::string features = "auto";
-  std::string ocio_config;
-};
-
 bool color_stderr() {
   return isatty(STDERR_FILENO) && !std::getenv("NO_COLOR");
 }
@@ -54,7 +35,7 @@ int usage_error(const std::string& message) {
 
 // Turns the shorthand flags into settings overrides, in the order a user expects:
 // --set first, then the dedicated flags (which are more specific).
-bool build_compile_options(const Options& o, compile::CompileOptions& c, std::string& error) {
+bool build_compile_options(const cli::CliArgs& o, compile::CompileOptions& c, std::string& error) {
   c.include_dirs = o.include_dirs;
   c.max_errors = o.max_errors;
   c.step_budget = o.max_steps;
@@ -81,7 +62,7 @@ bool build_compile_options(const Options& o, compile::CompileOptions& c, std::st
 }
 
 // Compiles and prints diagnostics; returns an exit code, or -1 to go on.
-int compile_scene(const Options& o, std::unique_ptr<compile::Compilation>& out) {
+int compile_scene(const cli::CliArgs& o, std::unique_ptr<compile::Compilation>& out) {
   compile::CompileOptions copts;
   std::string error;
   if (!build_compile_options(o, copts, error)) return usage_error(error);
@@ -130,7 +111,7 @@ int dump_ast(const std::string& path) {
   return code;
 }
 
-int run_check(const Options& o) {
+int run_check(const cli::CliArgs& o) {
   std::unique_ptr<compile::Compilation> c;
   if (int code = compile_scene(o, c); code >= 0) return code;
   const ir::Scene& s = c->scene;
@@ -145,7 +126,7 @@ int run_check(const Options& o) {
   return kExitOk;
 }
 
-int run_render(const Options& o) {
+int run_render(const cli::CliArgs& o) {
   if (o.dump_ast) return dump_ast(o.scene);
   std::vector<std::string> outputs = o.outputs;
   if (outputs.empty()) outputs.push_back(fs::path(o.scene).stem().string() + ".png");
@@ -232,25 +213,31 @@ int run_render(const Options& o) {
 
 namespace {
 // Runs the subcommand the command line chose.
-int dispatch(CLI::App* render, CLI::App* check, CLI::App* dump, CLI::App* sweep, const Options& o,
-             cli::SweepOptions& so, const std::vector<std::string>& vary,
-             const std::string& series) {
-  if (render->parsed()) return run_render(o);
-  if (check->parsed()) return run_check(o);
-  if (dump->parsed()) return dump_ast(o.scene);
-  if (sweep->parsed()) {
-    so.scene = o.scene;
-    std::string error;
-    if (!build_compile_options(o, so.compile, error)) return usage_error(error);
-    for (const std::string& v : vary) {
-      cli::SweepAxis axis;
-      if (!cli::parse_axis(v, axis))
-        return usage_error("--vary takes KEY=V1,V2,..., got '" + v + "'");
-      so.vary.push_back(axis);
+int dispatch(unsigned command, const cli::CliArgs& o) {
+  switch (command) {
+    case cli::Render:
+      return run_render(o);
+    case cli::Check:
+      return run_check(o);
+    case cli::DumpAst:
+      return dump_ast(o.scene);
+    case cli::Sweep: {
+      cli::SweepOptions so = o.sweep;
+      so.scene = o.scene;
+      so.threads = o.threads;
+      so.quiet = o.quiet;
+      std::string error;
+      if (!build_compile_options(o, so.compile, error)) return usage_error(error);
+      for (const std::string& v : o.vary) {
+        cli::SweepAxis axis;
+        if (!cli::parse_axis(v, axis))
+          return usage_error("--vary takes KEY=V1,V2,..., got '" + v + "'");
+        so.vary.push_back(axis);
+      }
+      if (!o.series.empty() && !cli::parse_axis(o.series, so.series))
+        return usage_error("--series takes KEY=V1,V2,..., got '" + o.series + "'");
+      return cli::run_sweep(so);
     }
-    if (!series.empty() && !cli::parse_axis(series, so.series))
-      return usage_error("--series takes KEY=V1,V2,..., got '" + series + "'");
-    return cli::run_sweep(so);
   }
   return kExitUsage;
 }
@@ -261,70 +248,8 @@ int main(int argc, char** argv) {
   CLI::App app{"snell: a scene language and ray tracer", "snell"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "snell 0.1.0");
-  Options o;
-
-  CLI::App* render = app.add_subcommand("render", "render a scene to images");
-  render->add_option("scene", o.scene, "the .scn file")->required();
-  render->add_option("-o,--output", o.outputs,
-                     "output image (repeatable); .exr is linear float, .png/.jpg/.tif are sRGB");
-  render->add_option("--spp", o.spp, "camera rays per pixel (overrides settings.samples)")
-      ->check(CLI::Range(1, 1 << 20));
-  render->add_option("--res", o.res, "resolution WIDTHxHEIGHT (overrides settings.resolution)");
-  render->add_option("--threads", o.threads, "worker threads; 0 = every core")
-      ->check(CLI::Range(0, 1024));
-  render->add_option("--seed", o.seed, "random seed (overrides settings.seed)")
-      ->check(CLI::Range(std::int64_t(0), std::int64_t(4294967295LL)));
-  render->add_option("--set", o.sets, "override a settings property: KEY=VALUE (repeatable)");
-  render->add_option("-I", o.include_dirs, "folder searched by import (repeatable)");
-  render->add_flag("--stats", o.stats, "print ray counts and timings");
-  render->add_flag("-q,--quiet", o.quiet, "no progress output");
-  render->add_option("--max-errors", o.max_errors, "errors shown at most (0 = all)");
-  render->add_option("--max-steps", o.max_steps, "evaluation step budget");
-  render->add_flag("--dump-ast", o.dump_ast, "print the syntax tree and stop");
-  render->add_flag("--dump-ir", o.dump_ir, "print the scene IR and its effects, and stop");
-  render->add_option("--pixel", o.pixel, "print the ray tree of pixel X,Y");
-  render->add_option("--features", o.features,
-                     "auto: simulate only the effects the scene uses; all: the general kernel");
-  render->add_option("--ocio-config", o.ocio_config, "OpenColorIO config for display outputs");
-
-  CLI::App* check = app.add_subcommand("check", "report diagnostics and the effects a scene uses");
-  check->add_option("scene", o.scene, "the .scn file")->required();
-  check->add_option("-I", o.include_dirs, "folder searched by import (repeatable)");
-  check->add_option("--set", o.sets, "override a settings property: KEY=VALUE (repeatable)");
-  check->add_option("--max-errors", o.max_errors, "errors shown at most (0 = all)");
-  check->add_option("--max-steps", o.max_steps, "evaluation step budget");
-
-  CLI::App* sweep = app.add_subcommand(
-      "sweep", "render a scene across settings: time and error against a converged reference");
-  cli::SweepOptions so;
-  std::vector<std::string> vary;
-  std::string series;
-  sweep->add_option("scene", o.scene, "the .scn file")->required();
-  sweep
-      ->add_option("--vary", vary,
-                   "KEY=V1,V2,... (repeatable): one plot per knob; keys are settings "
-                   "properties, area_samples, kernel")
-      ->required();
-  sweep->add_option("--series", series, "KEY=V1,V2,...: one curve per value in every plot");
-  sweep->add_option("--repeats", so.repeats, "renders per configuration; the median time counts")
-      ->check(CLI::Range(1, 100));
-  sweep->add_option("--reference-spp", so.reference_spp, "samples per pixel of the reference")
-      ->check(CLI::Range(1, 1 << 20));
-  sweep->add_option("--out", so.out_dir, "output folder (CSV, JSON, SVG, images, reference cache)");
-  sweep->add_option("--markdown", so.markdown, "also write a Markdown summary to this file");
-  sweep->add_option("--name", so.name, "prefix of the output files (default: the scene's stem)");
-  sweep->add_option("--res", o.res, "resolution WIDTHxHEIGHT for every render");
-  sweep->add_option("--set", o.sets, "override a settings property: KEY=VALUE (repeatable)");
-  sweep->add_option("-I", o.include_dirs, "folder searched by import (repeatable)");
-  sweep->add_option("--threads", so.threads, "worker threads; 0 = every core")
-      ->check(CLI::Range(0, 1024));
-  sweep->add_flag(
-      "--no-images", [&](std::int64_t) { so.images = false; },
-      "do not write a PNG per configuration");
-  sweep->add_flag("-q,--quiet", so.quiet, "no progress output");
-
-  CLI::App* dump = app.add_subcommand("dump-ast", "print the syntax tree of a .scn file");
-  dump->add_option("scene", o.scene, "the .scn file")->required();
+  cli::CliArgs o;
+  cli::add_commands(app, o);  // every subcommand and its options: cli/options.def
 
   try {
     app.parse(argc, argv);
@@ -336,7 +261,7 @@ int main(int argc, char** argv) {
   // machine does not have is reported (exit 1: the scene asks for it); anything
   // else escaping is a Snell bug, reported as such.
   try {
-    return dispatch(render, check, dump, sweep, o, so, vary, series);
+    return dispatch(cli::parsed_command(app), o);
   } catch (const std::bad_alloc&) {
     std::cerr << "snell: error: out of memory (the scene needs more memory than this machine "
                  "has; lower the resolution, samples or geometry)\n";

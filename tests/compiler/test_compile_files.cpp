@@ -2,6 +2,8 @@
 // (parse, evaluate, lower) and compares
 //   - the diagnostics with the `// expect: error LINE:COL Kind` comments, exactly;
 //   - the IR dump with a trailing `/* expect-ir: ... */` block, when there is one.
+// `// max-errors: N` and `// max-steps: N` lines set those limits for the case;
+// errors dropped past the limit are expected as `// expect: error TooManyErrors`.
 // SNELL_UPDATE_EXPECTATIONS=1 rewrites the IR blocks from what the compiler does now
 // (diagnostic expectations are written by hand). See tests/lang/README.md.
 #include <catch2/catch.hpp>
@@ -48,6 +50,15 @@ std::set<std::string> expected_diags(const std::string& text) {
   return out;
 }
 
+// The number on a `// KEY N` line (`// max-errors: 3`), or `fallback`.
+std::uint64_t directive(const std::string& text, const std::string& key, std::uint64_t fallback) {
+  std::istringstream in(text);
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind(key, 0) == 0) return std::stoull(line.substr(key.size()));
+  return fallback;
+}
+
 constexpr std::string_view kIrOpen = "/* expect-ir:\n";
 
 }  // namespace
@@ -59,7 +70,10 @@ TEST_CASE("tests/lang compile cases", "[compiler][lang]") {
   for (const fs::path& path : cases) {
     std::string text = slurp(path);
     compile::CompileOptions opts;
-    opts.max_errors = 0;
+    // The limits, as --max-errors and --max-steps set them; by default every
+    // error is kept.
+    opts.max_errors = directive(text, "// max-errors:", 0);
+    opts.step_budget = directive(text, "// max-steps:", compile::kDefaultStepBudget);
     opts.stdlib_dir = std::string(SNELL_SOURCE_DIR) + "/stdlib";
     auto c = compile::compile_source(path.string(), text, opts);
     std::set<std::string> got;
@@ -74,6 +88,11 @@ TEST_CASE("tests/lang compile cases", "[compiler][lang]") {
                  std::string(lang::diag_name(d.kind)));
     }
     if (c->status == compile::CompileStatus::UsageError) got.insert("usage " + c->message);
+    // Errors past the limit are not diagnostics but one closing line, as printed.
+    std::ostringstream printed_all;
+    c->diags.print(printed_all);
+    if (printed_all.str().find("[TooManyErrors]") != std::string::npos)
+      got.insert("error TooManyErrors");
     INFO("case " << path.string());
     std::string printed;
     for (const auto& d : c->diags.diagnostics()) printed += c->diags.format(d);

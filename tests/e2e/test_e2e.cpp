@@ -192,6 +192,27 @@ TEST_CASE("exit codes follow spec §10", "[e2e]") {
   CHECK(run("check " + (tmp / "both.scn")) == 1);
 }
 
+TEST_CASE("every subcommand's usage errors exit 2, its --help 0", "[e2e]") {
+  Scratch tmp;
+  std::ofstream(tmp / "ok.scn") << "settings { resolution <8, 8> }\nsphere { }\n";
+  const std::string ok = tmp / "ok.scn";
+  for (const char* sub : {"render", "check", "sweep", "dump-ast"}) {
+    INFO(sub);
+    CHECK(run(std::string(sub) + " --help") == 0);
+    CHECK(run(sub) == 2);  // no scene
+    CHECK(run(std::string(sub) + " " + ok + " --bogus") == 2);
+  }
+  CHECK(run("render " + ok + " --spp 0") == 2);
+  CHECK(run("render " + ok + " --seed 4294967296") == 2);
+  CHECK(run("check " + ok + " --spp 4") == 2);  // a render option
+  CHECK(run("check " + ok + " --set x") == 2);
+  CHECK(run("sweep " + ok) == 2);  // no --vary
+  CHECK(run("sweep " + ok + " --vary samples=1 --repeats 0") == 2);
+  CHECK(run("sweep " + ok + " --vary bad") == 2);
+  CHECK(run("sweep " + ok + " --vary samples=1 --series bad") == 2);
+  CHECK(run("dump-ast " + ok + " -I .") == 2);
+}
+
 TEST_CASE("a failed write leaves an existing output untouched", "[e2e]") {
   Scratch tmp;
   std::ofstream(tmp / "ok.scn") << "settings { resolution <8, 8> }\nsphere { }\n";

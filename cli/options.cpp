@@ -1,0 +1,53 @@
+#include "cli/options.hpp"
+
+#include <CLI/CLI.hpp>
+#include <type_traits>
+
+namespace snell::cli {
+namespace {
+
+// One row bound to its field: a bool is a flag, anything else takes a value.
+template <class T>
+void bind(CLI::App& app, const OptionRow& row, Command cmd, T& field) {
+  std::string names(row.names), help(row.help_for(cmd));
+  const Rule& r = row.rule;
+  CLI::Option* opt = nullptr;
+  if constexpr (std::is_same_v<T, bool>) {
+    // A callback, not a bool target, so that any value given to the flag
+    // (--no-images=0 included) still clears it, as it always did.
+    if (r.clears)
+      opt = app.add_flag(
+          names, [&field](std::int64_t) { field = false; }, help);
+    else
+      opt = app.add_flag(names, field, help);
+  } else {
+    opt = app.add_option(names, field, help);
+  }
+  if (r.ranged) opt->check(CLI::Range(r.lo, r.hi));
+  if (r.required) opt->required();
+}
+
+void add_options(CLI::App& app, Command cmd, CliArgs& args) {
+  const OptionRow* row = kOptions;
+  // Walks options.def again beside kOptions: the rows' fields have different
+  // types, so only the macro can name each one.
+#define SNELL_OPTION(field, names, commands, help, rule) \
+  if (row->in(cmd)) bind(app, *row, cmd, args.field);    \
+  ++row;
+#include "cli/options.def"
+}
+
+}  // namespace
+
+void add_commands(CLI::App& app, CliArgs& args) {
+  for (const CommandInfo& c : kCommands)
+    add_options(*app.add_subcommand(std::string(c.name), std::string(c.description)), c.id, args);
+}
+
+unsigned parsed_command(CLI::App& app) {
+  for (const CommandInfo& c : kCommands)
+    if (app.get_subcommand(std::string(c.name))->parsed()) return c.id;
+  return 0;
+}
+
+}  // namespace snell::cli

@@ -1,0 +1,228 @@
+// The command line's option table (cli/options.def): which subcommand takes which
+// options, and that each lands in its field with its old default and checks. The
+// expected lists below are what each subcommand accepted when its options were
+// still declared one by one in cli/main.cpp; a new option is added to them on
+// purpose, never by accident.
+#include <CLI/CLI.hpp>
+#include <catch2/catch.hpp>
+#include <map>
+#include <set>
+#include <string>
+
+#include "cli/options.hpp"
+
+using namespace snell;
+
+namespace {
+
+// A command line as snell builds it, parsed into its own CliArgs.
+struct Line {
+  cli::CliArgs args;
+  CLI::App app{"snell", "snell"};
+  Line() {
+    app.require_subcommand(1);
+    cli::add_commands(app, args);
+  }
+  unsigned parse(const std::string& line) {
+    app.parse(line, false);
+    return cli::parsed_command(app);
+  }
+};
+
+// Every option a subcommand accepts, spelt as CLI11 lists it ("-q,--quiet"; a
+// positional by its name), without the -h,--help every subcommand has.
+std::set<std::string> accepted(CLI::App& sub) {
+  std::set<std::string> out;
+  for (const CLI::Option* opt : sub.get_options())
+    if (opt != sub.get_help_ptr()) out.insert(opt->get_name(true, true));
+  return out;
+}
+
+std::vector<std::string> split_names(std::string_view names) {
+  std::vector<std::string> out;
+  std::size_t b = 0;
+  while (b <= names.size()) {
+    std::size_t e = names.find(',', b);
+    if (e == std::string_view::npos) e = names.size();
+    out.emplace_back(names.substr(b, e - b));
+    b = e + 1;
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("the option table names each option once", "[cli][options]") {
+  std::set<std::string> names, fields;
+  unsigned all = 0;
+  for (const cli::CommandInfo& c : cli::kCommands) all |= c.id;
+  for (const cli::OptionRow& row : cli::kOptions) {
+    INFO("row " << row.field << " (" << row.names << ")");
+    CHECK(fields.insert(std::string(row.field)).second);
+    for (const std::string& n : split_names(row.names)) {
+      INFO("name '" << n << "'");
+      CHECK(!n.empty());
+      CHECK(names.insert(n).second);
+    }
+    CHECK(!row.help.empty());
+    CHECK(row.commands != 0);
+    CHECK((row.commands & ~all) == 0);
+    // Other help only for subcommands that take the option at all.
+    CHECK((row.rule.alt_commands & ~row.commands) == 0);
+    CHECK(row.rule.alt_help.empty() == (row.rule.alt_commands == 0));
+    if (row.rule.ranged) CHECK(row.rule.lo <= row.rule.hi);
+  }
+  CHECK(names.count("-h") == 0);  // CLI11's own
+  CHECK(names.count("--help") == 0);
+}
+
+TEST_CASE("each subcommand takes exactly the options it took before the table", "[cli][options]") {
+  const std::map<std::string, std::set<std::string>> expected = {
+      {"render",
+       {"scene", "-o,--output", "--spp", "--res", "--threads", "--seed", "--set", "-I", "--stats",
+        "-q,--quiet", "--max-errors", "--max-steps", "--dump-ast", "--dump-ir", "--pixel",
+        "--features", "--ocio-config"}},
+      {"check", {"scene", "-I", "--set", "--max-errors", "--max-steps"}},
+      {"sweep",
+       {"scene", "--vary", "--series", "--repeats", "--reference-spp", "--out", "--markdown",
+        "--name", "--res", "--set", "-I", "--threads", "--no-images", "-q,--quiet"}},
+      {"dump-ast", {"scene"}},
+  };
+  Line line;
+  std::set<std::string> subcommands;
+  for (const CLI::App* sub : line.app.get_subcommands({})) subcommands.insert(sub->get_name());
+  CHECK(subcommands == std::set<std::string>{"render", "check", "sweep", "dump-ast"});
+  for (const auto& [name, options] : expected) {
+    INFO("snell " << name);
+    CLI::App* sub = line.app.get_subcommand(name);
+    CHECK(accepted(*sub) == options);
+    // The scene is required everywhere, --vary by the sweep; nothing else is.
+    for (const CLI::Option* opt : sub->get_options()) {
+      std::string n = opt->get_name(true, true);
+      INFO(n);
+      CHECK(opt->get_required() == (n == "scene" || n == "--vary"));
+    }
+  }
+  // The one option whose help differs by subcommand.
+  CHECK(line.app.get_subcommand("render")->get_option("--res")->get_description() ==
+        "resolution WIDTHxHEIGHT (overrides settings.resolution)");
+  CHECK(line.app.get_subcommand("sweep")->get_option("--res")->get_description() ==
+        "resolution WIDTHxHEIGHT for every render");
+}
+
+TEST_CASE("options keep their defaults when not given", "[cli][options]") {
+  Line line;
+  REQUIRE(line.parse("render a.scn") == cli::Render);
+  const cli::CliArgs& a = line.args;
+  CHECK(a.scene == "a.scn");
+  CHECK(a.outputs.empty());
+  CHECK(!a.spp);
+  CHECK(!a.seed);
+  CHECK(a.res.empty());
+  CHECK(a.threads == 0);
+  CHECK(a.max_errors == 20);
+  CHECK(a.max_steps == compile::kDefaultStepBudget);
+  CHECK(a.features == "auto");
+  CHECK(!a.quiet);
+  CHECK(!a.stats);
+  CHECK(!a.dump_ast);
+  CHECK(!a.dump_ir);
+  CHECK(a.sweep.repeats == 3);
+  CHECK(a.sweep.reference_spp == 1024);
+  CHECK(a.sweep.out_dir == "sweep");
+  CHECK(a.sweep.images);
+}
+
+TEST_CASE("options land in the fields the table names", "[cli][options]") {
+  {
+    Line line;
+    REQUIRE(line.parse("render a.scn -o x.exr --output y.png --spp 7 --res 4x3 --threads 2 "
+                       "--seed 4294967295 --set samples=2 --set seed=1 -I d1 -I d2 --stats -q "
+                       "--max-errors 0 --max-steps 99 --dump-ast --dump-ir --pixel 1,2 "
+                       "--features all --ocio-config c.ocio") == cli::Render);
+    const cli::CliArgs& a = line.args;
+    CHECK(a.outputs == std::vector<std::string>{"x.exr", "y.png"});
+    CHECK(a.spp == 7);
+    CHECK(a.res == "4x3");
+    CHECK(a.threads == 2);
+    CHECK(a.seed == 4294967295LL);
+    CHECK(a.sets == std::vector<std::string>{"samples=2", "seed=1"});
+    CHECK(a.include_dirs == std::vector<std::string>{"d1", "d2"});
+    CHECK(a.stats);
+    CHECK(a.quiet);
+    CHECK(a.max_errors == 0);
+    CHECK(a.max_steps == 99);
+    CHECK(a.dump_ast);
+    CHECK(a.dump_ir);
+    CHECK(a.pixel == "1,2");
+    CHECK(a.features == "all");
+    CHECK(a.ocio_config == "c.ocio");
+  }
+  {
+    Line line;
+    REQUIRE(line.parse("sweep s.scn --vary samples=1,2 --vary max_depth=1 --series fresnel=exact "
+                       "--repeats 5 --reference-spp 64 --out o --markdown m.md --name n "
+                       "--res 8x8 --set seed=3 -I inc --threads 1 --no-images --quiet") ==
+            cli::Sweep);
+    const cli::CliArgs& a = line.args;
+    CHECK(a.scene == "s.scn");
+    CHECK(a.vary == std::vector<std::string>{"samples=1,2", "max_depth=1"});
+    CHECK(a.series == "fresnel=exact");
+    CHECK(a.sweep.repeats == 5);
+    CHECK(a.sweep.reference_spp == 64);
+    CHECK(a.sweep.out_dir == "o");
+    CHECK(a.sweep.markdown == "m.md");
+    CHECK(a.sweep.name == "n");
+    CHECK(a.res == "8x8");
+    CHECK(a.sets == std::vector<std::string>{"seed=3"});
+    CHECK(a.include_dirs == std::vector<std::string>{"inc"});
+    CHECK(a.threads == 1);
+    CHECK(!a.sweep.images);
+    CHECK(a.quiet);
+  }
+  {
+    Line line;
+    REQUIRE(line.parse("check c.scn -I i --set samples=4 --max-errors 3 --max-steps 10") ==
+            cli::Check);
+    CHECK(line.args.max_errors == 3);
+    CHECK(line.args.max_steps == 10);
+  }
+  {
+    Line line;
+    REQUIRE(line.parse("dump-ast d.scn") == cli::DumpAst);
+    CHECK(line.args.scene == "d.scn");
+  }
+}
+
+TEST_CASE("option values are checked as before the table", "[cli][options]") {
+  // Each of these is a CLI11 parse error, which snell turns into exit status 2.
+  auto rejects = [](const std::string& command_line) {
+    Line line;
+    INFO(command_line);
+    CHECK_THROWS_AS(line.parse(command_line), CLI::ParseError);
+  };
+  rejects("render");                                // the scene is required
+  rejects("render a.scn b.scn");                    // one scene
+  rejects("render a.scn --spp 0");                  // 1 ..= 2^20
+  rejects("render a.scn --spp 1048577");            //
+  rejects("render a.scn --threads 1025");           // 0 ..= 1024
+  rejects("render a.scn --threads -1");             //
+  rejects("render a.scn --seed -1");                // 0 ..= 2^32 - 1
+  rejects("render a.scn --seed 4294967296");        //
+  rejects("render a.scn --max-errors x");           // a number
+  rejects("sweep s.scn");                           // --vary is required
+  rejects("sweep s.scn --vary a=1 --repeats 0");    // 1 ..= 100
+  rejects("sweep s.scn --vary a=1 --repeats 101");  //
+  rejects("sweep s.scn --vary a=1 --reference-spp 0");
+  rejects("sweep s.scn --vary a=1 --threads 2000");
+  // Options of other subcommands are not accepted.
+  rejects("check c.scn --spp 4");
+  rejects("check c.scn --res 4x4");
+  rejects("check c.scn --threads 2");
+  rejects("sweep s.scn --vary a=1 --spp 3");
+  rejects("dump-ast d.scn -I .");
+  rejects("render a.scn --vary a=1");
+  // And the bounds themselves are accepted.
+  Line line;
+  CHECK_NOTHROW(line.parse("render a.scn --spp 1048576 --threads 1024 --seed 0"));
+}

@@ -1,0 +1,219 @@
+// The registries agree with each other and with the tests: language/constructors.def
+// (what the parser reads as a constructor) with compiler/properties.def (what the
+// compiler builds), every property's default with its own check, and every kind of
+// language/diagnostics.def with a test that produces it. Every list here is
+// computed from the .def files through their X-macros and from the test folders,
+// so a row added to one table and forgotten in another fails here.
+#include <catch2/catch.hpp>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "compiler/lower.hpp"
+#include "compiler/properties.hpp"
+#include "language/diagnostics.hpp"
+
+using namespace snell;
+using namespace snell::compile;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct ConstructorRow {
+  std::string name, result;  // result: "material" or "pattern"
+};
+const std::vector<ConstructorRow> kConstructors = {
+#define SNELL_CONSTRUCTOR(name, result) {#name, #result},
+#include "language/constructors.def"
+};
+
+struct BlockRow {
+  std::string name;
+  BlockKind kind;
+};
+const std::vector<BlockRow> kBlocks = {
+#define SNELL_BLOCK(name, kind) {#name, BlockKind::kind},
+#define SNELL_PROP(block, name, type, check, flags, def)
+#include "compiler/properties.def"
+};
+
+struct PropRow {
+  std::string block, name;
+};
+const std::vector<PropRow> kProps = {
+#define SNELL_BLOCK(name, kind)
+#define SNELL_PROP(block, name, type, check, flags, def) {#block, #name},
+#include "compiler/properties.def"
+};
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// A value the property accepts, to build a constructor with: its default, else
+// a plain value of its type (none when the type has no plain value).
+Value sample_value(const PropInfo& p) {
+  if (p.default_value.type != Type::None) return p.default_value;
+  switch (p.type) {
+    case PropType::Number:
+    case PropType::Integer:
+      return Value::number(1);
+    case PropType::Vec2:
+    case PropType::IntVec2:
+      return Value::vec2(1, 1);
+    case PropType::Vec3:
+    case PropType::Color:
+    case PropType::ColorOrPattern:
+      return Value::vec3({1, 1, 1});
+    case PropType::Bool:
+      return Value::boolean(false);
+    default:
+      return Value::none();
+  }
+}
+
+std::string result_of(const Value& v) {
+  if (v.type == Type::Material) return "material";
+  if (v.type == Type::Pattern) return "pattern";
+  return "neither";
+}
+
+// Whether `text` holds `word` as a whole identifier (not inside a longer one).
+bool names_word(const std::string& text, const std::string& word) {
+  auto ident = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
+  for (std::size_t at = text.find(word); at != std::string::npos; at = text.find(word, at + 1)) {
+    bool left = at == 0 || !ident(text[at - 1]);
+    bool right = at + word.size() == text.size() || !ident(text[at + word.size()]);
+    if (left && right) return true;
+  }
+  return false;
+}
+
+// Kinds expected by a tests/lang case that some runner runs (a `// test:` first
+// line): the last word of each `// expect:` comment. File names per kind.
+std::map<std::string, std::set<std::string>> lang_cases() {
+  std::map<std::string, std::set<std::string>> out;
+  for (const auto& e : fs::recursive_directory_iterator(SNELL_LANG_TEST_DIR)) {
+    if (!e.is_regular_file() || e.path().extension() != ".scn") continue;
+    std::string text = slurp(e.path());
+    if (text.rfind("// test:", 0) != 0) continue;
+    std::istringstream in(text);
+    std::string line;
+    while (std::getline(in, line)) {
+      std::size_t at = line.find("// expect:");
+      if (at == std::string::npos) continue;
+      std::istringstream words(line.substr(at + 10));
+      std::string w, last;
+      while (words >> w) last = w;
+      out[last].insert(fs::relative(e.path(), SNELL_LANG_TEST_DIR).string());
+    }
+  }
+  return out;
+}
+
+// C++ test files, other than the ones that only check coverage (they name every
+// kind without producing any).
+std::vector<fs::path> test_sources() {
+  const std::set<std::string> coverage_only = {"test_lang_files.cpp", "test_compile_files.cpp",
+                                               "test_registry.cpp"};
+  std::vector<fs::path> out;
+  for (const auto& e : fs::recursive_directory_iterator(fs::path(SNELL_SOURCE_DIR) / "tests")) {
+    std::string ext = e.path().extension().string();
+    if (e.is_regular_file() && (ext == ".cpp" || ext == ".hpp") &&
+        !coverage_only.count(e.path().filename().string()))
+      out.push_back(e.path());
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("registry: constructors.def and properties.def name the same constructors",
+          "[compiler][registry]") {
+  REQUIRE(!kConstructors.empty());
+  std::set<std::string> in_parser, in_compiler;
+  for (const ConstructorRow& c : kConstructors) in_parser.insert(c.name);
+  for (const BlockRow& b : kBlocks)
+    if (b.kind == BlockKind::Constructor) in_compiler.insert(b.name);
+  CHECK(in_parser == in_compiler);
+
+  for (const ConstructorRow& c : kConstructors) {
+    INFO("constructor " << c.name << " (constructors.def: " << c.result << ")");
+    CHECK((c.result == "material" || c.result == "pattern"));
+    const BlockInfo* block = find_block(c.name);
+    REQUIRE(block);
+    CHECK(block->kind == BlockKind::Constructor);
+    // The kind it makes is what the compiler builds from it, every property at
+    // its default.
+    std::vector<EvaluatedProp> props;
+    for (const PropInfo* p : block->props) {
+      EvaluatedProp e;
+      e.info = p;
+      e.value = sample_value(*p);
+      INFO("property " << p->name);
+      REQUIRE(e.value.type != Type::None);
+      std::string err = check_value(*p, e.value);
+      REQUIRE(err.empty());
+      props.push_back(std::move(e));
+    }
+    CHECK(result_of(make_constructor_value(*block, props)) == c.result);
+  }
+}
+
+TEST_CASE("registry: every property is described and its default passes its own check",
+          "[compiler][registry]") {
+  REQUIRE(kProps.size() == static_cast<std::size_t>(kPropCount));
+  for (const PropRow& row : kProps) {
+    INFO(row.block << "." << row.name);
+    const BlockInfo* block = find_block(row.block);
+    REQUIRE(block);
+    const PropInfo* p = find_prop(*block, row.name);
+    REQUIRE(p);
+    CHECK(p->block == row.block);
+    CHECK(!describe(*p).empty());
+    bool has_default = p->default_value.type != Type::None;
+    // A required property's default would never be used.
+    CHECK(!(p->required() && has_default));
+    if (!has_default) continue;
+    Value v = p->default_value;
+    bool integral = false;
+    std::string err = check_value(*p, v, &integral);
+    INFO("describe: " << describe(*p) << "; check_value: " << err);
+    CHECK(err.empty());
+    Value w = p->default_value;
+    CHECK(value_ok(*p, w));  // the hot path decides as check_value does
+  }
+}
+
+TEST_CASE("registry: every diagnostic kind has a test that produces it", "[compiler][registry]") {
+  std::map<std::string, std::set<std::string>> cases = lang_cases();
+  REQUIRE(!cases.empty());
+  std::vector<std::pair<fs::path, std::string>> sources;
+  for (const fs::path& p : test_sources()) sources.push_back({p, slurp(p)});
+  REQUIRE(!sources.empty());
+
+  // Kinds no .scn case can produce (FileTooLarge needs a 100 MB file) are
+  // covered by a C++ test that names them; the rest have no test at all.
+  std::string missing, elsewhere;
+  for (lang::DiagKind k : lang::all_diag_kinds()) {
+    std::string name(lang::diag_name(k));
+    if (cases.count(name)) continue;
+    std::string where;
+    for (const auto& [path, text] : sources)
+      if (names_word(text, name)) where += " " + path.filename().string();
+    if (where.empty())
+      missing += " " + name;
+    else
+      elsewhere += "  " + name + ":" + where + "\n";
+  }
+  INFO("no tests/lang case, named by a test:\n" << elsewhere);
+  INFO("no tests/lang case and no test naming them:" << missing);
+  CHECK(missing.empty());
+}
