@@ -4,6 +4,7 @@
 // language/diagnostics.def with a test that produces it. Every list here is
 // computed from the .def files through their X-macros and from the test folders,
 // so a row added to one table and forgotten in another fails here.
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
@@ -38,6 +39,7 @@ struct BlockRow {
 const std::vector<BlockRow> kBlocks = {
 #define SNELL_BLOCK(name, kind) {#name, BlockKind::kind},
 #define SNELL_PROP(block, name, type, check, flags, def)
+#define SNELL_SETTING(name, type, check, def)
 #include "compiler/properties.def"
 };
 
@@ -47,6 +49,7 @@ struct PropRow {
 const std::vector<PropRow> kProps = {
 #define SNELL_BLOCK(name, kind)
 #define SNELL_PROP(block, name, type, check, flags, def) {#block, #name},
+#define SNELL_SETTING(name, type, check, def) {"settings", #name},
 #include "compiler/properties.def"
 };
 
@@ -216,4 +219,101 @@ TEST_CASE("registry: every diagnostic kind has a test that produces it", "[compi
   INFO("no tests/lang case, named by a test:\n" << elsewhere);
   INFO("no tests/lang case and no test naming them:" << missing);
   CHECK(missing.empty());
+}
+
+namespace {
+struct KindRow {
+  std::string name, family;  // family: "shape", "material" or "pattern"
+};
+const std::vector<KindRow> kKinds = {
+#define SNELL_SHAPE(name, Type) {#name, "shape"},
+#define SNELL_MATERIAL(name, Type) {#name, "material"},
+#define SNELL_PATTERN(name, Type) {#name, "pattern"},
+#include "runtime/ir/kinds.def"
+};
+
+// The field names of every kind struct, by kind name.
+std::map<std::string, std::vector<std::string>> kind_fields() {
+  std::map<std::string, std::vector<std::string>> out;
+  auto add = [&](const auto& kind) {
+    using T = std::decay_t<decltype(kind)>;
+    ir::for_each_field(
+        kind, [&](const char* f, const auto&) { out[ir::KindName<T>::value].push_back(f); });
+  };
+#define SNELL_SHAPE(name, Type) add(ir::Type{});
+#define SNELL_MATERIAL(name, Type) add(ir::Type{});
+#define SNELL_PATTERN(name, Type) add(ir::Type{});
+#include "runtime/ir/kinds.def"
+  return out;
+}
+}  // namespace
+
+TEST_CASE("registry: every IR kind of kinds.def is a block of properties.def, bound field by field",
+          "[registry]") {
+  auto fields = kind_fields();
+  for (const KindRow& k : kKinds) {
+    INFO(k.family << " " << k.name);
+    if (k.name == "constant") continue;  // a plain colour: no block in the language
+    const BlockInfo* b = find_block(k.name);
+    REQUIRE(b);
+    if (k.family == "shape") {
+      CHECK(b->kind == BlockKind::Item);
+      CHECK(b->shape_kind >= 0);
+      CHECK(b->is_object);
+    } else {
+      CHECK(b->kind == BlockKind::Constructor);
+      CHECK((k.family == "material" ? b->material_kind : b->pattern_kind) >= 0);
+    }
+    // Every property of the block is a field of the kind's struct, except those a
+    // kind's lowering hook reads itself (lower_kinds.cpp): the mesh's file.
+    for (const PropInfo* p : b->props) {
+      INFO("property " << p->name);
+      bool hooked = k.name == "mesh" && p->name == "file";
+      bool field = std::count(fields[k.name].begin(), fields[k.name].end(), p->name) > 0;
+      CHECK((field || hooked));
+    }
+  }
+  // No block is a kind the IR lacks: every Constructor block is a material or a
+  // pattern kind, every object block a shape kind.
+  for (const BlockRow& b : kBlocks) {
+    const BlockInfo* info = find_block(b.name);
+    REQUIRE(info);
+    if (b.kind == BlockKind::Constructor)
+      CHECK((info->material_kind >= 0 || info->pattern_kind >= 0));
+  }
+}
+
+TEST_CASE("registry: every IR-bound default was filled from the IR", "[registry]") {
+  for (const PropRow& r : kProps) {
+    const BlockInfo* b = find_block(r.block);
+    REQUIRE(b);
+    const PropInfo* p = find_prop(*b, r.name);
+    REQUIRE(p);
+    INFO(r.block << "." << r.name);
+    if (p->default_from_ir) CHECK(p->default_value.type != Type::None);
+  }
+  // The IR's defaults are what the language promises (spec §5-§8): a sample.
+  CHECK(find_prop(*find_block("settings"), "sampler")->default_value.str() == "stratified");
+  CHECK(find_prop(*find_block("diffuse"), "color")->default_value.v == ir::Vec3(0.8));
+  CHECK(find_prop(*find_block("settings"), "resolution")->default_value.v == ir::Vec3(640, 480, 0));
+}
+
+TEST_CASE("registry: enum spellings parse back to their enumerators", "[registry]") {
+  auto round_trip = [](auto tag) {
+    using E = decltype(tag);
+    auto all = ir::spellings<E>();
+    for (std::size_t i = 0; i < all.size(); ++i) {
+      E e{};
+      REQUIRE(ir::parse_enum(all[i], e));
+      CHECK(std::size_t(e) == i);
+      CHECK(ir::spelling(e) == all[i]);
+    }
+    E e{};
+    CHECK_FALSE(ir::parse_enum("no-such-value", e));
+  };
+#define SNELL_ENUM(Type, VALUES) round_trip(ir::Type{});
+#include "runtime/ir/kinds.def"
+  round_trip(ir::ShapeKind{});
+  round_trip(ir::MaterialKind{});
+  round_trip(ir::PatternKind{});
 }
