@@ -1,9 +1,10 @@
 // render(): build the Embree scene, then trace tiles in parallel with TBB. Each
 // pixel's samples are a pure function of (seed, pixel, sample index, dimension), and
 // each pixel is summed in sample order by one task, so the image is bit-identical
-// whatever the thread count or tile schedule. The per-pixel loop is a template on
-// the effects it simulates (lens, time) and on the shading kernel's flags; render()
-// picks one instantiation from ir::Features (docs/effects.md).
+// whatever the thread count or tile schedule. The per-pixel loop (render/tile.hpp)
+// is a template on the render kernel (render/kernel.hpp: the effects it simulates)
+// and the integrator; render() picks the kernel from ir::Features (docs/effects.md)
+// and the integrator from the settings.
 #include "runtime/render.hpp"
 
 #include <fmt/format.h>
@@ -23,15 +24,14 @@
 
 #include "runtime/camera.hpp"
 #include "runtime/embree_scene.hpp"
-#include "runtime/integrator.hpp"
+#include "runtime/integrators/integrator.hpp"
+#include "runtime/render/kernel.hpp"
+#include "runtime/render/tile.hpp"
 #include "runtime/sampler.hpp"
 
 namespace snell::rt {
 
 namespace {
-constexpr std::uint32_t kTile = 16;
-// 1 in kCostStride camera samples is timed for the per-effect cost (a power of 2).
-constexpr std::uint32_t kCostStride = 16;
 using Clock = std::chrono::steady_clock;
 
 void add(RenderStats& a, const RenderStats& b) {
@@ -48,150 +48,6 @@ void add(RenderStats& a, const RenderStats& b) {
   a.time_samples += b.time_samples;
   a.timed_samples += b.timed_samples;
 }
-
-// Which kernel to run: the effects the scene uses, or all of them.
-struct KernelChoice {
-  bool lens = true, time = true, area = true, dielectric = true, absorption = true;
-  bool general = true;
-  unsigned bits() const {
-    return (lens ? 1u : 0u) | (time ? 2u : 0u) | (area ? 4u : 0u) | (dielectric ? 8u : 0u) |
-           (dielectric && absorption ? 16u : 0u);
-  }
-  std::string name() const {
-    if (general) return "general (every effect compiled in)";
-    return fmt::format(
-        "specialised: {}, {}, {}, {}", lens ? "thin lens" : "pinhole",
-        time ? "motion (time sampled)" : "static", area ? "area lights" : "point lights only",
-        dielectric ? (absorption ? "dielectrics with absorption" : "clear dielectrics")
-                   : "no dielectrics");
-  }
-};
-
-KernelChoice choose_kernel(const ir::Scene& scene, bool general) {
-  KernelChoice k;
-  if (general) return k;
-  ir::Features f = ir::analyze_features(scene);
-  k.general = false;
-  k.lens = f.depth_of_field;
-  k.time = f.motion_blur;
-  k.area = f.area_lights;
-  k.dielectric = f.dielectric;
-  k.absorption = f.absorption;
-  return k;
-}
-
-// Everything a tile needs; shared read-only by all workers.
-struct TileContext {
-  const Image* img = nullptr;
-  const Camera* camera = nullptr;
-  const Integrator* integrator = nullptr;
-  SamplerSpec spec;
-  bool motion_on = false;  // some object has motion geometry: ray times matter
-  std::uint32_t tiles_x = 1;
-  const RenderOptions* options = nullptr;
-  std::string* trace = nullptr;
-  float* rgb = nullptr;
-  bool measure_cost = false;
-};
-
-struct Worker {
-  RenderStats stats;
-  std::vector<Node> stack;
-  CostClock cost;
-};
-
-// A deterministic 1-in-kCostStride choice of camera samples to time; it never
-// changes the picture.
-bool timed_sample(std::uint32_t x, std::uint32_t y, std::uint32_t s) {
-  std::uint32_t h = (x * 0x9e3779b1u) ^ (y * 0x85ebca77u) ^ (s * 0xc2b2ae3du);
-  h ^= h >> 15;
-  h *= 0x2c1b3c6du;
-  h ^= h >> 12;
-  return (h & (kCostStride - 1)) == 0;
-}
-
-// The per-pixel loop of one kernel. Lens: draw a lens sample (dimension kDimLens)
-// for every camera ray; Time: draw a shutter fraction (kDimTime), the ray time when
-// motion is on. The dimensions do not depend on the kernel, so every kernel gives
-// every decision the same number.
-template <bool Lens, bool Time, class K>
-void render_tile(const TileContext& c, std::uint32_t tile, Worker& wk) {
-  const Image& img = *c.img;
-  RenderStats& stats = wk.stats;
-  CostClock& clock = wk.cost;
-  const SamplerSpec& spec = c.spec;
-  std::uint32_t x0 = (tile % c.tiles_x) * kTile, y0 = (tile / c.tiles_x) * kTile;
-  std::uint32_t x1 = std::min(x0 + kTile, img.width), y1 = std::min(y0 + kTile, img.height);
-  for (std::uint32_t y = y0; y < y1; ++y)
-    for (std::uint32_t x = x0; x < x1; ++x) {
-      bool tracing = c.options->trace_pixel && c.options->trace_pixel->first == x &&
-                     c.options->trace_pixel->second == y;
-      const std::uint64_t pixel = pixel_hash(spec, x, y);
-      double sum[3] = {0, 0, 0};
-      std::uint32_t kept = 0;
-      for (std::uint32_t s = 0; s < spec.spp; ++s) {
-        bool timed = c.measure_cost && timed_sample(x, y, s);
-        double t_cam = timed ? CostClock::now_ns() : 0, t_effects = 0;
-        SampleContext sc{spec, x, y, s, pixel};
-        Sample2 j = sample2(spec, pixel, s, kDimPixel);
-        Ray ray;
-        if constexpr (Lens) {
-          double t0 = timed ? CostClock::now_ns() : 0;
-          Sample2 l = sample2(spec, pixel, s, kDimLens);
-          ray = c.camera->generate(x + double(j.u), y + double(j.v), l.u, l.v);
-          ++stats.lens_samples;
-          if (timed) {
-            double dt = clock.since(t0);
-            clock.ns[kCostLens] += dt;
-            t_effects += dt + clock.overhead_ns;
-          }
-        } else {
-          ray = c.camera->generate(x + double(j.u), y + double(j.v));
-        }
-        if constexpr (Time) {
-          double t0 = timed ? CostClock::now_ns() : 0;
-          float u = sample1(spec, pixel, s, kDimTime);
-          // Shutter fraction in [0, 1): exactly what Embree's ray time means.
-          ray.time = c.motion_on ? u : 0.0f;
-          ++stats.time_samples;
-          if (timed) {
-            double dt = clock.since(t0);
-            clock.ns[kCostTime] += dt;
-            t_effects += dt + clock.overhead_ns;
-          }
-        }
-        if (timed) {
-          clock.ns[kCostCamera] += std::fmax(0.0, clock.since(t_cam) - t_effects);
-          ++stats.timed_samples;
-        }
-        std::string* tr = (tracing && s == 0) ? c.trace : nullptr;
-        if (tr) *tr += fmt::format("pixel ({}, {}) sample 0\n", x, y);
-        Color col = c.integrator->li<K>(ray, sc, stats, wk.stack, tr, timed ? &clock : nullptr);
-        if (!is_finite(col)) {  // dropped and counted, never written
-          ++stats.nonfinite_samples;
-          continue;
-        }
-        sum[0] += col.x, sum[1] += col.y, sum[2] += col.z;
-        ++kept;
-      }
-      float* px = c.rgb + 3 * (std::size_t(y) * img.width + x);
-      for (int k = 0; k < 3; ++k) px[k] = kept ? float(sum[k] / kept) : 0.0f;
-    }
-}
-
-using TileFn = void (*)(const TileContext&, std::uint32_t, Worker&);
-
-template <unsigned B>
-void tile_fn(const TileContext& c, std::uint32_t tile, Worker& wk) {
-  constexpr bool kDiel = (B & 8) != 0;
-  render_tile<(B & 1) != 0, (B & 2) != 0, ShadeFlags<(B & 4) != 0, kDiel, kDiel && (B & 16) != 0>>(
-      c, tile, wk);
-}
-template <unsigned... B>
-constexpr std::array<TileFn, sizeof...(B)> make_table(std::integer_sequence<unsigned, B...>) {
-  return {&tile_fn<B>...};
-}
-constexpr auto kKernels = make_table(std::make_integer_sequence<unsigned, 32>{});
 
 // The cost of one CostClock::now_ns() pair, subtracted from every timed interval.
 double clock_overhead_ns() {
@@ -251,14 +107,14 @@ RenderResult render(const ir::Scene& scene, const RenderOptions& options) {
 
   auto t0 = Clock::now();
   EmbreeScene embree(scene, scene.camera.location);
-  Integrator integrator(scene, embree);
+  std::unique_ptr<Integrator> integrator = make_integrator(scene, embree);
   Camera camera(scene.camera, img.width, img.height);
   auto t1 = Clock::now();
 
   TileContext ctx;
   ctx.img = &img;
   ctx.camera = &camera;
-  ctx.integrator = &integrator;
+  ctx.integrator = integrator.get();
   ctx.spec = SamplerSpec{st.sampler, st.seed, st.samples ? st.samples : 1};
   ctx.motion_on = embree.has_motion();
   ctx.tiles_x = (img.width + kTile - 1) / kTile;
@@ -269,7 +125,7 @@ RenderResult render(const ir::Scene& scene, const RenderOptions& options) {
   std::uint32_t tiles_y = (img.height + kTile - 1) / kTile;
   std::uint32_t ntiles = ctx.tiles_x * tiles_y;
   std::atomic<std::uint32_t> done{0};
-  TileFn run = kKernels[kernel.bits()];
+  TileFn run = integrator->tile_kernel(kernel.bits);
   double overhead = options.measure_cost ? clock_overhead_ns() : 0;
   tbb::enumerable_thread_specific<Worker> workers([&] {
     Worker w;

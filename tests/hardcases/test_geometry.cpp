@@ -9,7 +9,7 @@
 
 #include "hc_util.hpp"
 #include "runtime/embree_scene.hpp"
-#include "runtime/integrator.hpp"
+#include "runtime/integrators/whitted.hpp"
 
 using namespace snell;
 using namespace snell::hc;

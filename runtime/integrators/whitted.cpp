@@ -1,4 +1,4 @@
-#include "runtime/integrator.hpp"
+#include "runtime/integrators/whitted.hpp"
 
 #include <fmt/format.h>
 
@@ -43,15 +43,6 @@ struct TraceEntry {
 
 }  // namespace
 
-double CostClock::now_ns() {
-  return double(std::chrono::duration_cast<std::chrono::nanoseconds>(
-                    std::chrono::steady_clock::now().time_since_epoch())
-                    .count());
-}
-double CostClock::since(double t0) const {
-  return std::fmax(0.0, now_ns() - t0 - overhead_ns);
-}
-
 std::string to_string(RayKind k) {
   switch (k) {
     case RayKind::Camera:
@@ -90,7 +81,7 @@ float offset_scale(const ir::Scene& scene, ir::Vec3 o) {
   return float(std::fmin(1.0, std::fmax(extent, 1e-30)));
 }
 
-Integrator::Integrator(const ir::Scene& scene, const EmbreeScene& embree)
+WhittedIntegrator::WhittedIntegrator(const ir::Scene& scene, const EmbreeScene& embree)
     : scene_(scene), embree_(embree) {
   ir::Vec3 o = embree.origin();
   offset_scale_ = offset_scale(scene, o);
@@ -138,7 +129,7 @@ int floor_parity(double x) {
 }
 }  // namespace
 
-Color Integrator::texture(const ir::Texture& t, Vec3f p, Vec3f n_out) const {
+Color WhittedIntegrator::texture(const ir::Texture& t, Vec3f p, Vec3f n_out) const {
   return std::visit(
       ir::Overloaded{
           [](const ir::Constant& c) { return to_color(c.color); },
@@ -157,7 +148,7 @@ Color Integrator::texture(const ir::Texture& t, Vec3f p, Vec3f n_out) const {
 
 // Radiance an area light sends along `dir` (the ray's direction, towards the light):
 // one-sided lights emit only towards cross(edge1, edge2).
-Color Integrator::emitted(const LightF& l, Vec3f dir) const {
+Color WhittedIntegrator::emitted(const LightF& l, Vec3f dir) const {
   if (l.two_sided || dot(dir, l.n) < 0) return l.radiance;
   return Color(0);
 }
@@ -168,8 +159,8 @@ Color Integrator::emitted(const LightF& l, Vec3f dir) const {
 // Shadow rays leave from the offset hit point and end at the offset light sample, so
 // the light's own surface never blocks them; everything else does (§7).
 template <class K>
-Color Integrator::direct(Vec3f p, Vec3f o, Vec3f nf, float time, std::uint64_t key,
-                         const SampleContext& sc, RenderStats& stats) const {
+Color WhittedIntegrator::direct(Vec3f p, Vec3f o, Vec3f nf, float time, std::uint64_t key,
+                                const SampleContext& sc, RenderStats& stats) const {
   Color e(0);
   for (const PointF& l : points_) {
     Vec3f to = l.pos - p;
@@ -219,9 +210,13 @@ Color Integrator::direct(Vec3f p, Vec3f o, Vec3f nf, float time, std::uint64_t k
   return e;
 }
 
-template <class K>
-Color Integrator::li(const Ray& camera_ray, const SampleContext& sc, RenderStats& stats,
-                     std::vector<Node>& stack, std::string* trace, CostClock* cost) const {
+template <class K, class P>
+Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scratch& stack,
+                            P& probe) const {
+  RenderStats& stats = probe.stats;
+  // Null at compile time under Probe<false>: every use below folds away.
+  std::string* const trace = probe.trace;
+  CostClock* const cost = probe.cost;
   Color total(0);
   std::vector<TraceEntry> entries;
   stack.clear();
@@ -238,6 +233,7 @@ Color Integrator::li(const Ray& camera_ray, const SampleContext& sc, RenderStats
     double t_node = cost ? CostClock::now_ns() : 0, nested = 0;
     // Direct light is timed as shadow cost and taken out of the node's own time.
     auto direct_timed = [&](Vec3f p, Vec3f o, Vec3f nf) {
+      if constexpr (!P::on) return direct<K>(p, o, nf, node.ray.time, node.key, sc, stats);
       if (!cost) return direct<K>(p, o, nf, node.ray.time, node.key, sc, stats);
       double t0 = CostClock::now_ns();
       Color e = direct<K>(p, o, nf, node.ray.time, node.key, sc, stats);
@@ -393,8 +389,10 @@ Color Integrator::li(const Ray& camera_ray, const SampleContext& sc, RenderStats
       std::visit(ir::Overloaded{diffuse, mirror, glossy, dielectric, glazed}, mat.model);
     }
     total += contrib;
-    if (cost) cost->ns[int(node.kind)] += std::fmax(0.0, cost->since(t_node) - nested);
-    if (trace) {
+    if constexpr (P::on) {
+      if (cost) cost->ns[int(node.kind)] += std::fmax(0.0, cost->since(t_node) - nested);
+    }
+    if (P::on && trace) {
       entries.push_back(
           {node.depth,
            fmt::format("{} depth {} weight {}: {} -> contribution {}", rt::to_string(node.kind),
@@ -410,34 +408,32 @@ Color Integrator::li(const Ray& camera_ray, const SampleContext& sc, RenderStats
       break;
     }
   }
-  if (trace) {
-    for (const TraceEntry& e : entries)
-      *trace += std::string(2 * std::min<std::uint32_t>(e.depth, 40), ' ') + e.text + "\n";
-    *trace += fmt::format("sample radiance {}\n", fmt_color(total));
+  if constexpr (P::on) {
+    if (trace)
+      for (const TraceEntry& e : entries)
+        *trace += std::string(2 * std::min<std::uint32_t>(e.depth, 40), ' ') + e.text + "\n";
+    if (trace) *trace += fmt::format("sample radiance {}\n", fmt_color(total));
   }
   return total;
 }
 
-template Color Integrator::li<ShadeFlags<false, false, false>>(const Ray&, const SampleContext&,
-                                                               RenderStats&, std::vector<Node>&,
-                                                               std::string*, CostClock*) const;
-template Color Integrator::li<ShadeFlags<false, true, false>>(const Ray&, const SampleContext&,
-                                                              RenderStats&, std::vector<Node>&,
-                                                              std::string*, CostClock*) const;
-template Color Integrator::li<ShadeFlags<false, true, true>>(const Ray&, const SampleContext&,
-                                                             RenderStats&, std::vector<Node>&,
-                                                             std::string*, CostClock*) const;
-template Color Integrator::li<ShadeFlags<true, false, false>>(const Ray&, const SampleContext&,
-                                                              RenderStats&, std::vector<Node>&,
-                                                              std::string*, CostClock*) const;
-template Color Integrator::li<ShadeFlags<true, true, false>>(const Ray&, const SampleContext&,
-                                                             RenderStats&, std::vector<Node>&,
-                                                             std::string*, CostClock*) const;
-template Color Integrator::li<ShadeFlags<true, true, true>>(const Ray&, const SampleContext&,
-                                                            RenderStats&, std::vector<Node>&,
-                                                            std::string*, CostClock*) const;
+namespace {
+template <class K>
+struct WhittedTile {
+  static constexpr TileFn value = &render_tile<K, WhittedIntegrator>;
+};
+}  // namespace
 
-std::string Integrator::to_string() const {
+TileFn WhittedIntegrator::tile_kernel(unsigned bits) const {
+  static constexpr auto kTable = kernel_table<WhittedTile>();
+  return kTable[bits % kTable.size()];
+}
+
+std::unique_ptr<Integrator> make_integrator(const ir::Scene& scene, const EmbreeScene& embree) {
+  return std::make_unique<WhittedIntegrator>(scene, embree);
+}
+
+std::string WhittedIntegrator::to_string() const {
   return fmt::format(
       "integrator {{ whitted point_lights {} area_lights {} max_depth {} min_weight {} "
       "fresnel {} branching {} termination {} }}",

@@ -4,11 +4,12 @@
 // so the tree depth (max_depth) never touches the C++ call stack.
 //
 // Specialisation (architecture: "simulate only the effects a scene calls for"):
-// `li` is a template on ShadeFlags. Without area lights the direct-light loop is a
-// single shadow ray per point light; without dielectrics the refraction path is not
-// compiled in; without absorption no Beer factor is computed. The general kernel is
-// ShadeFlags<true, true, true>. Every decision draws the same sampler dimensions in
-// every kernel, so a specialised kernel renders the general kernel's picture.
+// `li` is a template on the render kernel's shading axes (render/kernel.hpp: area,
+// dielectric, absorption). Without area lights the direct-light loop is a single
+// shadow ray per point light; without dielectrics the refraction path is not
+// compiled in; without absorption no Beer factor is computed. Every decision draws
+// the same sampler dimensions in every kernel, so a specialised kernel renders the
+// general kernel's picture. Instrumentation comes through a Probe (probe.hpp).
 #pragma once
 
 #include <cstdint>
@@ -16,8 +17,12 @@
 #include <vector>
 
 #include "runtime/embree_scene.hpp"
+#include "runtime/integrators/integrator.hpp"
+#include "runtime/integrators/probe.hpp"
 #include "runtime/ir/ir.hpp"
 #include "runtime/render.hpp"
+#include "runtime/render/kernel.hpp"
+#include "runtime/render/tile.hpp"
 #include "runtime/sampler.hpp"
 #include "runtime/vec.hpp"
 
@@ -25,40 +30,6 @@ namespace snell::rt {
 
 enum class RayKind : std::uint8_t { Camera, Reflection, Refraction, Glossy };
 std::string to_string(RayKind k);
-
-template <bool Area, bool Dielectric, bool Absorption>
-struct ShadeFlags {
-  static constexpr bool area = Area;
-  static constexpr bool dielectric = Dielectric;
-  static constexpr bool absorption = Dielectric && Absorption;
-};
-using GeneralShade = ShadeFlags<true, true, true>;
-
-// Per-effect time, measured on a subset of camera samples (render.cpp picks which;
-// docs/effects.md). Indexed by CostKind; nanoseconds of one thread.
-enum CostKind : int {
-  kCostCamera = 0,  // same order as RayKind
-  kCostReflection,
-  kCostRefraction,
-  kCostGlossy,
-  kCostShadow,
-  kCostLens,
-  kCostTime,
-  kCostKinds
-};
-struct CostClock {
-  double overhead_ns = 0;  // one now_ns() pair, subtracted from every interval
-  double ns[kCostKinds] = {};
-  static double now_ns();
-  double since(double t0) const;  // now - t0 - overhead, never negative
-};
-
-// Where a camera sample comes from: the sampler inputs the tree draws dimensions from.
-struct SampleContext {
-  SamplerSpec spec;
-  std::uint32_t px = 0, py = 0, index = 0;
-  std::uint64_t pixel = 0;  // pixel_hash(spec, px, py)
-};
 
 struct Node {
   Ray ray;
@@ -70,7 +41,6 @@ struct Node {
   std::int32_t trace_id = -1, trace_parent = -1;
 };
 
-std::string to_string(const SampleContext& c);
 std::string to_string(const Node& n);
 
 // The scene's size around `origin` (the camera), at most 1: the largest distance
@@ -78,24 +48,35 @@ std::string to_string(const Node& n);
 // count; nothing finite gives 1. Ray offsets scale with it (offset_ray_origin).
 float offset_scale(const ir::Scene& scene, ir::Vec3 origin);
 
-class Integrator {
+class WhittedIntegrator final : public Integrator {
  public:
-  Integrator(const ir::Scene& scene, const EmbreeScene& embree);
+  WhittedIntegrator(const ir::Scene& scene, const EmbreeScene& embree);
 
-  // Radiance along a camera ray. `stack` is scratch owned by the caller (one per
-  // thread). `trace`, when not null, receives the readable ray tree. `cost`, when
-  // not null, receives the time of each ray by kind. Child and shadow rays keep
+  // The ray tree's stack: scratch owned by each thread.
+  using Scratch = std::vector<Node>;
+  // Radiance along a camera ray. `probe` takes the counters and, when on, the
+  // readable ray tree and the time of each ray by kind. Child and shadow rays keep
   // the camera ray's time.
-  template <class K>
-  Color li(const Ray& camera_ray, const SampleContext& sc, RenderStats& stats,
-           std::vector<Node>& stack, std::string* trace, CostClock* cost) const;
-  // The general kernel.
-  Color li(const Ray& camera_ray, const SampleContext& sc, RenderStats& stats,
-           std::vector<Node>& stack, std::string* trace) const {
-    return li<GeneralShade>(camera_ray, sc, stats, stack, trace, nullptr);
+  template <class K, class P>
+  Color radiance(const Ray& camera_ray, const SampleContext& sc, Scratch& stack, P& probe) const {
+    return li<Kernel<K::bits & kShadeAxes>>(camera_ray, sc, stack, probe);
+  }
+  // The general kernel with a probe that has every instrument (tests, --pixel).
+  Color li(const Ray& camera_ray, const SampleContext& sc, RenderStats& stats, Scratch& stack,
+           std::string* trace) const {
+    Probe<true> probe{stats, trace, nullptr};
+    return li<GeneralKernel>(camera_ray, sc, stack, probe);
   }
 
-  std::string to_string() const;
+  TileFn tile_kernel(unsigned bits) const override;
+  std::string to_string() const override;
+
+ private:
+  // The kernel axes the ray tree reads; the others (lens, time) are the pixel loop's.
+  static constexpr unsigned kShadeAxes =
+      (1u << kAxis_area) | (1u << kAxis_dielectric) | (1u << kAxis_absorption);
+  template <class K, class P>
+  Color li(const Ray& camera_ray, const SampleContext& sc, Scratch& stack, P& probe) const;
 
  private:
   struct LightF {             // area light, camera-relative float
