@@ -429,10 +429,6 @@ TileFn WhittedIntegrator::tile_kernel(unsigned bits) const {
   return kTable[bits % kTable.size()];
 }
 
-std::unique_ptr<Integrator> make_integrator(const ir::Scene& scene, const EmbreeScene& embree) {
-  return std::make_unique<WhittedIntegrator>(scene, embree);
-}
-
 std::string WhittedIntegrator::to_string() const {
   return fmt::format(
       "integrator {{ whitted point_lights {} area_lights {} max_depth {} min_weight {} "

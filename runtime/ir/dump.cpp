@@ -134,13 +134,30 @@ std::string to_string(const Camera& c) {
          num(c.shutter_close) + "> }";
 }
 
+namespace {
+// A setting's value as the language writes it: enums as quoted spellings.
+std::string setting_text(double v) {
+  return num(v);
+}
+std::string setting_text(std::uint32_t v) {
+  return std::to_string(v);
+}
+std::string setting_text(std::uint64_t v) {
+  return std::to_string(v);
+}
+template <class E>
+requires std::is_enum_v<E> std::string setting_text(E e) {
+  return quoted(std::string(spelling(e)));
+}
+}  // namespace
+
 std::string to_string(const Settings& s) {
-  return "settings { resolution <" + std::to_string(s.width) + ", " + std::to_string(s.height) +
-         "> samples " + std::to_string(s.samples) + " sampler " + quoted(to_string(s.sampler)) +
-         " max_depth " + std::to_string(s.max_depth) + " min_weight " + num(s.min_weight) +
-         " fresnel " + quoted(to_string(s.fresnel)) + " branching " +
-         quoted(to_string(s.branching)) + " termination " + quoted(to_string(s.termination)) +
-         " seed " + std::to_string(s.seed) + " }";
+  std::string out =
+      "settings { resolution <" + std::to_string(s.width) + ", " + std::to_string(s.height) + ">";
+  for_each_field(s, [&](const char* name, const auto& v) {
+    out += " " + std::string(name) + " " + setting_text(v);
+  });
+  return out + " }";
 }
 
 std::string to_string(const Features& f) {

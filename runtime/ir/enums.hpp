@@ -115,6 +115,9 @@ inline std::string to_string(Branching v) {
 inline std::string to_string(Termination v) {
   return std::string(spelling(v));
 }
+inline std::string to_string(IntegratorKind v) {
+  return std::string(spelling(v));
+}
 inline std::string to_string(ShapeKind v) {
   return std::string(spelling(v));
 }

@@ -62,6 +62,7 @@ struct Settings {
   Branching branching = Branching::Split;
   Termination termination = Termination::Cutoff;
   std::uint64_t seed = 0;
+  IntegratorKind integrator = IntegratorKind::Whitted;
   SourceRef src;
   // The settings properties that are one field each (resolution is two: width
   // and height); compiler/properties.def binds them by name.
@@ -70,7 +71,8 @@ struct Settings {
         field("samples", &Settings::samples),         field("sampler", &Settings::sampler),
         field("max_depth", &Settings::max_depth),     field("min_weight", &Settings::min_weight),
         field("fresnel", &Settings::fresnel),         field("branching", &Settings::branching),
-        field("termination", &Settings::termination), field("seed", &Settings::seed)};
+        field("termination", &Settings::termination), field("seed", &Settings::seed),
+        field("integrator", &Settings::integrator)};
   }
 };
 
