@@ -288,17 +288,21 @@ struct GlossySquare {
     if (!(p > 0)) return Color(0);
     return color * (p / dot(wi, n));
   }
+  // The direction alone, for the Whitted tree: sample().wi without the density's
+  // cost (a basis and two reprojections li has no use for). Weight: `color`.
+  Vec3f direction(Vec3f wo, Vec3f n, BsdfU u) const {
+    Vec3f r = incident(wo, n).mirror();
+    return is_delta() ? r : glossy_direction(r, n, blur, u.u, u.v);
+  }
   BsdfSample sample(Vec3f wo, Vec3f n, BsdfU u) const {
     BsdfSample s;
-    Vec3f r = incident(wo, n).mirror();
+    s.wi = direction(wo, n, u);
     s.weight = color;
     if (is_delta()) {
-      s.wi = r;
       s.pdf = 1;
       s.kind = LobeKind::Delta;
       return s;
     }
-    s.wi = glossy_direction(r, n, blur, u.u, u.v);
     s.pdf = pdf(wo, n, s.wi);
     s.kind = LobeKind::Glossy;
     // The weight stays `color` even when pdf is 0: that happens only when

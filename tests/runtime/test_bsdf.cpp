@@ -197,8 +197,12 @@ Out li_via_bsdf(const Case& c) {
       break;
     }
     case Mat::Glossy: {
-      BsdfSample s = GlossySquare{c.color, float(c.blur)}.sample(wo, nf, {0, c.su, c.sv});
-      spawn(s.wi, w * s.weight, 1);
+      // li can use direction() (no density work) or sample(); both must match.
+      GlossySquare g{c.color, float(c.blur)};
+      BsdfU u{0, c.su, c.sv};
+      BsdfSample s = g.sample(wo, nf, u);
+      Vec3f wi = g.direction(wo, nf, u);
+      spawn(same_bits(wi, s.wi) ? wi : Vec3f(NAN), w * s.weight, 1);
       break;
     }
     case Mat::Dielectric: {
