@@ -5,15 +5,12 @@
 #include <chrono>
 #include <cmath>
 
-#include "runtime/fresnel.hpp"
 #include "runtime/ir/bounds.hpp"
-#include "runtime/scatter.hpp"
+#include "runtime/shading/fresnel.hpp"
 
 namespace snell::rt {
 
 namespace {
-
-constexpr float kInvPi = 0.318309886183790671538f;
 
 Color to_color(ir::Vec3 v) {
   return to_float(v.x, v.y, v.z);
@@ -113,37 +110,6 @@ WhittedIntegrator::WhittedIntegrator(const ir::Scene& scene, const EmbreeScene& 
   fresnel_ = scene.settings.fresnel;
   stochastic_branching_ = scene.settings.branching == ir::Branching::Stochastic;
   roulette_ = scene.settings.termination == ir::Termination::Roulette;
-}
-
-// §8 checker: p (world space) moved inward by S/100 along the outward normal, cell
-// floor(p / S), even i + j + k takes color1. World space means adding the camera
-// location back in double.
-namespace {
-// The parity of floor(x) for every finite x, without converting a huge x to an
-// integer (undefined behaviour past 2^63): every double of magnitude >= 2^53 is an
-// even integer. (A checker of size 1e-9 seen 1e10 away has cell indices ~1e19.)
-int floor_parity(double x) {
-  double f = std::floor(x);
-  if (!(std::fabs(f) < 9007199254740992.0)) return 0;
-  return int(static_cast<long long>(f) & 1);
-}
-}  // namespace
-
-Color WhittedIntegrator::texture(const ir::Texture& t, Vec3f p, Vec3f n_out) const {
-  return std::visit(
-      ir::Overloaded{
-          [](const ir::Constant& c) { return to_color(c.color); },
-          [&](const ir::Checker& c) {
-            ir::Vec3 o = embree_.origin();
-            double s = c.size;
-            ir::Vec3 w(double(p.x) + o.x - n_out.x * s / 100, double(p.y) + o.y - n_out.y * s / 100,
-                       double(p.z) + o.z - n_out.z * s / 100);
-            // i + j + k is even exactly when the three parities cancel.
-            int odd = floor_parity(w.x / s) ^ floor_parity(w.y / s) ^ floor_parity(w.z / s);
-            return odd == 0 ? to_color(c.color1) : to_color(c.color2);
-          },
-      },
-      t.pattern);
 }
 
 // Radiance an area light sends along `dir` (the ray's direction, towards the light):
@@ -308,85 +274,54 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
       Vec3f ng = hit.ng;               // outward
       bool entering = dot(d, ng) < 0;  // §8: against the outward normal
       Vec3f nf = entering ? ng : -ng;  // the normal on the ray's side
-      float cos_i = std::fmin(1.0f, -dot(d, nf));
       Color w = node.weight;
       if (trace)
         desc =
             fmt::format("hits shape {} ({} {}, {}) t={:.6g} {}", hit.index,
                         ir::to_string(shape.kind()), ir::to_string(mat.kind()),
                         ir::to_string(shape.src, scene_), hit.t, entering ? "entering" : "exiting");
-      Vec3f refl = d + nf * (2 * cos_i);
+      // Not compiled in: a kernel without dielectrics has none to shade.
+      bool shaded = K::dielectric || !std::holds_alternative<ir::Dielectric>(mat.model);
+      if (const ir::Vec3* a = K::absorption && !entering ? medium_absorb(mat) : nullptr) {
+        // Beer over the path inside this object (nested media are not modelled),
+        // measured from the surface point the ray left, not its offset origin:
+        // near the origin the offset is 2^-16 absolute, visible in thin slabs.
+        // Summed as (origin - start) + t·d rather than p - start: the first is
+        // exact (two nearby floats) and t·d is good to ulps of the path itself,
+        // where p - start is good only to ulps of p (2.4 % of a 1e-5 slab 3 units
+        // from the camera).
+        Vec3f path = (node.ray.org - node.start) + d * hit.t;
+        double dist = double(length(path));
+        w = w * to_float(beer(a->x, dist), beer(a->y, dist), beer(a->z, dist));
+      }
       // Where rays leaving on the ray's side start (shadow and reflection rays).
       const Vec3f o_out = spawn_origin(hit, nf, offset_scale_);
-      auto diffuse = [&](const ir::Diffuse& m) {
-        Color albedo = texture(m.color, p, ng);
-        contrib = w * albedo * direct_timed(p, o_out, nf) * kInvPi;
-      };
-      auto mirror = [&](const ir::Mirror& m) {
-        spawn(RayKind::Reflection, o_out, normalize(refl), w * texture(m.color, p, ng), 1);
-      };
-      auto glossy = [&](const ir::Glossy& m) {
-        Vec3f r = normalize(refl);
-        if (m.blur > 0) {  // blur 0: the mirror, and no sample drawn
-          Sample2 s = sample2(sc.spec, sc.pixel, sc.index, node_dim(node.key, 7));
-          r = glossy_direction(r, nf, float(m.blur), s.u, s.v);
+      auto draw1 = [&] { return sample1(sc.spec, sc.pixel, sc.index, node_dim(node.key, 9)); };
+      auto draw2 = [&] { return sample2(sc.spec, sc.pixel, sc.index, node_dim(node.key, 7)); };
+      ScatterContext<decltype(draw1), decltype(draw2)> cx{
+          -d,    nf,   entering, {p, ng, embree_.origin()}, fresnel_, stochastic_branching_,
+          draw1, draw2};
+      if (shaded) {
+        Scatter s = scatter(mat, cx);
+        if (s.tir) ++stats.tir_events;
+        if (s.lit) contrib = s.lit->reflect(w, direct_timed(p, o_out, nf));
+        for (int i = 0; i < s.count; ++i) {
+          const Branch& b = s.branches[i];
+          switch (b.from) {
+            case Branch::From::Outside:
+              spawn(b.kind, o_out, b.wi, w * b.weight, b.slot);
+              break;
+            case Branch::From::Inside:
+              spawn(b.kind, spawn_origin(hit, -nf, offset_scale_), b.wi, w * b.weight, b.slot);
+              break;
+            case Branch::From::SameRay:
+              // Still a refraction for max_depth and min_weight as §6 defines them.
+              spawn(b.kind, node.ray.org, d, w * b.weight, b.slot,
+                    std::nextafter(hit.t, float(INFINITY)));
+              break;
+          }
         }
-        spawn(RayKind::Glossy, o_out, r, w * texture(m.color, p, ng), 1);
-      };
-      auto dielectric = [&](const ir::Dielectric& m) {
-        if constexpr (!K::dielectric) return;  // not compiled in: no dielectric here
-        if (K::absorption && !entering) {
-          // Beer over the path inside this object (nested media are not modelled),
-          // measured from the surface point the ray left, not its offset origin:
-          // near the origin the offset is 2^-16 absolute, visible in thin slabs.
-          // Summed as (origin - start) + t·d rather than p - start: the first is
-          // exact (two nearby floats) and t·d is good to ulps of the path itself,
-          // where p - start is good only to ulps of p (2.4 % of a 1e-5 slab 3 units
-          // from the camera).
-          Vec3f path = (node.ray.org - node.start) + d * hit.t;
-          double dist = double(length(path));
-          w = w * to_float(beer(m.absorb.x, dist), beer(m.absorb.y, dist), beer(m.absorb.z, dist));
-        }
-        double eta = entering ? m.ior : 1.0 / m.ior;
-        Interface f = make_interface(cos_i, eta);
-        double R = reflectance(f, fresnel_);
-        if (f.tir) ++stats.tir_events;
-        // Split: both children, weighted R and 1 - R (the lecture's tree).
-        // Stochastic: one child, reflection with probability R, at full weight;
-        // the same expectation, one path instead of a tree. Under total
-        // internal reflection R is 1, so both agree exactly.
-        bool reflect = true, transmit = !f.tir;
-        float wr = float(R), wt = float(1 - R);
-        if (stochastic_branching_ && !f.tir) {
-          float u = sample1(sc.spec, sc.pixel, sc.index, node_dim(node.key, 9));
-          reflect = u < float(R);
-          transmit = !reflect;
-          wr = wt = 1;
-        }
-        if (reflect) spawn(RayKind::Reflection, o_out, normalize(refl), w * wr, 1);
-        if (transmit && m.ior == 1.0) {
-          // Index-matched (robustness #14): R = 0 and the ray goes on unbent.
-          // The very same ray continues past this hit instead of restarting
-          // from an offset origin, so a clear ior-1 object renders bit for bit
-          // like its absence, while still counting as a refraction for
-          // max_depth and min_weight as §6 defines them.
-          spawn(RayKind::Refraction, node.ray.org, d, w * wt, 2,
-                std::nextafter(hit.t, float(INFINITY)));
-        } else if (transmit) {
-          Vec3d t = refract({d.x, d.y, d.z}, {nf.x, nf.y, nf.z}, f);
-          spawn(RayKind::Refraction, spawn_origin(hit, -nf, offset_scale_),
-                normalize(to_float(t.x, t.y, t.z)), w * wt, 2);
-        }
-      };
-      auto glazed = [&](const ir::Glazed& m) {
-        // A clear coat of index ior over a diffuse base, seen from the ray's side.
-        Interface f = make_interface(cos_i, m.ior);
-        double R = reflectance(f, fresnel_);
-        Color albedo = texture(m.color, p, ng);
-        contrib = w * albedo * direct_timed(p, o_out, nf) * (kInvPi * float(1 - R));
-        spawn(RayKind::Reflection, o_out, normalize(refl), w * float(R), 1);
-      };
-      std::visit(ir::Overloaded{diffuse, mirror, glossy, dielectric, glazed}, mat.model);
+      }
     }
     total += contrib;
     if constexpr (P::on) {

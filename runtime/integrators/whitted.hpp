@@ -24,12 +24,10 @@
 #include "runtime/render/kernel.hpp"
 #include "runtime/render/tile.hpp"
 #include "runtime/sampler.hpp"
+#include "runtime/shading/materials.hpp"
 #include "runtime/vec.hpp"
 
 namespace snell::rt {
-
-enum class RayKind : std::uint8_t { Camera, Reflection, Refraction, Glossy };
-std::string to_string(RayKind k);
 
 struct Node {
   Ray ray;
@@ -91,7 +89,6 @@ class WhittedIntegrator final : public Integrator {
     Color intensity;
   };
 
-  Color texture(const ir::Texture& t, Vec3f p, Vec3f n_out) const;
   template <class K>
   // `o`: the shadow rays' origin, p moved off the surface (spawn_origin).
   Color direct(Vec3f p, Vec3f o, Vec3f n_facing, float time, std::uint64_t key,

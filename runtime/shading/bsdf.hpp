@@ -38,8 +38,8 @@
 #include <string>
 #include <variant>
 
-#include "runtime/fresnel.hpp"
-#include "runtime/scatter.hpp"
+#include "runtime/shading/fresnel.hpp"
+#include "runtime/shading/glossy.hpp"
 #include "runtime/vec.hpp"
 
 namespace snell::rt {
@@ -230,7 +230,7 @@ inline std::string to_string(const DeltaReflection& l) {
 }
 
 // ---------------------------------------------------------------------------------
-// Glossy (§8): glossy_direction (scatter.hpp) around li's mirror direction, weight
+// Glossy (§8): glossy_direction (glossy.hpp) around li's mirror direction, weight
 // `color` for every sample. Directions are exactly today's: sample() calls the same
 // function on the same mirror vector.
 //

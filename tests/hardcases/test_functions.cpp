@@ -16,8 +16,8 @@
 
 #include "runtime/camera.hpp"
 #include "runtime/color.hpp"
-#include "runtime/fresnel.hpp"
 #include "runtime/sampler.hpp"
+#include "runtime/shading/fresnel.hpp"
 #include "runtime/vec.hpp"
 
 using namespace snell;

@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "hc_util.hpp"
-#include "runtime/fresnel.hpp"
+#include "runtime/shading/fresnel.hpp"
 
 using namespace snell;
 using namespace snell::hc;

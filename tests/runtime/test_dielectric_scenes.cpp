@@ -7,9 +7,9 @@
 #include <cmath>
 
 #include "runtime/camera.hpp"
-#include "runtime/fresnel.hpp"
 #include "runtime/render.hpp"
 #include "runtime/sampler.hpp"
+#include "runtime/shading/fresnel.hpp"
 #include "scene_util.hpp"
 
 using namespace snell;

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <random>
 
-#include "runtime/fresnel.hpp"
+#include "runtime/shading/fresnel.hpp"
 
 using namespace snell::rt;
 using snell::ir::FresnelMode;

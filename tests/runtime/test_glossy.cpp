@@ -3,7 +3,7 @@
 #include <catch2/catch.hpp>
 #include <random>
 
-#include "runtime/scatter.hpp"
+#include "runtime/shading/glossy.hpp"
 #include "tests/runtime/effects_util.hpp"
 
 using namespace snell;
