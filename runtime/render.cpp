@@ -34,21 +34,6 @@ namespace snell::rt {
 namespace {
 using Clock = std::chrono::steady_clock;
 
-void add(RenderStats& a, const RenderStats& b) {
-  a.camera_rays += b.camera_rays;
-  a.shadow_rays += b.shadow_rays;
-  a.reflection_rays += b.reflection_rays;
-  a.refraction_rays += b.refraction_rays;
-  a.glossy_rays += b.glossy_rays;
-  a.pruned_by_depth += b.pruned_by_depth;
-  a.pruned_by_weight += b.pruned_by_weight;
-  a.tir_events += b.tir_events;
-  a.nonfinite_samples += b.nonfinite_samples;
-  a.lens_samples += b.lens_samples;
-  a.time_samples += b.time_samples;
-  a.timed_samples += b.timed_samples;
-}
-
 // The cost of one CostClock::now_ns() pair, subtracted from every timed interval.
 double clock_overhead_ns() {
   double best = INFINITY;
@@ -154,7 +139,7 @@ RenderResult render(const ir::Scene& scene, const RenderOptions& options) {
   double ns[kCostKinds] = {};
   RenderStats& rs = result.stats;
   for (const Worker& w : workers) {
-    add(rs, w.stats);
+    rs.merge(w.stats);
     for (int k = 0; k < kCostKinds; ++k) ns[k] += w.cost.ns[k];
   }
   std::uint64_t samples = std::uint64_t(img.width) * img.height * ctx.spec.spp;

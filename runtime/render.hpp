@@ -56,6 +56,8 @@ struct RenderStats {
   std::uint64_t timed_samples = 0;  // camera samples that were timed
   std::uint32_t cost_stride = 0;
   std::string kernel;  // the render kernel that ran, e.g. "specialised: pinhole, static, ..."
+  // Adds another thread's counters (stats.cpp: declared, merged and printed there).
+  void merge(const RenderStats& other);
   std::string to_string() const;
 };
 

@@ -5,6 +5,23 @@
 
 namespace snell::rt {
 
+// Every counter a worker keeps (the timings are set once, after the render).
+void RenderStats::merge(const RenderStats& b) {
+  RenderStats& a = *this;
+  a.camera_rays += b.camera_rays;
+  a.shadow_rays += b.shadow_rays;
+  a.reflection_rays += b.reflection_rays;
+  a.refraction_rays += b.refraction_rays;
+  a.glossy_rays += b.glossy_rays;
+  a.pruned_by_depth += b.pruned_by_depth;
+  a.pruned_by_weight += b.pruned_by_weight;
+  a.tir_events += b.tir_events;
+  a.nonfinite_samples += b.nonfinite_samples;
+  a.lens_samples += b.lens_samples;
+  a.time_samples += b.time_samples;
+  a.timed_samples += b.timed_samples;
+}
+
 namespace {
 std::string seconds_line(const char* name, double s, double total) {
   double pct = total > 0 ? 100.0 * s / total : 0;

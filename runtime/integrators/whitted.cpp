@@ -79,44 +79,14 @@ float offset_scale(const ir::Scene& scene, ir::Vec3 o) {
 }
 
 WhittedIntegrator::WhittedIntegrator(const ir::Scene& scene, const EmbreeScene& embree)
-    : scene_(scene), embree_(embree) {
-  ir::Vec3 o = embree.origin();
-  offset_scale_ = offset_scale(scene, o);
-  for (const ir::AreaLight& l : scene.area_lights) {
-    LightF f;
-    ir::Vec3 c = l.corner - o;
-    ir::Vec3 n = ir::cross(l.edge1, l.edge2);
-    double area = ir::length(n);
-    f.corner = to_float(c.x, c.y, c.z);
-    f.e1 = to_color(l.edge1);
-    f.e2 = to_color(l.edge2);
-    f.area = float(area);
-    ir::Vec3 nu = area > 0 ? n / area : ir::Vec3(0, 1, 0);
-    f.n = to_color(nu);
-    // A light of zero area emits nothing (robustness.md #9): radiance 0.
-    f.radiance = area > 0 ? to_color(l.radiance) : Color(0);
-    f.nu = l.samples_u ? l.samples_u : 1;
-    f.nv = l.samples_v ? l.samples_v : 1;
-    f.two_sided = l.two_sided;
-    area_.push_back(f);
-  }
-  for (const ir::PointLight& l : scene.point_lights) {
-    ir::Vec3 p = l.position - o;
-    points_.push_back({to_float(p.x, p.y, p.z), to_color(l.intensity)});
-  }
+    : scene_(scene), embree_(embree), lights_(scene, embree.origin()) {
+  offset_scale_ = offset_scale(scene, embree.origin());
   background_ = to_color(scene.background);
   max_depth_ = scene.settings.max_depth;
   min_weight_ = float(scene.settings.min_weight);
   fresnel_ = scene.settings.fresnel;
   stochastic_branching_ = scene.settings.branching == ir::Branching::Stochastic;
   roulette_ = scene.settings.termination == ir::Termination::Roulette;
-}
-
-// Radiance an area light sends along `dir` (the ray's direction, towards the light):
-// one-sided lights emit only towards cross(edge1, edge2).
-Color WhittedIntegrator::emitted(const LightF& l, Vec3f dir) const {
-  if (l.two_sided || dot(dir, l.n) < 0) return l.radiance;
-  return Color(0);
 }
 
 // Irradiance-like sum E so that a Lambertian surface of albedo ρ reflects ρ/π · E:
@@ -128,49 +98,25 @@ template <class K>
 Color WhittedIntegrator::direct(Vec3f p, Vec3f o, Vec3f nf, float time, std::uint64_t key,
                                 const SampleContext& sc, RenderStats& stats) const {
   Color e(0);
-  for (const PointF& l : points_) {
-    Vec3f to = l.pos - p;
-    float d2 = dot(to, to);
-    float cos_s = dot(nf, to);
-    // A light at (numerically) zero distance has no defined direction: it adds
-    // nothing rather than an infinity (robustness #4: d² underflows at 1e-20).
-    if (!(cos_s > 0) || !(d2 > 0)) continue;
-    // The light must also lie beyond the offset origin: p is off the true surface
-    // by rounding, so cos_s of a light in the receiver's plane is ±1e-7, not 0.
-    // Within the offset the side is unknowable; such a light adds exactly 0
-    // (robustness #27). It changes nothing for a light clearly above the surface.
-    if (!(dot(nf, l.pos - o) > 0)) continue;
-    Ray shadow{o, l.pos - o, 1.0f, time};
+  LightSample ls;
+  for (const PointLightF& l : lights_.points) {
+    if (!l.sample_li(p, o, nf, time, ls)) continue;
     ++stats.shadow_rays;
-    if (embree_.occluded(shadow)) continue;
-    float d = std::sqrt(d2);
-    float g = cos_s / (d * d2);
-    if (std::isfinite(g)) e += l.intensity * g;
+    if (embree_.occluded(ls.shadow)) continue;
+    if (std::isfinite(ls.g)) e += ls.value * ls.g;
   }
   if constexpr (!K::area) return e;
-  for (std::size_t li = 0; li < area_.size(); ++li) {
-    const LightF& l = area_[li];
-    if (l.radiance.x == 0 && l.radiance.y == 0 && l.radiance.z == 0) continue;
-    float inv_n = 1.0f / float(l.nu * l.nv);
+  for (std::size_t li = 0; li < lights_.areas.size(); ++li) {
+    const AreaLightF& l = lights_.areas[li];
+    if (l.dark()) continue;
     for (std::uint32_t iv = 0; iv < l.nv; ++iv)
       for (std::uint32_t iu = 0; iu < l.nu; ++iu) {
         std::uint32_t dim = node_dim(key, (std::uint64_t(li + 1) << 40) | (iv << 20) | iu);
         Sample2 s = sample2(sc.spec, sc.pixel, sc.index, dim);
-        float u = (float(iu) + s.u) / float(l.nu), v = (float(iv) + s.v) / float(l.nv);
-        Vec3f q = l.corner + l.e1 * u + l.e2 * v;
-        Vec3f to = q - p;
-        float d2 = dot(to, to);
-        float cos_s = dot(nf, to);
-        float cos_l = -dot(l.n, to);
-        if (!(cos_s > 0) || !(d2 > 0) || !(dot(nf, q - o) > 0)) continue;  // as above
-        if (!l.two_sided && !(cos_l > 0)) continue;
-        Vec3f side = cos_l > 0 ? l.n : -l.n;  // the light's face towards p
-        Vec3f target = offset_ray_origin(q, side, offset_scale_);
-        Ray shadow{o, target - o, 1.0f, time};
+        if (!l.sample_li(p, o, nf, time, iu, iv, s.u, s.v, offset_scale_, ls)) continue;
         ++stats.shadow_rays;
-        if (embree_.occluded(shadow)) continue;
-        float g = cos_s * std::fabs(cos_l) / (d2 * d2) * l.area * inv_n;
-        if (std::isfinite(g)) e += l.radiance * g;
+        if (embree_.occluded(ls.shadow)) continue;
+        if (std::isfinite(ls.g)) e += ls.value * ls.g;
       }
   }
   return e;
@@ -262,7 +208,7 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
       contrib = node.weight * background_;
       if (trace) desc = "escapes: background";
     } else if (hit.kind == Hit::Kind::AreaLight) {
-      contrib = node.weight * emitted(area_[hit.index], d);
+      contrib = node.weight * lights_.areas[hit.index].le(d);
       if (trace)
         desc = fmt::format("hits area light {} ({}) t={:.6g}", hit.index,
                            ir::to_string(scene_.area_lights[hit.index].src, scene_), hit.t);
@@ -368,7 +314,7 @@ std::string WhittedIntegrator::to_string() const {
   return fmt::format(
       "integrator {{ whitted point_lights {} area_lights {} max_depth {} min_weight {} "
       "fresnel {} branching {} termination {} }}",
-      points_.size(), area_.size(), max_depth_, min_weight_, ir::to_string(fresnel_),
+      lights_.points.size(), lights_.areas.size(), max_depth_, min_weight_, ir::to_string(fresnel_),
       stochastic_branching_ ? "stochastic" : "split", roulette_ ? "roulette" : "cutoff");
 }
 

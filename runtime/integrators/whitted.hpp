@@ -24,6 +24,7 @@
 #include "runtime/render/kernel.hpp"
 #include "runtime/render/tile.hpp"
 #include "runtime/sampler.hpp"
+#include "runtime/shading/lights.hpp"
 #include "runtime/shading/materials.hpp"
 #include "runtime/vec.hpp"
 
@@ -77,28 +78,14 @@ class WhittedIntegrator final : public Integrator {
   Color li(const Ray& camera_ray, const SampleContext& sc, Scratch& stack, P& probe) const;
 
  private:
-  struct LightF {             // area light, camera-relative float
-    Vec3f corner, e1, e2, n;  // n: unit cross(e1, e2)
-    float area = 0;
-    Color radiance;
-    std::uint32_t nu = 1, nv = 1;
-    bool two_sided = false;
-  };
-  struct PointF {
-    Vec3f pos;
-    Color intensity;
-  };
-
   template <class K>
   // `o`: the shadow rays' origin, p moved off the surface (spawn_origin).
   Color direct(Vec3f p, Vec3f o, Vec3f n_facing, float time, std::uint64_t key,
                const SampleContext& sc, RenderStats& stats) const;
-  Color emitted(const LightF& l, Vec3f dir) const;
 
   const ir::Scene& scene_;
   const EmbreeScene& embree_;
-  std::vector<LightF> area_;
-  std::vector<PointF> points_;
+  Lights lights_;
   Color background_;
   std::uint32_t max_depth_;
   float min_weight_;

@@ -1,0 +1,104 @@
+// The lights (§7) in camera-relative float, as the integrators see them:
+// `le(dir)` the radiance a ray along dir sees on the light, and `sample_li` the
+// shadow ray towards one light sample with the geometry factor G that turns the
+// light's radiance or intensity into what a Lambertian surface receives:
+//   point light   I · cosθ / d²                          (one sample)
+//   area light    L · cosθ_surf · cosθ_light · A / (d² · n) per cell of its
+//                 jittered nu × nv grid (area-to-solid-angle)
+// A sample the surface cannot see (behind it, in its plane within the ray offset,
+// facing away) is reported as none: it adds exactly 0 (robustness #4, #27).
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "runtime/geometry/ray.hpp"
+#include "runtime/ir/ir.hpp"
+#include "runtime/vec.hpp"
+
+namespace snell::rt {
+
+// A shadow ray from the shading point towards a light sample, and the sample's
+// geometry factor; the contribution is value · g when g is finite and the ray is
+// not occluded.
+struct LightSample {
+  Ray shadow;
+  Color value;  // intensity (point light) or radiance (area light)
+  float g = 0;
+};
+
+struct PointLightF {
+  Vec3f pos;
+  Color intensity;
+
+  // `p`: the shading point, `o`: the shadow rays' origin (p moved off the surface,
+  // spawn_origin), `nf`: the normal on the viewer's side.
+  bool sample_li(Vec3f p, Vec3f o, Vec3f nf, float time, LightSample& s) const {
+    Vec3f to = pos - p;
+    float d2 = dot(to, to);
+    float cos_s = dot(nf, to);
+    // A light at (numerically) zero distance has no defined direction: it adds
+    // nothing rather than an infinity (robustness #4: d² underflows at 1e-20).
+    if (!(cos_s > 0) || !(d2 > 0)) return false;
+    // The light must also lie beyond the offset origin: p is off the true surface
+    // by rounding, so cos_s of a light in the receiver's plane is ±1e-7, not 0.
+    // Within the offset the side is unknowable; such a light adds exactly 0
+    // (robustness #27). It changes nothing for a light clearly above the surface.
+    if (!(dot(nf, pos - o) > 0)) return false;
+    s.shadow = Ray{o, pos - o, 1.0f, time};
+    float d = std::sqrt(d2);
+    s.g = cos_s / (d * d2);
+    s.value = intensity;
+    return true;
+  }
+};
+
+struct AreaLightF {
+  Vec3f corner, e1, e2, n;  // n: unit cross(e1, e2)
+  float area = 0;
+  Color radiance;
+  std::uint32_t nu = 1, nv = 1;
+  bool two_sided = false;
+
+  bool dark() const { return radiance.x == 0 && radiance.y == 0 && radiance.z == 0; }
+  // Radiance sent along `dir` (the ray's direction, towards the light): one-sided
+  // lights emit only towards cross(edge1, edge2).
+  Color le(Vec3f dir) const {
+    if (two_sided || dot(dir, n) < 0) return radiance;
+    return Color(0);
+  }
+  // The sample of grid cell (iu, iv) at jitter (u, v); `scale`: offset_scale. The
+  // shadow ray ends at the sample moved off the light towards p, so the light's own
+  // surface never blocks it.
+  bool sample_li(Vec3f p, Vec3f o, Vec3f nf, float time, std::uint32_t iu, std::uint32_t iv,
+                 float ju, float jv, float scale, LightSample& s) const {
+    float u = (float(iu) + ju) / float(nu), v = (float(iv) + jv) / float(nv);
+    Vec3f q = corner + e1 * u + e2 * v;
+    Vec3f to = q - p;
+    float d2 = dot(to, to);
+    float cos_s = dot(nf, to);
+    float cos_l = -dot(n, to);
+    if (!(cos_s > 0) || !(d2 > 0) || !(dot(nf, q - o) > 0)) return false;  // as point lights
+    if (!two_sided && !(cos_l > 0)) return false;
+    Vec3f side = cos_l > 0 ? n : -n;  // the light's face towards p
+    Vec3f target = offset_ray_origin(q, side, scale);
+    s.shadow = Ray{o, target - o, 1.0f, time};
+    float inv_n = 1.0f / float(nu * nv);
+    s.g = cos_s * std::fabs(cos_l) / (d2 * d2) * area * inv_n;
+    s.value = radiance;
+    return true;
+  }
+};
+
+// Every light of a scene, moved by -origin (the camera) into float.
+struct Lights {
+  std::vector<PointLightF> points;
+  std::vector<AreaLightF> areas;
+  Lights(const ir::Scene& scene, ir::Vec3 origin);
+};
+
+std::string to_string(const PointLightF& l);
+std::string to_string(const AreaLightF& l);
+
+}  // namespace snell::rt
