@@ -11,35 +11,20 @@
 
 namespace snell::ir {
 
-// Object-space hull points per kind: f(object-space point).
-// A sphere's and a box's: the 8 corners of their object-space box.
-template <class F>
-void hull_points(const Sphere& s, const Scene&, F&& f) {
-  Vec3 lo = s.center - Vec3(s.radius), hi = s.center + Vec3(s.radius);
-  for (int i = 0; i < 8; ++i)
-    f(Vec3{i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z});
+// Object-space hull points of a kind: its own hull() (shapes.hpp); a kind may
+// instead give an overload here.
+template <class K, class F>
+void hull_points(const K& kind, const Scene& scene, F&& f) {
+  kind.hull(scene, f);
 }
-template <class F>
-void hull_points(const Box& b, const Scene&, F&& f) {
-  for (int i = 0; i < 8; ++i)
-    f(Vec3{i & 1 ? b.max.x : b.min.x, i & 2 ? b.max.y : b.min.y, i & 4 ? b.max.z : b.min.z});
-}
-template <class F>
-void hull_points(const Triangle& t, const Scene&, F&& f) {
-  f(t.a), f(t.b), f(t.c);
-}
-template <class F>
-void hull_points(const Mesh& m, const Scene& scene, F&& f) {
-  if (m.mesh < scene.meshes.size())
-    for (const Vec3& p : scene.meshes[m.mesh].positions) f(p);
-}
-// Planes are unbounded: no hull.
-template <class F>
-void hull_points(const Plane&, const Scene&, F&&) {}
 
 // True for kinds with no finite extent (they stay out of bounding volumes).
 template <class T>
-inline constexpr bool kUnbounded = std::is_same_v<T, Plane>;
+concept UnboundedKind = requires {
+  T::kUnbounded;
+};
+template <class T>
+inline constexpr bool kUnbounded = UnboundedKind<T>;
 inline bool unbounded(const Shape& s) {
   return std::visit([](const auto& g) { return kUnbounded<std::decay_t<decltype(g)>>; }, s.geom);
 }

@@ -18,9 +18,19 @@
 
 namespace snell::ir {
 
+// Each kind names its fields and, in `hull(scene, f)`, the object-space points
+// whose convex hull holds it (ir/bounds.hpp: validation's range and the ray-offset
+// scale). A kind with no finite extent says `static constexpr bool kUnbounded`.
 struct Sphere {
   Vec3 center{0, 0, 0};
   double radius = 1;
+  // The 8 corners of its object-space box.
+  template <class Scene, class F>
+  void hull(const Scene&, F&& f) const {
+    Vec3 lo = center - Vec3(radius), hi = center + Vec3(radius);
+    for (int i = 0; i < 8; ++i)
+      f(Vec3{i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z});
+  }
   static constexpr auto fields() {
     return std::tuple{field("center", &Sphere::center), field("radius", &Sphere::radius)};
   }
@@ -29,18 +39,30 @@ struct Sphere {
 struct Plane {
   Vec3 normal{0, 1, 0};
   double distance = 0;
+  static constexpr bool kUnbounded = true;
+  template <class Scene, class F>
+  void hull(const Scene&, F&&) const {}
   static constexpr auto fields() {
     return std::tuple{field("normal", &Plane::normal), field("distance", &Plane::distance)};
   }
 };
 struct Box {
   Vec3 min{0, 0, 0}, max{0, 0, 0};
+  template <class Scene, class F>
+  void hull(const Scene&, F&& f) const {
+    for (int i = 0; i < 8; ++i)
+      f(Vec3{i & 1 ? max.x : min.x, i & 2 ? max.y : min.y, i & 4 ? max.z : min.z});
+  }
   static constexpr auto fields() {
     return std::tuple{field("min", &Box::min), field("max", &Box::max)};
   }
 };
 struct Triangle {
   Vec3 a, b, c;
+  template <class Scene, class F>
+  void hull(const Scene&, F&& f) const {
+    f(a), f(b), f(c);
+  }
   static constexpr auto fields() {
     return std::tuple{field("a", &Triangle::a), field("b", &Triangle::b), field("c", &Triangle::c)};
   }
@@ -49,6 +71,11 @@ struct Triangle {
 // object that names the same file).
 struct Mesh {
   std::uint32_t mesh = 0;
+  template <class Scene, class F>
+  void hull(const Scene& scene, F&& f) const {
+    if (mesh < scene.meshes.size())
+      for (const Vec3& p : scene.meshes[mesh].positions) f(p);
+  }
   static constexpr auto fields() { return std::tuple{field("mesh", &Mesh::mesh)}; }
 };
 

@@ -63,7 +63,10 @@ bool too_bright_colours(const Material& m, TooBright too_bright) {
   return bright;
 }
 
-// Per-kind checks beyond finiteness; `bad(what)` reports one.
+// Per-kind checks beyond finiteness; `bad(what)` reports one. The template is
+// every shape kind without checks of its own.
+template <class K, class Bad>
+void check_kind(const K&, const Scene&, Bad&&) {}
 template <class Bad>
 void check_kind(const Sphere& s, const Scene&, Bad&& bad) {
   if (!(s.radius > 0)) bad("sphere radius must be > 0");
@@ -76,11 +79,10 @@ template <class Bad>
 void check_kind(const Mesh& m, const Scene& scene, Bad&& bad) {
   if (m.mesh >= scene.meshes.size()) bad("mesh index out of range");
 }
-template <class Bad>
-void check_kind(const Box&, const Scene&, Bad&&) {}
-template <class Bad>
-void check_kind(const Triangle&, const Scene&, Bad&&) {}
 
+// Materials: the template is every kind without checks of its own.
+template <class K, class Bad>
+void check_kind(const K&, Bad&&) {}
 template <class Bad>
 void check_texture(const Texture& t, Bad&& bad) {
   if (const Checker* c = std::get_if<Checker>(&t.pattern); c && !(c->size > 0))
