@@ -33,6 +33,36 @@ void hull_points(const Mesh& m, const Scene& scene, F&& f) {
   if (m.mesh < scene.meshes.size())
     for (const Vec3& p : scene.meshes[m.mesh].positions) f(p);
 }
+// The axial shapes: the corners of the squares around each end disc in the frame
+// of the axis (the convex hull of two discs holds the truncated cone between them).
+template <class F>
+void end_squares(Vec3 a, double ra, Vec3 b, double rb, Vec3 axis, F&& f) {
+  Transform frame = axis_frame(a, normalize(axis));
+  double h = dot(b - a, normalize(axis));
+  for (int i = 0; i < 4; ++i) {
+    double su = i & 1 ? 1 : -1, sv = i & 2 ? 1 : -1;
+    f(frame.point({su * ra, sv * ra, 0}));
+    f(frame.point({su * rb, sv * rb, h}));
+  }
+}
+template <class F>
+void hull_points(const Cylinder& c, const Scene&, F&& f) {
+  end_squares(c.base, c.radius, c.cap, c.radius, c.cap - c.base, f);
+}
+template <class F>
+void hull_points(const Cone& c, const Scene&, F&& f) {
+  end_squares(c.base, c.base_radius, c.cap, c.cap_radius, c.cap - c.base, f);
+}
+template <class F>
+void hull_points(const Disc& d, const Scene&, F&& f) {
+  end_squares(d.center, d.radius, d.center, d.radius, d.normal, f);
+}
+// A torus: the corners of its box, |x|, |z| <= major + minor, |y| <= minor.
+template <class F>
+void hull_points(const Torus& t, const Scene&, F&& f) {
+  double a = t.major + t.minor, b = t.minor;
+  for (int i = 0; i < 8; ++i) f(Vec3{i & 1 ? a : -a, i & 2 ? b : -b, i & 4 ? a : -a});
+}
 // Planes are unbounded: no hull.
 template <class F>
 void hull_points(const Plane&, const Scene&, F&&) {}
