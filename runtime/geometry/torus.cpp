@@ -14,15 +14,19 @@ double horner(const double* c, int n, double x) {
   return v;
 }
 
-// The root of c (degree n, derivative dc) in [a, b], where it changes sign
-// (fa·fb < 0): Newton's method, falling back to bisection whenever a step leaves
-// the bracket or does not halve the error (Numerical Recipes' rtsafe).
-double bracketed_root(const double* c, const double* dc, int n, double a, double b, double fa) {
-  double xl = a, xh = b;  // c(xl) < 0 < c(xh)
-  if (fa > 0) std::swap(xl, xh);
-  double x = 0.5 * (a + b), dx_old = std::fabs(b - a), dx = dx_old;
-  double f = horner(c, n, x), df = horner(dc, n - 1, x);
+// The root of g in [a, b], where g changes sign (g(a) = ga, g(b) of the other
+// sign); g(x, slope) returns the value and sets the derivative: Newton's method,
+// falling back to bisection whenever a step leaves the bracket or does not halve
+// the error (Numerical Recipes' rtsafe).
+template <class G>
+double bracketed_root(G&& g, double a, double b, double ga) {
+  double xl = a, xh = b;  // g(xl) < 0 < g(xh)
+  if (ga > 0) std::swap(xl, xh);
+  double x = 0.5 * (a + b), dx_old = std::fabs(b - a), dx = dx_old, df;
+  double f = g(x, df);
   for (int it = 0; it < 200; ++it) {
+    if (f == 0) return x;
+    (f < 0 ? xl : xh) = x;
     if (((x - xh) * df - f) * ((x - xl) * df - f) > 0 ||
         std::fabs(2 * f) > std::fabs(dx_old * df)) {
       dx_old = dx;
@@ -37,9 +41,7 @@ double bracketed_root(const double* c, const double* dc, int n, double a, double
       if (x == before) return x;
     }
     if (std::fabs(dx) <= 0x1p-60 * std::fmax(1.0, std::fabs(x))) return x;
-    f = horner(c, n, x), df = horner(dc, n - 1, x);
-    if (f == 0) return x;
-    (f < 0 ? xl : xh) = x;
+    f = g(x, df);
   }
   return x;
 }
@@ -76,7 +78,12 @@ int polynomial_roots(const double* c, int n, double lo, double hi, double* roots
     if (fb == 0)
       roots[count++] = b;
     else if ((fa < 0 && fb > 0) || (fa > 0 && fb < 0))
-      roots[count++] = bracketed_root(c, dc, n, a, b, fa);
+      roots[count++] = bracketed_root(
+          [&](double x, double& slope) {
+            slope = horner(dc, n - 1, x);
+            return horner(c, n, x);
+          },
+          a, b, fa);
     a = b, fa = fb;
   }
   return count;
@@ -86,17 +93,20 @@ int polynomial_roots(const double* c, int n, double lo, double hi, double* roots
 //  1. clip the ray to the bounding ball |p| <= R + r and move its origin to where
 //     the clipped ray starts (its entry, or tnear from inside): far from the torus
 //     the quartic's coefficients would cancel catastrophically (robustness #5);
-//  2. scale by 1/R and take the direction unit, so the coefficients are O(1) for
-//     any size and the constant term is computed from the factor that vanishes on
-//     the surface, c0 = ((h − k)(h + k))·((ρ + 1)² + y² − k²), h = hypot(ρ − 1, y);
-//  3. isolate the real roots on the clipped interval between the critical points
-//     (polynomial_roots): a root is missed only where the quartic does not change
-//     sign at double precision, i.e. a ray that touches the surface by less than
-//     ~1e-15·R·(R/r) (in practice nothing a float ray can aim at);
-//  4. polish each root by Newton's method on the signed distance
-//     hypot(hypot(x, z) − R, y) − r (accurate to ulps of R + r, unlike the quartic
-//     near its roots), keeping the step only if it is tiny; the first root past
-//     the origin after polishing is the hit.
+//  2. scale by 1/R and take the direction unit, so the quartic's coefficients are
+//     O(1) for any size;
+//  3. split the clipped interval at the quartic's critical points (the real roots
+//     of its derivative, polynomial_roots on the cubic): f is monotonic between
+//     them, so each piece holds at most one root;
+//  4. f = q·Q with Q = (ρ + R)² + y² − r² > 0 and q of the sign of the signed
+//     distance sd = hypot(hypot(x, z) − R, y) − r, so f and sd change sign at the
+//     same points, and sd is accurate to ulps of R + r where the quartic, expanded
+//     in powers of s, is only accurate to ulps of its largest term (a relative
+//     error of ~1e-15·(R/r)² of r on a thin torus). The pieces whose ends have sd
+//     of opposite signs hold the roots; each is found by Newton's method on sd,
+//     safeguarded by bisection. A ray is missed only where sd does not change sign
+//     at double precision: touching it by less than ~1e-16·(R + r).
+// The first root past the origin is the hit.
 bool TorusSurface::intersect(Vec3 o, Vec3 d, double tnear, double tfar, double& t_out,
                              Vec3& n_out) const {
   double lo = tnear, hi = tfar;
@@ -105,32 +115,29 @@ bool TorusSurface::intersect(Vec3 o, Vec3 d, double tnear, double tfar, double& 
   const Vec3 u = d / len;
   const Vec3 p0 = (o + d * lo) * inv_r;
   const double smax = (hi - lo) * len * inv_r;
+  // The quartic's derivative: 4s³ + 3c3·s² + 2c2·s + c1 (monic quartic in s).
   double alpha = ir::dot(p0, u), e = ir::dot(p0, p0) + (1 - k) * (1 + k);
-  double rho = std::hypot(p0.x, p0.z), h = std::hypot(rho - 1, p0.y);
-  double c[5];
-  c[0] = ((h - k) * (h + k)) * ((rho + 1) * (rho + 1) + p0.y * p0.y - k * k);
-  c[1] = 4 * alpha * e - 8 * (p0.x * u.x + p0.z * u.z);
-  c[2] = 4 * alpha * alpha + 2 * e - 4 * (u.x * u.x + u.z * u.z);
-  c[3] = 4 * alpha;
-  c[4] = 1;
-  double roots[4];
-  int m = polynomial_roots(c, 4, 0, smax, roots);
+  double c1 = 4 * alpha * e - 8 * (p0.x * u.x + p0.z * u.z);
+  double c2 = 4 * alpha * alpha + 2 * e - 4 * (u.x * u.x + u.z * u.z);
+  double c3 = 4 * alpha;
+  const double deriv[4] = {c1, 2 * c2, 3 * c3, 4};
+  double cuts[4];
+  int m = polynomial_roots(deriv, 3, 0, smax, cuts);
+  cuts[m++] = smax;
   auto distance = [&](double s, double& slope) {
     Vec3 p = p0 + u * s;
     double r = std::hypot(p.x, p.z), dr = r - 1, hh = std::hypot(dr, p.y);
     slope = r > 0 && hh > 0 ? (dr * (p.x * u.x + p.z * u.z) / r + p.y * u.y) / hh : 0;
     return hh - k;
   };
+  double a = 0, slope, fa = distance(0, slope);
   for (int i = 0; i < m; ++i) {
-    double s = roots[i];
-    for (int it = 0; it < 4; ++it) {
-      double slope, v = distance(s, slope);
-      if (v == 0 || slope == 0) break;
-      double next = s - v / slope;
-      if (!(std::fabs(next - s) <= 1e-9)) break;
-      if (next == s) break;
-      s = next;
-    }
+    double b = cuts[i], fb = distance(b, slope), s = -1;
+    if (fb == 0)
+      s = b;
+    else if ((fa < 0 && fb > 0) || (fa > 0 && fb < 0))
+      s = bracketed_root(distance, a, b, fa);
+    a = b, fa = fb;
     if (!(s > 0)) continue;
     double t = lo + s * big_ / len;
     if (!(t > tnear && t < tfar)) continue;

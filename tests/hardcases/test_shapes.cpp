@@ -300,14 +300,15 @@ GrazeCount graze_far(double S, ir::Vec3 c, double dist, double eps, int n, std::
 }
 }  // namespace
 
-// Rays of a designed depth: a grazing float ray is made first (as in graze_near),
-// then the torus is moved along the normal at the ray's closest approach so that
-// the ray reaches exactly δ·r into it (or passes δ·r outside), δ log-uniform in
+// Rays of a designed depth: a grazing float ray is made first (as in graze_near,
+// minor radius S / thinness), then the torus is moved along the normal at the ray's closest
+// approach so that the ray reaches exactly δ·r into it (or passes δ·r outside), δ log-uniform in
 // 1e-13..1e-4 either side: the float rounding of the ray no longer blurs δ, so
 // this resolves the solver itself. One scene per ray.
-GrazeCount graze_designed(double S, ir::Vec3 c0, double eps, int n, std::mt19937_64& rng) {
+GrazeCount graze_designed(double S, ir::Vec3 c0, double eps, int n, std::mt19937_64& rng,
+                          double thinness = 4) {
   std::uniform_real_distribution<double> u(0, 1);
-  const double R = S, r = 0.25 * S;
+  const double R = S, r = S / thinness;
   const ir::Vec3 cam = c0 + ir::Vec3(0.3, 2, -3) * S;
   GrazeCount out;
   for (int i = 0; i < n; ++i) {
@@ -395,8 +396,8 @@ TEST_CASE("hc05 tori: rays of designed depth 1e-13..1e-4 r either side, scales 1
   // graze_designed: the solver's own resolution, without the float ray's rounding.
   // Measured: no ray is misclassified at all (worst 0: every ray whose depth is not
   // exactly 0 is answered right); the bound checked is 1e-12 r, with the torus at
-  // the origin and 1e4 sizes away. It has teeth: adding 1e-12 to the quartic's
-  // constant term (~2.5e-12 r of distance) makes rays of depth 2.5e-12 r fail.
+  // the origin and 1e4 sizes away. It has teeth: moving the solver's signed
+  // distance by 4e-12 r makes ~50 rays per configuration fail.
   std::mt19937_64 rng(106);
   for (double S : {1e-3, 1.0, 1e3})
     for (ir::Vec3 c : {ir::Vec3(0, 0, 0), ir::Vec3(0.6e4, -0.48e4, 0.64e4) * S}) {
@@ -471,4 +472,24 @@ TEST_CASE(
       CHECK(d.max <= 1e-4);  // measured 1.2e-6
       CHECK(r.stats.nonfinite_samples == 0);
     }
+}
+
+TEST_CASE("hc05 thin tori, major / minor 1e2..1e4: rays of designed depth",
+          "[hardcase][robust][property][shapes]") {
+  // The roots are bracketed by the sign of the signed distance, accurate to ulps of
+  // R + r, so the resolution in units of r grows like R / r (it grew like (R / r)²
+  // when the quartic's own sign bracketed them: 2.8e-8 r at R / r = 1e4). Bound:
+  // 64 ulps of R + r; measured worst misclassified 0 (1e2), 2.9e-13 r (1e3),
+  // 2.0e-12 r (1e4), against bounds 7e-13, 7e-12 and 7e-11.
+  std::mt19937_64 rng(107);
+  for (double thin : {1e2, 1e3, 1e4}) {
+    double eps = 64 * 0x1p-53 * (thin + 1);
+    GrazeCount g = graze_designed(1, {0, 0, 0}, eps, 2000, rng, thin);
+    INFO("R/r " << thin << ": " << g.rays << " rays, " << g.near10
+                << " within 1e-10 r, worst misclassified |depth| / r " << g.worst_wrong);
+    CHECK(g.rays > 1900);
+    CHECK(g.misses == 0);
+    CHECK(g.speckles == 0);
+    CHECK(g.off_surface == 0);
+  }
 }
