@@ -240,6 +240,14 @@ TEST_CASE("torus: grazing rays either side of the top, the outer and the inner e
     check_hit(q, {-0.9, 0, zi}, {1, 0, 0}, 0.9 - xi, ir::normalize({-xi, 0, zi}) * -1.0);
     double zj = 0.75 * (1 + e), xj = std::sqrt(1.25 * 1.25 - zj * zj);
     check_hit(q, {-0.9, 0, zj}, {1, 0, 0}, 0.9 + xj, ir::normalize({xj, 0, zj}));
+    // Along the ring over its top circle, where the surface is flat along the ray
+    // (a parabolic line: contact of fourth order, sd ~ (y − r) + x⁴/8r): it enters
+    // where hypot(ρ − 1, y) = r with ρ = hypot(x, 1), i.e. ρ = 1 + sqrt(r² − y²).
+    double yt = 0.25 * (1 - e), dr = std::sqrt(0.0625 - yt * yt);
+    double xt = std::sqrt((1 + dr) * (1 + dr) - 1), rho = std::hypot(xt, 1.0);
+    check_hit(q, {-5, yt, -1}, {1, 0, 0}, 5 - xt,
+              ir::normalize({-xt - (-xt / rho), yt, -1 + 1 / rho}));
+    check_miss(q, {-5, 0.25 * (1 + e), -1}, {1, 0, 0});
   }
 }
 
