@@ -9,6 +9,7 @@
 
 #include "compiler/ir_binding.hpp"
 #include "compiler/lower.hpp"
+#include "runtime/ir/dump.hpp"
 
 namespace snell::compile {
 
@@ -70,6 +71,60 @@ bool finish_kind(ir::Triangle& t, LowerContext& cx) {
   if (ir::length(ir::cross(t.b - t.a, t.c - t.a)) != 0) return true;
   cx.diags.report(DiagKind::DegenerateGeometry, cx.keyword,
                   "this triangle has no area (its corners are collinear); it is left out");
+  return false;
+}
+
+// §11's constraints that involve two properties: an error at the second one, with
+// a note at the first.
+lang::Span value_span(const LowerContext& cx, PropId id) {
+  const EvaluatedProp* p = cx.get(id);
+  return p ? p->value_span : cx.keyword;
+}
+bool distinct_ends(ir::Vec3 base, ir::Vec3 cap, const char* what, PropId base_id, PropId cap_id,
+                   LowerContext& cx) {
+  if (base != cap) return true;
+  cx.diags
+      .report(DiagKind::InvalidValue, value_span(cx, cap_id),
+              std::string("a ") + what + "'s 'cap' must differ from its 'base' (they set its axis)")
+      .note(value_span(cx, base_id), "base is " + ir::to_string(base));
+  return false;
+}
+
+bool finish_kind(ir::Cylinder& c, LowerContext& cx) {
+  return distinct_ends(c.base, c.cap, "cylinder", PropId::cylinder_base, PropId::cylinder_cap, cx);
+}
+
+bool finish_kind(ir::Cone& c, LowerContext& cx) {
+  bool ok = distinct_ends(c.base, c.cap, "cone", PropId::cone_base, PropId::cone_cap, cx);
+  if (c.base_radius == 0 && c.cap_radius == 0) {
+    cx.diags
+        .report(DiagKind::InvalidValue, value_span(cx, PropId::cone_cap_radius),
+                "a cone's 'base_radius' and 'cap_radius' cannot both be 0")
+        .note(value_span(cx, PropId::cone_base_radius), "base_radius is 0");
+    ok = false;
+  }
+  return ok;
+}
+
+// The normal is normalised (the same disc); the hole must leave a ring.
+bool finish_kind(ir::Disc& d, LowerContext& cx) {
+  ir::Vec3 n = d.normal;
+  double m = std::fmax(std::fabs(n.x), std::fmax(std::fabs(n.y), std::fabs(n.z)));
+  d.normal = ir::normalize(n / m);  // scaled first: <1e-200, 0, 0> is a direction too
+  if (d.hole < d.radius) return true;
+  cx.diags
+      .report(DiagKind::InvalidValue, value_span(cx, PropId::disc_hole),
+              "a disc's 'hole' must be < its 'radius'")
+      .note(value_span(cx, PropId::disc_radius), "radius is " + ir::num(d.radius));
+  return false;
+}
+
+bool finish_kind(ir::Torus& t, LowerContext& cx) {
+  if (t.minor < t.major) return true;
+  cx.diags
+      .report(DiagKind::InvalidValue, value_span(cx, PropId::torus_minor),
+              "a torus's 'minor' must be < its 'major' (major > minor > 0)")
+      .note(value_span(cx, PropId::torus_major), "major is " + ir::num(t.major));
   return false;
 }
 

@@ -6,6 +6,8 @@
 // - spheres: Embree user geometry intersected in object space (double), so any
 //   affine transform (non-uniform scale, rotation) is exact; robust discriminant
 //   (Haines et al., RTG ch. 7).
+// - cylinders, cones, discs, tori (§11): user geometry too, each intersected in
+//   double in a frame of its own (runtime/geometry/local_set.hpp).
 // - boxes: 12 triangles, triangles and meshes: triangle geometry; vertices are
 //   transformed in double, moved by -camera, then rounded to float. Winding is
 //   flipped under mirroring transforms so Ng stays outward.

@@ -25,12 +25,12 @@ struct Hit {
   float t = INFINITY;
   Vec3f ng;  // geometric normal, unit, outward for closed shapes (§8)
   // The surface point. On a static triangle it is rebuilt from the barycentrics, on
-  // a static sphere or a plane projected onto the surface in double, so it lies on
-  // the surface to within a few ulps, and `offset` > 0 is the distance along the
-  // normal that a ray leaving it must start at to clear the surface (its error
-  // bound, and that of the test that re-tests the surface). On moving shapes it is
-  // o + t·d, and `offset` 0 asks for the Wächter–Binder offset (offset_ray_origin),
-  // which covers the larger error of o + t·d.
+  // a static sphere, plane, cylinder, cone, disc or torus projected onto the surface
+  // in double, so it lies on the surface to within a few ulps, and `offset` > 0 is
+  // the distance along the normal that a ray leaving it must start at to clear the
+  // surface (its error bound, and that of the test that re-tests the surface). On
+  // moving shapes it is o + t·d, and `offset` 0 asks for the Wächter–Binder offset
+  // (offset_ray_origin), which covers the larger error of o + t·d.
   Vec3f p;
   float offset = 0;
   enum class Kind : std::uint8_t { Shape, AreaLight } kind = Kind::Shape;

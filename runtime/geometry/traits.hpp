@@ -17,13 +17,18 @@
 // (Solids will add intervals(ray) -> [t_in, t_out]... for CSG to compose.)
 // The accelerator (embree_scene.cpp) builds per class, never per shape, and is the
 // only code that knows Embree. Adding a kind: its file here, its Geometry<>
-// specialisation, and — for a user kind — its sets in UserSets.
+// specialisation, and — for a user kind — its sets in UserSets (a kind intersected
+// in a local frame writes only a local surface; local_set.hpp makes its sets).
 #pragma once
 
 #include <tuple>
 
+#include "runtime/geometry/cone.hpp"
+#include "runtime/geometry/disc.hpp"
+#include "runtime/geometry/local_set.hpp"
 #include "runtime/geometry/plane.hpp"
 #include "runtime/geometry/sphere.hpp"
+#include "runtime/geometry/torus.hpp"
 #include "runtime/geometry/triangles.hpp"
 
 namespace snell::rt::geom {
@@ -57,9 +62,35 @@ struct Geometry<ir::Mesh> {
   static constexpr GeometryClass kind = GeometryClass::Triangles;
 };
 
+// §11's shapes: a local surface each (local_set.hpp), so their sets are the two
+// templates; cylinders and cones share one surface type and so one pair of sets.
+template <>
+struct Geometry<ir::Cylinder> {
+  static constexpr GeometryClass kind = GeometryClass::User;
+  using Static = LocalSet<TruncatedCone>;
+  using Moving = MovingLocalSet<TruncatedCone>;
+};
+template <>
+struct Geometry<ir::Cone> : Geometry<ir::Cylinder> {};
+template <>
+struct Geometry<ir::Disc> {
+  static constexpr GeometryClass kind = GeometryClass::User;
+  using Static = LocalSet<DiscSurface>;
+  using Moving = MovingLocalSet<DiscSurface>;
+};
+template <>
+struct Geometry<ir::Torus> {
+  static constexpr GeometryClass kind = GeometryClass::User;
+  using Static = LocalSet<TorusSurface>;
+  using Moving = MovingLocalSet<TorusSurface>;
+};
+
 // Every user primitive set, in the order the BVH attaches them, and every
 // unbounded set.
-using UserSets = std::tuple<SphereSet, MovingSphereSet>;
+using UserSets =
+    std::tuple<SphereSet, MovingSphereSet, LocalSet<TruncatedCone>, MovingLocalSet<TruncatedCone>,
+               LocalSet<DiscSurface>, MovingLocalSet<DiscSurface>, LocalSet<TorusSurface>,
+               MovingLocalSet<TorusSurface>>;
 using UnboundedSets = std::tuple<PlaneSet>;
 
 }  // namespace snell::rt::geom

@@ -59,6 +59,9 @@ std::string field_text(const Texture& t) {
 std::string field_text(std::uint32_t index) {
   return "#" + std::to_string(index);
 }
+std::string field_text(bool b) {
+  return b ? "true" : "false";
+}
 template <class T>
 std::string fields_text(const T& kind) {
   std::string s;

@@ -183,6 +183,23 @@ inline Transform Transform::rotate_xyz(Vec3 d) {
   return rotate_z(d.z) * rotate_y(d.y) * rotate_x(d.x);
 }
 
+// The rigid transform from a frame whose origin is `o` and whose +z is the unit
+// vector `w` (x and y from Duff et al.'s basis, JCGT 6(1): no singularity) to the
+// space o and w are given in: the local frame of the axial shapes (cylinder, cone,
+// disc). Its inverse is exact up to rounding (the transpose).
+inline Transform axis_frame(Vec3 o, Vec3 w) {
+  double sign = std::copysign(1.0, w.z);
+  double a = -1.0 / (sign + w.z), b = w.x * w.y * a;
+  Vec3 u{1 + sign * w.x * w.x * a, sign * b, -sign * w.x};
+  Vec3 v{b, sign + w.y * w.y * a, -w.y};
+  Transform t;
+  const Vec3 cols[3] = {u, v, w};
+  for (int c = 0; c < 3; ++c)
+    for (int r = 0; r < 3; ++r) t.m(r, c) = cols[c][r], t.inv(c, r) = cols[c][r];
+  for (int r = 0; r < 3; ++r) t.m(r, 3) = o[r], t.inv(r, 3) = -dot(cols[r], o);
+  return t;
+}
+
 std::string to_string(Vec3 v);
 std::string to_string(const Transform& t);
 

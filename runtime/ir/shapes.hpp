@@ -79,6 +79,82 @@ struct Mesh {
   static constexpr auto fields() { return std::tuple{field("mesh", &Mesh::mesh)}; }
 };
 
+// The axial shapes' hull: the corners of the squares around each end disc in the
+// frame of the axis (the convex hull of two discs holds the truncated cone between
+// them).
+template <class F>
+void end_squares(Vec3 a, double ra, Vec3 b, double rb, Vec3 axis, F&& f) {
+  Transform frame = axis_frame(a, normalize(axis));
+  double h = dot(b - a, normalize(axis));
+  for (int i = 0; i < 4; ++i) {
+    double su = i & 1 ? 1 : -1, sv = i & 2 ? 1 : -1;
+    f(frame.point({su * ra, sv * ra, 0}));
+    f(frame.point({su * rb, sv * rb, h}));
+  }
+}
+
+// §11. The points within `radius` of the segment base..cap's line, between the
+// planes through base and cap perpendicular to it; `open`: the curved side only.
+struct Cylinder {
+  template <class Scene, class F>
+  void hull(const Scene&, F&& f) const {
+    end_squares(base, radius, cap, radius, cap - base, f);
+  }
+  Vec3 base{0, 0, 0}, cap{0, 1, 0};
+  double radius = 1;
+  bool open = false;
+  static constexpr auto fields() {
+    return std::tuple{field("base", &Cylinder::base), field("cap", &Cylinder::cap),
+                      field("radius", &Cylinder::radius), field("open", &Cylinder::open)};
+  }
+};
+// §11. A truncated cone: radius base_radius at base to cap_radius at cap, linearly
+// (radii >= 0, not both 0).
+struct Cone {
+  template <class Scene, class F>
+  void hull(const Scene&, F&& f) const {
+    end_squares(base, base_radius, cap, cap_radius, cap - base, f);
+  }
+  Vec3 base{0, 0, 0};
+  double base_radius = 1;
+  Vec3 cap{0, 1, 0};
+  double cap_radius = 0;
+  bool open = false;
+  static constexpr auto fields() {
+    return std::tuple{field("base", &Cone::base), field("base_radius", &Cone::base_radius),
+                      field("cap", &Cone::cap), field("cap_radius", &Cone::cap_radius),
+                      field("open", &Cone::open)};
+  }
+};
+// §11. The annulus hole <= |p - center| <= radius in the plane through center with
+// `normal` (non-zero; lowering normalises it), which is its outward normal.
+struct Disc {
+  template <class Scene, class F>
+  void hull(const Scene&, F&& f) const {
+    end_squares(center, radius, center, radius, normal, f);
+  }
+  Vec3 center{0, 0, 0}, normal{0, 1, 0};
+  double radius = 1, hole = 0;
+  static constexpr auto fields() {
+    return std::tuple{field("center", &Disc::center), field("normal", &Disc::normal),
+                      field("radius", &Disc::radius), field("hole", &Disc::hole)};
+  }
+};
+// §11. Centred at the origin around the y axis: the points at distance `minor` from
+// the circle of radius `major` in the xz plane (major > minor > 0).
+struct Torus {
+  // The corners of its box, |x|, |z| <= major + minor, |y| <= minor.
+  template <class Scene, class F>
+  void hull(const Scene&, F&& f) const {
+    double a = major + minor, b = minor;
+    for (int i = 0; i < 8; ++i) f(Vec3{i & 1 ? a : -a, i & 2 ? b : -b, i & 4 ? a : -a});
+  }
+  double major = 1, minor = 0.25;
+  static constexpr auto fields() {
+    return std::tuple{field("major", &Torus::major), field("minor", &Torus::minor)};
+  }
+};
+
 #define SNELL_SHAPE(name, Type) Type,
 using ShapeGeom = variant_of<
 #include "runtime/ir/kinds.def"

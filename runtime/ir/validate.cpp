@@ -26,6 +26,7 @@ void each_number(Vec3 v, auto&& f) {
   f(v.x), f(v.y), f(v.z);
 }
 void each_number(std::uint32_t, auto&&) {}  // indices are checked per kind
+void each_number(bool, auto&&) {}
 void each_number(const Texture& t, auto&& f) {
   std::visit(
       [&](const auto& p) {
@@ -78,6 +79,28 @@ void check_kind(const Plane& p, const Scene&, Bad&& bad) {
 template <class Bad>
 void check_kind(const Mesh& m, const Scene& scene, Bad&& bad) {
   if (m.mesh >= scene.meshes.size()) bad("mesh index out of range");
+}
+// §11's constraints, as the compiler checks them (compiler/lower_kinds.cpp).
+template <class Bad>
+void check_kind(const Cylinder& c, const Scene&, Bad&& bad) {
+  if (!(c.radius > 0)) bad("cylinder radius must be > 0");
+  if (c.base == c.cap) bad("cylinder base and cap must differ");
+}
+template <class Bad>
+void check_kind(const Cone& c, const Scene&, Bad&& bad) {
+  if (!(c.base_radius >= 0 && c.cap_radius >= 0)) bad("cone radii must be >= 0");
+  if (c.base_radius == 0 && c.cap_radius == 0) bad("cone radii must not both be 0");
+  if (c.base == c.cap) bad("cone base and cap must differ");
+}
+template <class Bad>
+void check_kind(const Disc& d, const Scene&, Bad&& bad) {
+  if (!(length(d.normal) > 0)) bad("disc normal must be non-zero");
+  if (!(d.radius > 0)) bad("disc radius must be > 0");
+  if (!(d.hole >= 0 && d.hole < d.radius)) bad("disc hole must be >= 0 and < its radius");
+}
+template <class Bad>
+void check_kind(const Torus& t, const Scene&, Bad&& bad) {
+  if (!(t.major > t.minor && t.minor > 0)) bad("torus needs major > minor > 0");
 }
 
 // Materials: the template is every kind without checks of its own.

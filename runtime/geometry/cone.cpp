@@ -1,0 +1,122 @@
+#include "runtime/geometry/cone.hpp"
+
+#include <algorithm>
+#include <utility>
+
+namespace snell::rt::geom {
+
+TruncatedCone::TruncatedCone(Vec3 base, double r0, Vec3 cap, double r1, bool open)
+    : h_(ir::length(cap - base)), r0_(r0), r1_(r1), open_(open) {
+  object_from_local = ir::axis_frame(base, (cap - base) / h_);
+  k_ = (r1 - r0) / h_;
+}
+
+// The gradient of ρ² − r(z)²: outward, and along the axis at the apex of a cone.
+Vec3 TruncatedCone::side_normal(Vec3 p) const {
+  Vec3 n(p.x, p.y, -k_ * (r0_ + k_ * p.z));
+  if (n.x == 0 && n.y == 0 && n.z == 0) return {0, 0, k_ > 0 ? -1.0 : 1.0};
+  return n;
+}
+
+// The solid is the slab 0 <= z <= h cut by the quadric g = ρ² − r(z)² <= 0 (within
+// the slab r(z) >= 0, so this is ρ <= r(z), a convex set): along the ray, g <= 0 is
+// one interval or two (a ray crossing both nappes of the double cone), each cut by
+// the slab's interval. The hits are the ends of those pieces, so a closed shape
+// is watertight at its rims by construction: a ray never slips between the side and
+// a cap. Open: the roots of g with 0 <= z <= h. The ray is first clipped to the
+// shape's bounding ball and its origin moved there (clip_to_ball: conditioning).
+bool TruncatedCone::intersect(Vec3 o, Vec3 d, double tnear, double tfar, double& t_out,
+                              Vec3& n_out) const {
+  double lo = tnear, hi = tfar;
+  double ball = std::hypot(0.5 * h_, std::fmax(r0_, r1_)) * (1 + 1e-9);
+  if (!clip_to_ball(o, d, {0, 0, 0.5 * h_}, ball, lo, hi)) return false;
+  const double ts = lo;
+  const Vec3 os = o + d * ts;
+  // g(s) = a s² + 2 b s + c along os + s·d.
+  double rz = r0_ + k_ * os.z, kd = k_ * d.z;
+  double a = d.x * d.x + d.y * d.y - kd * kd;
+  double b = os.x * d.x + os.y * d.y - rz * kd;
+  double ro = std::hypot(os.x, os.y);
+  double c = (ro - rz) * (ro + rz);
+  double disc = b * b - a * c;
+  double s0 = 0, s1 = 0;
+  bool roots = false;
+  if (a != 0 && disc >= 0) {
+    double q = -(b + std::copysign(std::sqrt(disc), b));
+    if (q != 0) s0 = c / q, s1 = q / a;
+    if (s0 > s1) std::swap(s0, s1);
+    roots = true;
+  }
+  auto accept = [&](double s, Vec3 n) {
+    double t = ts + s;
+    if (!(t > tnear && t < tfar && t <= hi)) return false;
+    t_out = t, n_out = n;
+    return true;
+  };
+  auto side_at = [&](double s) { return side_normal(os + d * s); };
+  if (open_) {
+    double cand[2];
+    int m = 0;
+    if (roots)
+      cand[m++] = s0, cand[m++] = s1;
+    else if (a == 0 && b != 0)
+      cand[m++] = -c / (2 * b);
+    for (int i = 0; i < m; ++i) {
+      double z = os.z + d.z * cand[i];
+      if (z >= 0 && z <= h_ && accept(cand[i], side_at(cand[i]))) return true;
+    }
+    return false;
+  }
+  // The intervals where g <= 0, in order.
+  const double inf = INFINITY;
+  std::pair<double, double> in[2];
+  int m = 0;
+  if (a > 0) {
+    if (roots) in[m++] = {s0, s1};
+  } else if (a < 0) {
+    if (!roots)
+      in[m++] = {-inf, inf};
+    else
+      in[m++] = {-inf, s0}, in[m++] = {s1, inf};
+  } else if (b != 0) {
+    double s = -c / (2 * b);
+    in[m++] = b > 0 ? std::pair{-inf, s} : std::pair{s, inf};
+  } else if (c <= 0) {
+    in[m++] = {-inf, inf};
+  }
+  // The slab's interval, and the caps it enters and leaves by.
+  double z_in = -inf, z_out = inf;
+  if (d.z != 0) {
+    z_in = -os.z / d.z, z_out = (h_ - os.z) / d.z;
+    if (z_in > z_out) std::swap(z_in, z_out);
+  } else if (!(os.z >= 0 && os.z <= h_)) {
+    return false;
+  }
+  const Vec3 cap_in(0, 0, d.z > 0 ? -1.0 : 1.0), cap_out = -cap_in;
+  for (int i = 0; i < m; ++i) {
+    double e = std::fmax(in[i].first, z_in), x = std::fmin(in[i].second, z_out);
+    if (!(e <= x)) continue;
+    if (accept(e, z_in >= in[i].first ? cap_in : side_at(e))) return true;
+    if (accept(x, z_out <= in[i].second ? cap_out : side_at(x))) return true;
+  }
+  return false;
+}
+
+// The nearest point of the side (the generator segment (r0, 0)..(r1, h) in the
+// half-plane of p's azimuth) or, when closed, of an end disc.
+Vec3 TruncatedCone::project(Vec3 p) const {
+  double rho = std::hypot(p.x, p.y);
+  double er = r1_ - r0_;
+  double lam = std::clamp(((rho - r0_) * er + p.z * h_) / (er * er + h_ * h_), 0.0, 1.0);
+  double pr = r0_ + lam * er, pz = lam * h_;
+  double best = std::hypot(rho - pr, p.z - pz);
+  if (!open_) {
+    double br = std::fmin(rho, r0_), cr = std::fmin(rho, r1_);
+    if (double db = std::hypot(rho - br, p.z); db < best) best = db, pr = br, pz = 0;
+    if (double dc = std::hypot(rho - cr, p.z - h_); dc < best) best = dc, pr = cr, pz = h_;
+  }
+  double s = rho > 0 ? pr / rho : 0;
+  return {p.x * s, p.y * s, pz};
+}
+
+}  // namespace snell::rt::geom
