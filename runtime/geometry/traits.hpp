@@ -14,7 +14,8 @@
 //   Unbounded  a set tested analytically after the BVH query (planes):
 //                add(shape, kind, index, origin, moving), intersect(ray, tmax&, tie, hit),
 //                occluded(ray)
-// (Solids will add intervals(ray) -> [t_in, t_out]... for CSG to compose.)
+// Solids also give their ray intervals [t_in, t_out]... (intervals.hpp), which CSG
+// composes.
 // The accelerator (embree_scene.cpp) builds per class, never per shape, and is the
 // only code that knows Embree. Adding a kind: its file here, its Geometry<>
 // specialisation, and — for a user kind — its sets in UserSets (a kind intersected

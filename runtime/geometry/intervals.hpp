@@ -1,0 +1,154 @@
+// Solids' ray intervals (§12's seam): the spans [t_in, t_out] of t where o + t·d
+// lies inside a solid, in the kind's object space and in double, sorted and
+// disjoint; what CSG composes. A kind is a solid when `solid_intervals` has an
+// overload for it (kSolid<Kind>); triangles, discs and open shapes have no inside.
+//   sphere      the two roots of its quadric
+//   box         the slab test
+//   plane       the half-space dot(p, normal) < distance (an unbounded span)
+//   cylinder, cone (closed), torus
+//               walked from their surface: every crossing of the surface in
+//               order, entering where the outward normal faces the ray, exiting
+//               otherwise (a torus has up to two spans)
+// Spans are clipped to [tmin, tmax]; a ray that starts inside has t_in = tmin.
+// No Embree types.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+#include "runtime/geometry/cone.hpp"
+#include "runtime/geometry/sphere.hpp"
+#include "runtime/geometry/torus.hpp"
+#include "runtime/geometry/xform.hpp"
+#include "runtime/ir/ir.hpp"
+
+namespace snell::rt::geom {
+
+struct Span {
+  double t_in, t_out;
+};
+
+// Up to four spans per primitive (a torus seen edge on has two; room to spare).
+struct Spans {
+  static constexpr int kMax = 4;
+  Span span[kMax];
+  int count = 0;
+  // Adds [a, b] ∩ [lo, hi] when not empty.
+  void add(double a, double b, double lo, double hi) {
+    a = std::fmax(a, lo), b = std::fmin(b, hi);
+    if (a < b && count < kMax) span[count++] = {a, b};
+  }
+};
+
+inline Spans solid_intervals(const ir::Sphere& s, Vec3 o, Vec3 d, double lo, double hi) {
+  Spans out;
+  double t0, t1;
+  if (sphere_roots(o, d, s.center, s.radius, t0, t1)) out.add(t0, t1, lo, hi);
+  return out;
+}
+
+inline Spans solid_intervals(const ir::Box& b, Vec3 o, Vec3 d, double lo, double hi) {
+  Spans out;
+  double a = -INFINITY, z = INFINITY;
+  for (int k = 0; k < 3; ++k) {
+    if (d[k] == 0) {
+      if (!(o[k] >= b.min[k] && o[k] <= b.max[k])) return out;
+      continue;
+    }
+    double t0 = (b.min[k] - o[k]) / d[k], t1 = (b.max[k] - o[k]) / d[k];
+    if (t0 > t1) std::swap(t0, t1);
+    a = std::fmax(a, t0), z = std::fmin(z, t1);
+  }
+  out.add(a, z, lo, hi);
+  return out;
+}
+
+inline Spans solid_intervals(const ir::Plane& p, Vec3 o, Vec3 d, double lo, double hi) {
+  Spans out;
+  double s = ir::dot(p.normal, o) - p.distance, dn = ir::dot(p.normal, d);
+  if (dn == 0) {
+    if (s < 0) out.add(-INFINITY, INFINITY, lo, hi);
+    return out;
+  }
+  double t = -s / dn;
+  if (dn > 0)
+    out.add(-INFINITY, t, lo, hi);  // leaving the half-space
+  else
+    out.add(t, INFINITY, lo, hi);
+  return out;
+}
+
+// Every crossing of a closed local surface along the ray, in order. A root found
+// again just past itself (the solvers are good to ulps, not exactly) would enter a
+// span twice: each search starts 64 ulps past the last crossing, and a crossing
+// that does not alternate with the last one is taken for that same root. Spans
+// thinner than that are lost (64 ulps of t, ~1e-14 relative).
+template <class L>
+Spans walk_surface(const L& l, Vec3 o, Vec3 d, double lo, double hi) {
+  Spans out;
+  ir::Mat4 local_from_object = l.object_from_local.inv;
+  Vec3 ol = xform_point(local_from_object, o), dl = xform_vector(local_from_object, d);
+  double t = lo, start = lo;
+  bool inside = false, first = true;
+  for (int i = 0; i < 4 * Spans::kMax; ++i) {
+    double th;
+    Vec3 n;
+    if (!l.intersect(ol, dl, t, hi, th, n)) break;
+    bool entering = ir::dot(n, dl) < 0;
+    if (first && !entering) inside = true, start = lo;  // the ray starts inside
+    first = false;
+    if (entering && !inside) {
+      start = th;
+      inside = true;
+    } else if (!entering && inside) {
+      out.add(start, th, lo, hi);
+      inside = false;
+    }
+    t = th;
+    for (int k = 0; k < 64; ++k) t = std::nextafter(t, INFINITY);
+  }
+  if (first) {
+    // No crossing within [lo, hi]: all inside or all outside; the next crossing
+    // beyond hi tells (a closed bounded surface is left before infinity).
+    double th;
+    Vec3 n;
+    if (l.intersect(ol, dl, hi, INFINITY, th, n) && !(ir::dot(n, dl) < 0)) inside = true;
+  }
+  if (inside) out.add(start, hi, lo, hi);
+  return out;
+}
+
+inline Spans solid_intervals(const ir::Cylinder& c, Vec3 o, Vec3 d, double lo, double hi) {
+  if (c.open) return {};
+  return walk_surface(TruncatedCone(c), o, d, lo, hi);
+}
+inline Spans solid_intervals(const ir::Cone& c, Vec3 o, Vec3 d, double lo, double hi) {
+  if (c.open) return {};
+  return walk_surface(TruncatedCone(c), o, d, lo, hi);
+}
+inline Spans solid_intervals(const ir::Torus& t, Vec3 o, Vec3 d, double lo, double hi) {
+  return walk_surface(TorusSurface(t), o, d, lo, hi);
+}
+
+// True for the kinds that have an inside (an open cylinder or cone has none: ask
+// has_inside for the value).
+template <class K>
+concept SolidKind = requires(const K& k, Vec3 v) {
+  solid_intervals(k, v, v, 0.0, 1.0);
+};
+template <class K>
+inline constexpr bool kSolid = SolidKind<K>;
+inline bool has_inside(const ir::Shape& s) {
+  return std::visit(
+      [](const auto& g) {
+        using K = std::decay_t<decltype(g)>;
+        if constexpr (std::is_same_v<K, ir::Cylinder> || std::is_same_v<K, ir::Cone>)
+          return !g.open;
+        else
+          return kSolid<K>;
+      },
+      s.geom);
+}
+
+}  // namespace snell::rt::geom
