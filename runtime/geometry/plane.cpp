@@ -50,7 +50,7 @@ bool PlaneSet::hit_plane(const PlaneData& p, const Ray& r, double tmax, double t
   return true;
 }
 
-bool PlaneSet::intersect(const Ray& r, double& tmax, double tie, Hit& hit) const {
+bool PlaneSet::intersect_planes(const Ray& r, double& tmax, double tie, Hit& hit) const {
   bool found = false;
   for (const PlaneData& p : planes_) {
     double t;
@@ -71,7 +71,7 @@ bool PlaneSet::intersect(const Ray& r, double& tmax, double tie, Hit& hit) const
   return found;
 }
 
-bool PlaneSet::occluded(const Ray& r) const {
+bool PlaneSet::occluded_planes(const Ray& r) const {
   for (const PlaneData& p : planes_) {
     double t;
     Vec3 n;

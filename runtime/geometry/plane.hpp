@@ -21,8 +21,11 @@ class PlaneSet {
   bool empty() const { return planes_.empty(); }
   // The nearest plane hit with t < tmax, or within `tie` (a distance along the
   // plane's normal) beyond it: replaces `hit` and returns true. tmax is updated.
-  bool intersect(const Ray& r, double& tmax, double tie, Hit& hit) const;
-  bool occluded(const Ray& r) const;
+  // Inline when there are no planes: every ray asks.
+  bool intersect(const Ray& r, double& tmax, double tie, Hit& hit) const {
+    return !planes_.empty() && intersect_planes(r, tmax, tie, hit);
+  }
+  bool occluded(const Ray& r) const { return !planes_.empty() && occluded_planes(r); }
 
  private:
   struct PlaneData {
@@ -32,6 +35,8 @@ class PlaneSet {
     const ir::Shape* moving = nullptr;
     const ir::Plane* plane = nullptr;
   };
+  bool intersect_planes(const Ray& r, double& tmax, double tie, Hit& hit) const;
+  bool occluded_planes(const Ray& r) const;
   bool hit_plane(const PlaneData& p, const Ray& r, double tmax, double tie, double& t,
                  ir::Vec3& n_out, ir::Vec3* point) const;
   std::vector<PlaneData> planes_;
