@@ -50,6 +50,20 @@ struct Registry {
     ir::for_each_field(
         settings, [&](const char* field, const auto& v) { ir_default(sb, field, to_value(v)); });
     ir_default(sb, "resolution", Value::vec2(settings.width, settings.height));
+    const ir::Camera camera;
+    BlockInfo& cb = block("camera");
+    ir::for_each_field(
+        camera, [&](const char* field, const auto& v) { ir_default(cb, field, to_value(v)); });
+    ir_default(cb, "shutter", Value::vec2(camera.shutter_open, camera.shutter_close));
+    const ir::PointLight point;
+    ir::for_each_field(point, [&](const char* field, const auto& v) {
+      ir_default(block("point_light"), field, to_value(v));
+    });
+    const ir::AreaLight area;
+    ir::for_each_field(area, [&](const char* field, const auto& v) {
+      ir_default(block("area_light"), field, to_value(v));
+    });
+    ir_default(block("area_light"), "samples", Value::vec2(area.samples_u, area.samples_v));
     for (BlockInfo& b : blocks) b.is_object = b.shape_kind >= 0;
   }
 

@@ -21,6 +21,9 @@ struct PointLight {
   Vec3 position;
   Vec3 intensity{1, 1, 1};  // radiant intensity per channel
   SourceRef src;
+  // The properties that are one field each (compiler/properties.def binds their
+  // defaults by name).
+  static constexpr auto fields() { return std::tuple{field("intensity", &PointLight::intensity)}; }
 };
 
 struct AreaLight {
@@ -31,6 +34,8 @@ struct AreaLight {
   std::uint32_t samples_u = 1, samples_v = 1;  // jittered grid of shadow rays
   bool two_sided = false;                      // otherwise emits only towards cross(edge1, edge2)
   SourceRef src;
+  // samples is two fields (samples_u, samples_v).
+  static constexpr auto fields() { return std::tuple{field("two_sided", &AreaLight::two_sided)}; }
 };
 
 struct Camera {
@@ -42,6 +47,12 @@ struct Camera {
   double focal_distance = 1;  // lowering fills in |look_at - location| when unset
   double shutter_open = 0, shutter_close = 0;
   SourceRef src;
+  // shutter is two fields; focal_distance has no default (lowering fills it in).
+  static constexpr auto fields() {
+    return std::tuple{field("location", &Camera::location), field("look_at", &Camera::look_at),
+                      field("up", &Camera::up), field("fov", &Camera::fov),
+                      field("aperture", &Camera::aperture)};
+  }
 };
 
 // Settings enums (kinds.def, enums.hpp). Branching: how a dielectric hit continues
