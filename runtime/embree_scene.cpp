@@ -115,6 +115,7 @@ struct EmbreeScene::Impl {
   const float* tri_vb = nullptr;
   const unsigned* tri_ib = nullptr;
   std::size_t triangle_count = 0, moving_shapes = 0, motion_steps = 0, light_tris = 0;
+  bool any_unbounded = false;  // some unbounded set is not empty (known once built)
 
   ~Impl() {
     if (scene) rtcReleaseScene(scene);
@@ -296,6 +297,8 @@ EmbreeScene::EmbreeScene(const ir::Scene& sc, ir::Vec3 origin)
     im.tri_offset[t] = triangle_offset(im.tri_vb + 3 * ti[3 * t], im.tri_vb + 3 * ti[3 * t + 1],
                                        im.tri_vb + 3 * ti[3 * t + 2]);
   std::apply([&](const auto&... set) { (im.add_user(set), ...); }, im.user_sets);
+  im.any_unbounded =
+      std::apply([](const auto&... set) { return (!set.empty() || ...); }, im.unbounded);
 
   // Area lights: two triangles each, so camera/reflection/refraction rays see them
   // and they block shadow rays of other lights (an area light is a surface).
@@ -368,10 +371,9 @@ bool EmbreeScene::intersect(const Ray& r, Hit& hit) const {
   // glass block in examples/glass). Within the face's error bound (its offset, at
   // least 32 ulps of the point) an unbounded shape wins: the floor under a block
   // resting on it.
-  bool any_unbounded =
-      std::apply([](const auto&... set) { return (!set.empty() || ...); }, im.unbounded);
-  double tie =
-      found && any_unbounded ? std::fmax(double(hit.offset), 0x1p-19 * double(max_abs(hit.p))) : 0;
+  double tie = found && im.any_unbounded
+                   ? std::fmax(double(hit.offset), 0x1p-19 * double(max_abs(hit.p)))
+                   : 0;
   std::apply(
       [&](const auto&... set) {
         ((set.intersect(r, tmax, tie, hit) ? (found = true, tie = 0) : 0), ...);

@@ -105,8 +105,8 @@ Spans walk_surface(const L& l, Vec3 o, Vec3 d, double lo, double hi) {
       out.add(start, th, lo, hi);
       inside = false;
     }
-    t = th;
-    for (int k = 0; k < 64; ++k) t = std::nextafter(t, INFINITY);
+    double ulp = std::nextafter(std::fabs(th), INFINITY) - std::fabs(th);
+    t = th + 64 * ulp;
   }
   if (first) {
     // No crossing within [lo, hi]: all inside or all outside; the next crossing

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <memory>
+#include <random>
 #include <string>
 
 #include "compiler/compile.hpp"
@@ -14,6 +15,17 @@
 #include "tests/runtime/scene_util.hpp"
 
 namespace snell::hc {
+
+inline constexpr double kPi = 3.14159265358979323846;
+// A uniformly distributed unit vector.
+inline ir::Vec3 unit(std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> u(0, 1);
+  double z = 2 * u(rng) - 1, a = 2 * kPi * u(rng), r = std::sqrt(1 - z * z);
+  return {r * std::cos(a), r * std::sin(a), z};
+}
+inline rt::Vec3f f(ir::Vec3 v) {
+  return rt::to_float(v.x, v.y, v.z);
+}
 
 using namespace snell::test;
 

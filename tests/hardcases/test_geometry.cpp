@@ -14,18 +14,6 @@
 using namespace snell;
 using namespace snell::hc;
 
-namespace {
-constexpr double kPi = 3.14159265358979323846;
-ir::Vec3 unit(std::mt19937_64& rng) {
-  std::uniform_real_distribution<double> u(0, 1);
-  double z = 2 * u(rng) - 1, a = 2 * kPi * u(rng), r = std::sqrt(1 - z * z);
-  return {r * std::cos(a), r * std::sin(a), z};
-}
-rt::Vec3f f(ir::Vec3 v) {
-  return rt::to_float(v.x, v.y, v.z);
-}
-}  // namespace
-
 TEST_CASE("hc01 reintersection: spawned rays never re-hit their triangle, 1e-8..1e8",
           "[hardcase][robust][property]") {
   // pbrt's Triangle.Reintersect recipe: 1000 random triangles whose vertices have
