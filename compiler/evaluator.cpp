@@ -136,6 +136,7 @@ Evaluator::Flow Evaluator::exec(const Stmt& s, const std::shared_ptr<Env>& env, 
       exec_item(s, env);
       return Flow::Normal;
     case StmtKind::Background: {
+      if (inside_group_error("background", s.span)) return Flow::Normal;
       Value v = eval(*s.exprs[0], env);
       if (v.is_error()) return Flow::Normal;
       PropInfo color{"background", "background", PropType::Color, Check::NonNegative, 0, {}};
@@ -307,6 +308,22 @@ void Evaluator::exec_import(const Stmt& s, const std::shared_ptr<Env>& env) {
 
 void Evaluator::exec_item(const Stmt& s, const std::shared_ptr<Env>& env) {
   const BlockInfo* block = symbol_block_[symbol_of(s)];
+  bool instance = lang::is_instance_name(s.name);
+  if (instance || (block && block->csg_op >= 0) ||
+      (block && block->is_object && !collectors_.empty())) {
+    if (builder_.too_many_objects()) {
+      error(DiagKind::StepBudget, s.name_span,
+            "the scene has more than " + std::to_string(kMaxSceneObjects) + " objects");
+      aborted_ = true;
+      return;
+    }
+    Value v = eval_object(s.name, instance ? nullptr : block, *s.block, s.name_span, env);
+    if (v.type == Type::Object) emit(v.object());
+    return;
+  }
+  if (block && block->kind == BlockKind::Item && !block->is_object &&
+      inside_group_error(block->name, s.name_span))
+    return;
   if (!block || block->kind != BlockKind::Item) {
     auto names = block_names(BlockKind::Item);
     names.push_back("background");

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "compiler/lower.hpp"
+#include "compiler/object_value.hpp"
 #include "compiler/properties.hpp"
 #include "compiler/value.hpp"
 #include "language/ast.hpp"
@@ -92,6 +93,15 @@ class Evaluator {
   Flow exec_if(const lang::Stmt& s, const std::shared_ptr<Env>& env, Frame& frame);
   void exec_import(const lang::Stmt& s, const std::shared_ptr<Env>& env);
   void exec_item(const lang::Stmt& s, const std::shared_ptr<Env>& env);
+  // §12-§13 (evaluator_object.cpp): an object block's value (a shape, a CSG block
+  // whose statements are run, or `object { EXPR ... }`), Error after errors; and
+  // where a made object goes: into the CSG block being evaluated, else the scene.
+  Value eval_object(std::string_view keyword, const BlockInfo* block, const lang::Block& body,
+                    lang::Span kw, const std::shared_ptr<Env>& env);
+  Value eval_object_expr(const lang::Expr& e, const std::shared_ptr<Env>& env);
+  void emit(std::shared_ptr<const ObjectNode> node);
+  // True (after reporting) when a non-object item stands inside a CSG block.
+  bool inside_group_error(std::string_view what, lang::Span at);
 
   Value eval(const lang::Expr& e, const std::shared_ptr<Env>& env);
   // The numeric fast path (evaluator_number.cpp): evaluates `e` when it is pure
@@ -231,6 +241,14 @@ class Evaluator {
   std::vector<NumOp> num_ops_;  // the compiled numeric expressions (fast_number)
   std::vector<NumCode> num_codes_;
   std::vector<double> num_stack_;
+  // The CSG blocks being evaluated, innermost last: the objects made go to the
+  // innermost one's children.
+  struct Collector {
+    std::vector<std::shared_ptr<const ObjectNode>>* children;
+    const BlockInfo* block;
+    lang::Span keyword;
+  };
+  std::vector<Collector> collectors_;
   std::deque<std::vector<EvaluatedProp>> props_pool_;  // see PropsLease
   std::size_t props_depth_ = 0;
 };

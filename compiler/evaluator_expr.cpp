@@ -82,6 +82,8 @@ Value Evaluator::eval(const Expr& e, const std::shared_ptr<Env>& env) {
       return eval_component(e, env);
     case ExprKind::Constructor:
       return eval_constructor(e, env);
+    case ExprKind::Object:
+      return eval_object_expr(e, env);
     case ExprKind::Error:
       return Value::error();
   }

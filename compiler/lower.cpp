@@ -33,9 +33,11 @@ double num(const std::vector<EvaluatedProp>& props, PropId id) {
   return get(props, id)->value.n;
 }
 
-// Appends the transform ops of `props` (translate/rotate/scale, in the order
-// written) to `t`: each later op applies after the earlier ones.
-ir::Transform transforms(const std::vector<EvaluatedProp>& props) {
+}  // namespace
+
+// The transform ops of `props` (translate/rotate/scale, in the order written):
+// each later op applies after the earlier ones.
+ir::Transform object_transforms(const std::vector<EvaluatedProp>& props) {
   ir::Transform t;
   for (const EvaluatedProp& p : props) {
     switch (p.info->type) {
@@ -55,7 +57,19 @@ ir::Transform transforms(const std::vector<EvaluatedProp>& props) {
   return t;
 }
 
-}  // namespace
+ir::Motion object_motion(const EvaluatedProp* motion) {
+  ir::Motion m;
+  if (!motion) return m;
+  for (const EvaluatedProp& op : motion->nested) {
+    ir::TransformOp t;
+    t.kind = op.info->type == PropType::Translate ? ir::TransformOp::Kind::Translate
+             : op.info->type == PropType::Rotate  ? ir::TransformOp::Kind::Rotate
+                                                  : ir::TransformOp::Kind::Scale;
+    t.value = op.value.v;
+    m.ops.push_back(t);
+  }
+  return m;
+}
 
 const EvaluatedProp* find_evaluated(const std::vector<EvaluatedProp>& props, PropId id) {
   for (const EvaluatedProp& p : props)
@@ -302,28 +316,24 @@ void SceneBuilder::add_object(const BlockInfo& block, Span kw,
     scene_.shapes.pop_back();
     return;
   }
-  const EvaluatedProp* mat = get(props, PropId::object_material);
-  if (mat) {
-    s.material = material_index(mat->value.mat());
-    scene_.materials[s.material].src = scene_.materials[s.material].src.line
-                                           ? scene_.materials[s.material].src
-                                           : ref(mat->value_span);
-  } else {
-    if (default_material_ < 0) default_material_ = material_index(ir::Material{});
-    s.material = static_cast<std::uint32_t>(default_material_);
-  }
-  s.world_from_object = transforms(props);
-  if (const EvaluatedProp* m = get(props, PropId::object_motion)) {
-    for (const EvaluatedProp& op : m->nested) {
-      ir::TransformOp t;
-      t.kind = op.info->type == PropType::Translate ? ir::TransformOp::Kind::Translate
-               : op.info->type == PropType::Rotate  ? ir::TransformOp::Kind::Rotate
-                                                    : ir::TransformOp::Kind::Scale;
-      t.value = op.value.v;
-      s.motion.ops.push_back(t);
-    }
-  }
+  s.material = get(props, PropId::object_material) ? material_of(props, 0) : default_material();
+  s.world_from_object = object_transforms(props);
+  if (const EvaluatedProp* m = get(props, PropId::object_motion)) s.motion = object_motion(m);
   prefault(scene_.shapes, shapes_prefault_);
+}
+
+std::uint32_t SceneBuilder::default_material() {
+  if (default_material_ < 0) default_material_ = material_index(ir::Material{});
+  return static_cast<std::uint32_t>(default_material_);
+}
+
+std::uint32_t SceneBuilder::material_of(const std::vector<EvaluatedProp>& props,
+                                        std::uint32_t inherited) {
+  const EvaluatedProp* mat = get(props, PropId::object_material);
+  if (!mat) return inherited;
+  std::uint32_t i = material_index(mat->value.mat());
+  if (!scene_.materials[i].src.line) scene_.materials[i].src = ref(mat->value_span);
+  return i;
 }
 
 bool SceneBuilder::load_mesh(const std::string& file, Span span, std::uint32_t& index) {

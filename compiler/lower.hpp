@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -30,6 +31,11 @@ struct EvaluatedProp {
 Value make_constructor_value(const BlockInfo& block, const std::vector<EvaluatedProp>& props);
 
 class SceneBuilder;
+struct ObjectNode;
+// An object's own transform (its translate/rotate/scale in the order written) and
+// the motion of its `motion { }` property (none when null).
+ir::Transform object_transforms(const std::vector<EvaluatedProp>& props);
+ir::Motion object_motion(const EvaluatedProp* motion);
 const EvaluatedProp* find_evaluated(const std::vector<EvaluatedProp>& props, PropId id);
 
 // What a kind's lowering hook (lower_kinds.cpp) sees: the block's keyword, its
@@ -56,6 +62,9 @@ class SceneBuilder {
   void add_item(const BlockInfo& block, lang::Span keyword_span,
                 const std::vector<EvaluatedProp>& props);
   void set_background(const Value& color, lang::Span span);
+  // §12-§13 (lower_objects.cpp): places an object value's tree in the scene: a CSG
+  // block, an instance, or any object made where a CSG block was being evaluated.
+  void add_object_tree(const std::shared_ptr<const ObjectNode>& node);
 
   // Settings overrides from the command line (--set, --spp, --res, --seed),
   // applied after the program ran. `value` has passed check_value.
@@ -70,7 +79,9 @@ class SceneBuilder {
   // system time, as much as evaluating the object). Never shrinks or grows by less
   // than doubling, so a wrong hint costs only untouched address space.
   void expect_objects(std::size_t n);
-  bool too_many_objects() const { return scene_.shapes.size() >= kMaxSceneObjects; }
+  bool too_many_objects() const {
+    return scene_.shapes.size() + scene_.parts.size() >= kMaxSceneObjects;
+  }
 
   // Fills defaults (focal_distance), the file table, and returns the scene.
   ir::Scene finish();
@@ -90,6 +101,27 @@ class SceneBuilder {
   mutable RefCache ref_cache_[2];
   mutable unsigned ref_next_ = 0;
   std::uint32_t material_index(const ir::Material& m);
+  std::uint32_t default_material();
+  // The material of `props`, or `inherited` when it gives none.
+  std::uint32_t material_of(const std::vector<EvaluatedProp>& props, std::uint32_t inherited);
+  // What an object inherits from the objects around it (lower_objects.cpp).
+  struct Placement {
+    ir::Transform world_from_parent;        // or the CSG object's / prototype's space
+    std::uint32_t material = 0;             // the material of the nearest enclosing object with one
+    const EvaluatedProp* motion = nullptr;  // an enclosing object's motion
+  };
+  // Places `node` into the scene's shapes, or, with `proto`, into prototype parts.
+  void place(const ObjectNode& node, const Placement& at, std::vector<std::uint32_t>* proto);
+  // The CSG node of `node` (a CSG child) in its CSG object's space, or -1 after errors.
+  std::int64_t csg_node(const ObjectNode& node, const ir::Transform& csg_from_parent,
+                        std::uint32_t material, const ObjectNode& csg);
+  std::int64_t csg_children(const ObjectNode& node, const ir::Transform& csg_from_node,
+                            std::uint32_t material, const ObjectNode& csg);
+  // The prototype of an object value placed by `object { }` (made once per value),
+  // or -1 after errors.
+  std::int64_t prototype_for(const std::shared_ptr<const ObjectNode>& value);
+  std::unordered_map<const ObjectNode*, std::int64_t> prototype_ids_;
+  std::vector<std::shared_ptr<const ObjectNode>> prototype_values_;  // keeps the keys alive
   void add_object(const BlockInfo& block, lang::Span kw, const std::vector<EvaluatedProp>& props);
   void apply_settings(const std::vector<EvaluatedProp>& props);
   void apply_camera(const std::vector<EvaluatedProp>& props);

@@ -64,7 +64,11 @@ struct Registry {
       ir_default(block("area_light"), field, to_value(v));
     });
     ir_default(block("area_light"), "samples", Value::vec2(area.samples_u, area.samples_v));
-    for (BlockInfo& b : blocks) b.is_object = b.shape_kind >= 0;
+    const auto ops = ir::spellings<ir::CsgOp>();
+    for (std::size_t i = 0; i < ops.size(); ++i)
+      for (BlockInfo& b : blocks)
+        if (b.name == ops[i]) b.csg_op = static_cast<int>(i);
+    for (BlockInfo& b : blocks) b.is_object = b.shape_kind >= 0 || b.csg_op >= 0;
   }
 
   void add(std::string_view block, std::string_view name, PropType type, Check check,

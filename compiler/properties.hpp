@@ -75,6 +75,7 @@ struct BlockInfo {
   // registry is built): an index of ir::ShapeGeom, ir::MaterialModel or
   // ir::PatternVariant, or -1.
   int shape_kind = -1, material_kind = -1, pattern_kind = -1;
+  int csg_op = -1;  // a CSG block (§12): its ir::CsgOp, matched by spelling
 };
 
 // True for the settings enums' property types.

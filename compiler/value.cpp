@@ -3,6 +3,8 @@
 #include <charconv>
 #include <cmath>
 
+#include "compiler/object_value.hpp"
+
 namespace snell::compile {
 
 std::string_view type_name(Type t) {
@@ -27,6 +29,8 @@ std::string_view type_name(Type t) {
       return "pattern";
     case Type::Function:
       return "function";
+    case Type::Object:
+      return "object";
   }
   return "?";
 }
@@ -62,6 +66,8 @@ std::string to_string(const Value& v) {
       return ir::to_string(v.pat());
     case Type::Function:
       return "fn " + v.func().name;
+    case Type::Object:
+      return std::string(v.object()->keyword_name()) + " { ... }";
   }
   return "?";
 }

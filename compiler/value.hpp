@@ -28,12 +28,14 @@ enum class Type : std::uint8_t {
   Vec3,
   Material,
   Pattern,
-  Function
+  Function,
+  Object  // §13: an object block written as a value
 };
 
 std::string_view type_name(Type t);
 
 struct Env;
+struct ObjectNode;  // object_value.hpp
 
 // A user function (closure over its defining scope) or a builtin.
 struct Closure {
@@ -56,6 +58,9 @@ struct Value {
   const ir::Material& mat() const { return *static_cast<const ir::Material*>(obj.get()); }
   const ir::Texture& pat() const { return *static_cast<const ir::Texture*>(obj.get()); }
   const Closure& func() const { return *static_cast<const Closure*>(obj.get()); }
+  std::shared_ptr<const ObjectNode> object() const {
+    return std::static_pointer_cast<const ObjectNode>(obj);
+  }
 
   static Value none() { return {}; }
   static Value error() {
@@ -103,6 +108,12 @@ struct Value {
     Value r;
     r.type = Type::Pattern;
     r.obj = std::make_shared<const ir::Texture>(t);
+    return r;
+  }
+  static Value of_object(std::shared_ptr<const ObjectNode> node) {
+    Value r;
+    r.type = Type::Object;
+    r.obj = std::move(node);
     return r;
   }
   static Value of_function(std::shared_ptr<const Closure> c) {

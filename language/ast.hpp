@@ -45,9 +45,13 @@ struct Property {
 
 // `{ name value name value ... }`, the body of a scene item, of a named material
 // constructor (`dielectric { ior 1.5 }`), of `checker { ... }` or of `motion { ... }`.
+// A CSG block's body (§12) also holds statements, in order; an instance's
+// (`object { EXPR ... }`, §13) starts with the expression it places.
 struct Block {
   Span span;  // from '{' to '}'
   std::vector<Property> properties;
+  std::vector<StmtPtr> statements;  // CSG blocks
+  ExprPtr subject;                  // `object { EXPR ... }`
 };
 
 enum class ExprKind : std::uint8_t {
@@ -63,6 +67,8 @@ enum class ExprKind : std::uint8_t {
   Component,    // text "x", "y" or "z"; args[0] the vector
   Constructor,  // text: constructor name (diffuse, mirror, glossy, dielectric, glazed,
                 //       checker); positional form: args[0]; named form: block
+  Object,       // text: an object block's keyword (sphere, union, object, ...); block:
+                //       its body (§13: an object value)
   Error,        // placeholder after a syntax error; the compiler skips it silently
 };
 
@@ -121,10 +127,6 @@ struct Expr {
   ExprList args;
   BlockPtr block;
 };
-
-inline void ExprDelete::operator()(Expr* e) const noexcept {
-  e->~Expr();
-}
 
 // Storage for a Program's Expr nodes, in chunks that die with the Program rather
 // than one heap block per node: a 50 MB scene has about five million of them,
@@ -189,6 +191,10 @@ struct Stmt {
   mutable std::int32_t symbol = -1;  // Let/Fn/For: the compiler's interned id (a cache)
 };
 
+inline void ExprDelete::operator()(Expr* e) const noexcept {
+  e->~Expr();
+}
+
 struct Program {
   FileId file = 0;
   std::vector<StmtPtr> statements;
@@ -208,6 +214,10 @@ struct Program {
 
 // The names the parser treats as constructors in operand position (see parser.hpp).
 bool is_constructor_name(std::string_view name);
+// groups.def: CSG blocks, the instance block, and the object properties.
+bool is_group_name(std::string_view name);
+bool is_instance_name(std::string_view name);
+bool is_object_property(std::string_view name);
 
 // A stable, indented, human-readable dump; tests/lang compares against it.
 std::string dump_ast(const Program& program);

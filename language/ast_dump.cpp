@@ -129,6 +129,7 @@ class Dumper {
   }
 
   void properties(const Block& b, int indent) {
+    if (b.subject) expr(*b.subject, indent, "places: ");
     for (const Property& p : b.properties) {
       if (p.block) {
         line(indent, "", "Property " + p.name + " {}", p.name_span);
@@ -138,6 +139,7 @@ class Dumper {
         if (p.value) expr(*p.value, indent + 1, "");
       }
     }
+    stmts(b.statements, indent);
   }
 
   template <typename List>  // std::vector<ExprPtr> or ExprList
@@ -178,6 +180,9 @@ class Dumper {
         break;
       case ExprKind::Constructor:
         head = "Constructor " + e.text + (e.block ? " {}" : "");
+        break;
+      case ExprKind::Object:
+        head = "Object " + e.text;
         break;
       case ExprKind::Error:
         head = "Error";

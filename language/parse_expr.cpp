@@ -46,6 +46,27 @@ bool is_constructor_name(std::string_view name) {
   return false;
 }
 
+bool is_group_name(std::string_view name) {
+#define SNELL_GROUP(group) \
+  if (name == #group) return true;
+#include "language/groups.def"
+  return false;
+}
+
+bool is_instance_name(std::string_view name) {
+#define SNELL_INSTANCE(keyword) \
+  if (name == #keyword) return true;
+#include "language/groups.def"
+  return false;
+}
+
+bool is_object_property(std::string_view name) {
+#define SNELL_OBJECT_PROP(prop) \
+  if (name == #prop) return true;
+#include "language/groups.def"
+  return false;
+}
+
 ExprPtr Parser::make(ExprKind kind, Span span) {
   ExprPtr e = arena_->make();
   e->kind = kind;
@@ -151,8 +172,9 @@ ExprPtr Parser::parse_call(ExprPtr callee) {
   auto call = make(ExprKind::Call, callee->span);
   std::size_t mark = scratch_exprs_.size();
   scratch_exprs_.push_back(std::move(callee));
-  bool saved_vector = in_vector_;
+  bool saved_vector = in_vector_, saved_object = no_object_;
   in_vector_ = false;  // (a > b) in an argument list is unambiguous
+  no_object_ = false;
   if (!at(TokenKind::RParen)) {
     for (;;) {
       scratch_exprs_.push_back(parse_expr());
@@ -160,6 +182,7 @@ ExprPtr Parser::parse_call(ExprPtr callee) {
     }
   }
   in_vector_ = saved_vector;
+  no_object_ = saved_object;
   take_scratch(call->args, mark);
   if (!accept(TokenKind::RParen)) missing_closer(open, ")", "the argument list");
   call->span = from(call->span);
@@ -193,6 +216,9 @@ ExprPtr Parser::parse_primary() {
           (peek_.kind == TokenKind::LBrace ||
            (starts_operand(peek_.kind) && peek_.kind != TokenKind::Minus)))
         return parse_constructor();
+      // `if c {` and `for i in 0..n {`: the brace begins the body (as in Rust, an
+      // object value in a condition or loop bound needs parentheses).
+      if (peek_.kind == TokenKind::LBrace && !no_object_) return parse_object_value();
       auto e = make(ExprKind::Name, here());
       e->text = std::string(cur_.text);
       advance();
@@ -233,13 +259,25 @@ ExprPtr Parser::parse_constructor() {
   return e;
 }
 
+// object-value -> IDENT object-body        (§13: any object block as a value)
+ExprPtr Parser::parse_object_value() {
+  auto e = make(ExprKind::Object, here());
+  e->text = std::string(cur_.text);
+  advance();
+  e->block = parse_object_body(e->text);
+  e->span = Span::join(e->span, e->block->span);
+  return e;
+}
+
 // paren -> '(' expr ')'
 ExprPtr Parser::parse_paren() {
   Token open = take();
-  bool saved_vector = in_vector_;
+  bool saved_vector = in_vector_, saved_object = no_object_;
   in_vector_ = false;  // <(a > b), 1, 2> is how a comparison goes inside a vector
+  no_object_ = false;
   ExprPtr inner = parse_expr();
   in_vector_ = saved_vector;
+  no_object_ = saved_object;
   if (!accept(TokenKind::RParen)) missing_closer(open, ")", "the parenthesised expression");
   return inner;
 }
@@ -249,8 +287,9 @@ ExprPtr Parser::parse_vector() {
   Token open = take();
   auto vec = make(ExprKind::Vector, open.span);
   std::size_t mark = scratch_exprs_.size();
-  bool saved_vector = in_vector_;
+  bool saved_vector = in_vector_, saved_object = no_object_;
   in_vector_ = true;
+  no_object_ = false;
   for (;;) {
     scratch_exprs_.push_back(parse_expr());
     if (accept(TokenKind::Comma)) continue;
@@ -259,26 +298,52 @@ ExprPtr Parser::parse_vector() {
     break;
   }
   in_vector_ = saved_vector;
+  no_object_ = saved_object;
   take_scratch(vec->args, mark);
   vec->span = from(open.span);
   return vec;
 }
 
-// block -> '{' { IDENT ( block | expr ) } '}'
+// property -> IDENT ( block | expr )
+bool Parser::parse_property(Property& prop) {
+  panic_ = false;  // a property name is a recovery point
+  prop.name = std::string(cur_.text);
+  prop.name_span = here();
+  advance();
+  if (at(TokenKind::LBrace)) {
+    prop.block = parse_block(prop.name);
+  } else if (starts_operand(cur_.kind) || at(TokenKind::Error)) {
+    prop.value = parse_expr();
+  } else {
+    error_here(DiagKind::ExpectedExpression,
+               "expected a value for '" + prop.name + "', found " + describe(cur_));
+    prop.value = error_expr(here());
+    return false;
+  }
+  return true;
+}
+
+// block -> '{' { property } '}'
 // Properties have no separators: a value ends where the next property name starts,
 // since no expression can continue with an identifier.
 BlockPtr Parser::parse_block(std::string_view owner) {
-  auto block = std::make_unique<Block>();
-  block->span = here();
   DepthGuard guard(*this);
   Token open = take();  // callers checked it is '{'
   if (too_deep()) {
     accept(TokenKind::RBrace);
+    auto block = std::make_unique<Block>();
     block->span = from(open.span);
     return block;
   }
-  bool saved_vector = in_vector_;
+  return parse_block_rest(open, owner);
+}
+
+// The properties of a block after its '{' (`open`), up to its '}'.
+BlockPtr Parser::parse_block_rest(const Token& open, std::string_view owner) {
+  auto block = std::make_unique<Block>();
+  bool saved_vector = in_vector_, saved_object = no_object_;
   in_vector_ = false;
+  no_object_ = false;
   std::size_t mark = scratch_properties_.size();
   for (;;) {
     if (accept(TokenKind::RBrace)) break;
@@ -289,20 +354,8 @@ BlockPtr Parser::parse_block(std::string_view owner) {
       break;
     }
     if (at(TokenKind::Identifier)) {
-      panic_ = false;  // a property name is a recovery point
       Property prop;
-      prop.name = std::string(cur_.text);
-      prop.name_span = here();
-      advance();
-      if (at(TokenKind::LBrace)) {
-        prop.block = parse_block(prop.name);
-      } else if (starts_operand(cur_.kind) || at(TokenKind::Error)) {
-        prop.value = parse_expr();
-      } else {
-        error_here(DiagKind::ExpectedExpression,
-                   "expected a value for '" + prop.name + "', found " + describe(cur_));
-        prop.value = error_expr(here());
-      }
+      parse_property(prop);
       scratch_properties_.push_back(std::move(prop));
       continue;
     }
@@ -321,6 +374,7 @@ BlockPtr Parser::parse_block(std::string_view owner) {
     }
   }
   in_vector_ = saved_vector;
+  no_object_ = saved_object;
   take_scratch(block->properties, mark);
   block->span = from(open.span);
   return block;

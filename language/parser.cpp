@@ -385,14 +385,18 @@ StmtPtr Parser::parse_for() {
                "expected 'in' after 'for " + stmt->name + "', found " + describe(cur_));
     return fail();
   }
+  no_object_ = true;
   stmt->exprs.push_back(parse_expr());
+  no_object_ = false;
   if (!accept(TokenKind::DotDot)) {
     error_here(DiagKind::ExpectedToken,
                "expected '..' between the bounds of the loop, found " + describe(cur_));
     return fail();
   }
+  no_object_ = true;
   stmt->exprs.push_back(parse_expr());
   if (accept(TokenKind::KwStep)) stmt->exprs.push_back(parse_expr());
+  no_object_ = false;
   stmt->kind = StmtKind::For;
   parse_body(stmt->body, "the loop body");
   stmt->span = from(begin);
@@ -407,7 +411,9 @@ StmtPtr Parser::parse_if() {
   Span begin = take().span;
   // else-if chains are a loop, not recursion: a long chain is not deep nesting.
   for (;;) {
+    no_object_ = true;
     stmt->exprs.push_back(parse_expr());
+    no_object_ = false;
     stmt->branches.emplace_back();
     if (!parse_body(stmt->branches.back(), "the 'if' body")) break;
     if (!accept(TokenKind::KwElse)) break;
@@ -443,17 +449,104 @@ StmtPtr Parser::parse_import() {
   return stmt;
 }
 
-// item -> IDENT block [ ';' ]
+// item -> IDENT object-body [ ';' ]
 StmtPtr Parser::parse_item() {
   auto stmt = std::make_unique<Stmt>();
   stmt->kind = StmtKind::Item;
   stmt->name = std::string(cur_.text);
   stmt->name_span = stmt->span = here();
   advance();
-  stmt->block = parse_block(stmt->name);
+  stmt->block = parse_object_body(stmt->name);
   accept(TokenKind::Semicolon);
   stmt->span = from(stmt->span);
   return stmt;
+}
+
+// object-body -> group-body | instance-body | block      (by the keyword: groups.def)
+BlockPtr Parser::parse_object_body(std::string_view owner) {
+  if (is_group_name(owner)) return parse_group_body(owner);
+  if (is_instance_name(owner)) return parse_instance_body(owner);
+  return parse_block(owner);
+}
+
+// group-body -> '{' { object-property | statement } '}'
+// object-property -> OBJPROP ( block | expr )         (OBJPROP: groups.def)
+// A line that starts with an object property's name is that property; any other is
+// a statement, so `scale (2)` is the property and `f(2);` a call.
+BlockPtr Parser::parse_group_body(std::string_view owner) {
+  auto block = std::make_unique<Block>();
+  block->span = here();
+  DepthGuard guard(*this);
+  Token open = take();  // callers checked it is '{'
+  if (too_deep()) {
+    accept(TokenKind::RBrace);
+    block->span = from(open.span);
+    return block;
+  }
+  bool saved_vector = in_vector_, saved_object = no_object_;
+  in_vector_ = no_object_ = false;
+  std::vector<Property> props;  // not the scratch list: statements below use it
+  for (;;) {
+    if (accept(TokenKind::RBrace)) break;
+    if (at(TokenKind::EndOfFile)) {
+      panic_ = false;
+      missing_closer(open, "}", "the '" + std::string(owner) + "' block");
+      break;
+    }
+    if (panic_) {
+      synchronize();
+      continue;
+    }
+    std::uint64_t before = consumed_;
+    if (at(TokenKind::Identifier) && is_object_property(cur_.text)) {
+      Property prop;
+      parse_property(prop);
+      props.push_back(std::move(prop));
+    } else if (StmtPtr st = parse_statement()) {
+      block->statements.push_back(std::move(st));
+    }
+    if (consumed_ == before) advance();  // always make progress
+  }
+  in_vector_ = saved_vector;
+  no_object_ = saved_object;
+  block->properties = std::move(props);
+  block->span = from(open.span);
+  return block;
+}
+
+// instance-body -> '{' expr { property } '}'
+BlockPtr Parser::parse_instance_body(std::string_view owner) {
+  Span begin = here();
+  Token open = cur_;
+  if (peek_.kind == TokenKind::RBrace || peek_.kind == TokenKind::EndOfFile) {
+    take();
+    error_here(DiagKind::ExpectedExpression, "'" + std::string(owner) +
+                                                 " { }' places an object value: write " +
+                                                 std::string(owner) + " { NAME ... }");
+    accept(TokenKind::RBrace);
+    auto block = std::make_unique<Block>();
+    block->span = from(begin);
+    return block;
+  }
+  // The subject is parsed as the first "property value" of a block: take the
+  // brace, the expression, then the rest as a plain block body.
+  DepthGuard guard(*this);
+  take();
+  if (too_deep()) {
+    accept(TokenKind::RBrace);
+    auto block = std::make_unique<Block>();
+    block->span = from(begin);
+    return block;
+  }
+  bool saved_vector = in_vector_, saved_object = no_object_;
+  in_vector_ = no_object_ = false;
+  ExprPtr subject = parse_expr();
+  in_vector_ = saved_vector;
+  no_object_ = saved_object;
+  BlockPtr block = parse_block_rest(open, owner);
+  block->subject = std::move(subject);
+  block->span = from(begin);
+  return block;
 }
 
 // background -> 'background' expr [ ';' ]

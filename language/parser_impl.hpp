@@ -60,6 +60,14 @@ class Parser {
 
   // ---- blocks and expressions (parse_expr.cpp)
   BlockPtr parse_block(std::string_view owner);  // owner: "sphere", "motion", ...
+  // The body of an object block by its keyword: a CSG body (groups.def), an
+  // instance body, or a plain property block.
+  BlockPtr parse_object_body(std::string_view owner);
+  BlockPtr parse_group_body(std::string_view owner);
+  BlockPtr parse_block_rest(const Token& open, std::string_view owner);
+  BlockPtr parse_instance_body(std::string_view owner);
+  bool parse_property(Property& prop);  // IDENT ( block | expr ), at the IDENT
+  ExprPtr parse_object_value();
   ExprPtr parse_expr(int min_power = 1);
   ExprPtr parse_unary();
   ExprPtr parse_postfix(ExprPtr base);
@@ -86,6 +94,7 @@ class Parser {
   std::uint64_t consumed_ = 0;  // tokens consumed so far (progress checks)
   bool panic_ = false;
   bool in_vector_ = false;  // parsing an element of a vector literal at its top level
+  bool no_object_ = false;  // an `if` condition or loop bound: IDENT '{' is not a value
   int depth_ = 0;           // nesting of expressions, blocks and chains built so far
   std::unique_ptr<ExprArena> arena_ = std::make_unique<ExprArena>();  // moved into the Program
   std::vector<ExprPtr> scratch_exprs_;                                // see take_scratch()

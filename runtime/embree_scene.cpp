@@ -15,6 +15,7 @@
 
 #include "runtime/geometry/motion.hpp"
 #include "runtime/geometry/traits.hpp"
+#include "runtime/ir/bounds.hpp"
 
 namespace snell::rt {
 
@@ -39,14 +40,25 @@ void user_bounds(const RTCBoundsFunctionArguments* args) {
   store_bounds(box.lo, box.hi, args->bounds_o);
 }
 
+// A set whose primitives have parts (CSG leaves) says which one a hit is on.
+template <class Set>
+concept HasParts = requires(const Set& s, unsigned p, float f, Vec3f v, float& t, Vec3f& n,
+                            unsigned& sub, const Ray& r, Hit& h) {
+  s.hit(p, f, v, v, f, f, t, n, sub);
+  s.refine(p, r, f, h, sub);
+};
+
 template <class Set>
 bool user_hit(const Set& set, unsigned prim, RTCRayN* ray, unsigned n, unsigned i, float& t,
-              Vec3f& ng) {
-  return set.hit(
-      prim, RTCRayN_time(ray, n, i),
-      Vec3f(RTCRayN_org_x(ray, n, i), RTCRayN_org_y(ray, n, i), RTCRayN_org_z(ray, n, i)),
-      Vec3f(RTCRayN_dir_x(ray, n, i), RTCRayN_dir_y(ray, n, i), RTCRayN_dir_z(ray, n, i)),
-      RTCRayN_tnear(ray, n, i), RTCRayN_tfar(ray, n, i), t, ng);
+              Vec3f& ng, unsigned& sub) {
+  float time = RTCRayN_time(ray, n, i);
+  Vec3f o(RTCRayN_org_x(ray, n, i), RTCRayN_org_y(ray, n, i), RTCRayN_org_z(ray, n, i));
+  Vec3f d(RTCRayN_dir_x(ray, n, i), RTCRayN_dir_y(ray, n, i), RTCRayN_dir_z(ray, n, i));
+  float tnear = RTCRayN_tnear(ray, n, i), tfar = RTCRayN_tfar(ray, n, i);
+  if constexpr (HasParts<Set>)
+    return set.hit(prim, time, o, d, tnear, tfar, t, ng, sub);
+  else
+    return set.hit(prim, time, o, d, tnear, tfar, t, ng);
 }
 
 template <class Set>
@@ -58,12 +70,14 @@ void user_intersect(const RTCIntersectFunctionNArguments* args) {
     if (!args->valid[i]) continue;
     float t;
     Vec3f n;
-    if (!user_hit(set, args->primID, ray, args->N, i, t, n)) continue;
+    unsigned sub = 0;
+    if (!user_hit(set, args->primID, ray, args->N, i, t, n, sub)) continue;
     RTCRayN_tfar(ray, args->N, i) = t;
     RTCHitN_Ng_x(hit, args->N, i) = n.x;
     RTCHitN_Ng_y(hit, args->N, i) = n.y;
     RTCHitN_Ng_z(hit, args->N, i) = n.z;
-    RTCHitN_u(hit, args->N, i) = 0;
+    // The part rides in u (exact in a float below 2^24; CsgProgram's leaves).
+    RTCHitN_u(hit, args->N, i) = float(sub);
     RTCHitN_v(hit, args->N, i) = 0;
     RTCHitN_primID(hit, args->N, i) = args->primID;
     RTCHitN_geomID(hit, args->N, i) = args->geomID;
@@ -79,7 +93,8 @@ void user_occluded(const RTCOccludedFunctionNArguments* args) {
     if (!args->valid[i]) continue;
     float t;
     Vec3f n;
-    if (user_hit(set, args->primID, ray, args->N, i, t, n))
+    unsigned sub;
+    if (user_hit(set, args->primID, ray, args->N, i, t, n, sub))
       RTCRayN_tfar(ray, args->N, i) = -INFINITY;
   }
 }
@@ -92,20 +107,23 @@ void embree_error(void* user, RTCError code, const char* str) {
 }  // namespace
 
 // What a hit on one Embree geometry is: `resolve` fills the hit's kind, index,
-// point and offset from the primitive and its barycentrics.
+// material, point and offset from the primitive and its barycentrics (u carries
+// a CSG object's leaf).
+struct Layer;
 struct GeomEntry {
   void (*resolve)(const GeomEntry&, unsigned prim, float u, float v, const Ray& r, float t,
                   Hit& hit) = nullptr;
   const void* data = nullptr;
+  const Layer* layer = nullptr;
   std::uint32_t shape = 0;  // a moving triangle shape's index
 };
 
-struct EmbreeScene::Impl {
-  RTCDevice device = nullptr;
+// One BVH and what its hits resolve through: the world's, or a prototype's (§13),
+// built once in the prototype's own space and instanced.
+struct Layer {
   RTCScene scene = nullptr;
-  std::string error;
+  const std::vector<ir::Shape>* shapes = nullptr;  // what Hit::index names here
   UserSets user_sets;
-  UnboundedSets unbounded;
   std::vector<GeomEntry> geoms;  // by geomID
   // The static triangles: per-primitive owner (shape index) and offset, and their
   // buffers as Embree holds them (camera-relative float), to rebuild hit points
@@ -114,21 +132,60 @@ struct EmbreeScene::Impl {
   std::vector<float> tri_offset;
   const float* tri_vb = nullptr;
   const unsigned* tri_ib = nullptr;
-  std::size_t triangle_count = 0, moving_shapes = 0, motion_steps = 0, light_tris = 0;
+  std::size_t triangle_count = 0;
+  Box3 box;  // of a prototype, in its space (a moving instance's time steps)
+
+  ~Layer() {
+    if (scene) rtcReleaseScene(scene);
+  }
+  void enter(unsigned id, GeomEntry e) {
+    if (geoms.size() <= id) geoms.resize(id + 1);
+    e.layer = this;
+    geoms[id] = e;
+  }
+  std::uint32_t material_of(std::uint32_t shape) const { return (*shapes)[shape].material; }
+};
+
+// An instance: the prototype layer it places and where (camera-relative).
+struct InstanceEntry {
+  const Layer* proto = nullptr;
+  const ir::Shape* shape_ir = nullptr;
+  std::uint32_t shape = 0;
+  ir::Mat4 obj_from_rel, rel_from_obj;  // the static placement
+  Vec3 origin;
+  bool moving = false;
+};
+
+struct EmbreeScene::Impl {
+  RTCDevice device = nullptr;
+  std::string error;
+  Layer world;
+  std::vector<std::unique_ptr<Layer>> protos;
+  std::vector<InstanceEntry> instances;  // by the instance's geomID in the world BVH
+  UnboundedSets unbounded;
+  std::size_t moving_shapes = 0, motion_steps = 0, light_tris = 0, instance_count = 0;
   bool any_unbounded = false;  // some unbounded set is not empty (known once built)
 
   ~Impl() {
-    if (scene) rtcReleaseScene(scene);
+    protos.clear();  // the scenes before their device
+    if (world.scene) rtcReleaseScene(world.scene);
+    world.scene = nullptr;
     if (device) rtcReleaseDevice(device);
   }
 
-  void enter(unsigned id, GeomEntry e) {
-    if (geoms.size() <= id) geoms.resize(id + 1);
-    geoms[id] = e;
+  RTCScene new_scene() {
+    RTCScene s = rtcNewScene(device);
+    rtcSetSceneBuildQuality(s, RTC_BUILD_QUALITY_HIGH);
+    // Robust mode: watertight triangle tests and conservative traversal. Without
+    // it, rays aimed exactly at the shared vertices of a closed mesh missed 12.9 %
+    // of the time (tests/hardcases, #6); see embree_scene.hpp for the cost.
+    rtcSetSceneFlags(s, RTC_SCENE_FLAG_ROBUST);
+    return s;
   }
 
-  unsigned add_triangles(const std::vector<Vec3>& verts, const std::vector<std::uint32_t>& idx,
-                         const float** vb_out = nullptr, const unsigned** ib_out = nullptr) {
+  unsigned add_triangles(Layer& layer, const std::vector<Vec3>& verts,
+                         const std::vector<std::uint32_t>& idx, const float** vb_out = nullptr,
+                         const unsigned** ib_out = nullptr) {
     RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
     auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(
         g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), verts.size()));
@@ -141,7 +198,7 @@ struct EmbreeScene::Impl {
     for (std::size_t i = 0; i < idx.size(); ++i) ib[i] = idx[i];
     if (vb_out) *vb_out = vb, *ib_out = ib;
     rtcCommitGeometry(g);
-    unsigned id = rtcAttachGeometry(scene, g);
+    unsigned id = rtcAttachGeometry(layer.scene, g);
     rtcReleaseGeometry(g);
     return id;
   }
@@ -169,15 +226,15 @@ struct EmbreeScene::Impl {
                                 soup.verts.size() / 3));
     for (std::size_t i = 0; i < soup.verts.size(); ++i) ib[i] = unsigned(i);
     rtcCommitGeometry(g);
-    unsigned id = rtcAttachGeometry(scene, g);
+    unsigned id = rtcAttachGeometry(world.scene, g);
     rtcReleaseGeometry(g);
-    enter(id, {&resolve_plain, nullptr, shape});
+    world.enter(id, {&resolve_plain, nullptr, nullptr, shape});
     ++moving_shapes;
     motion_steps += segs + 1;
   }
 
   template <class Set>
-  void add_user(const Set& set) {
+  void add_user(Layer& layer, const Set& set) {
     if (set.size() == 0) return;
     RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
     rtcSetGeometryUserPrimitiveCount(g, static_cast<unsigned>(set.size()));
@@ -186,25 +243,46 @@ struct EmbreeScene::Impl {
     rtcSetGeometryIntersectFunction(g, &user_intersect<Set>);
     rtcSetGeometryOccludedFunction(g, &user_occluded<Set>);
     rtcCommitGeometry(g);
-    unsigned id = rtcAttachGeometry(scene, g);
+    unsigned id = rtcAttachGeometry(layer.scene, g);
     rtcReleaseGeometry(g);
-    enter(id, {&resolve_user<Set>, &set, 0});
+    layer.enter(id, {&resolve_user<Set>, &set, nullptr, 0});
   }
+
+  // Builds a layer's static triangles and user sets after its shapes were added.
+  void finish_layer(Layer& layer, std::vector<Vec3>& tv, std::vector<std::uint32_t>& ti) {
+    layer.triangle_count = ti.size() / 3;
+    if (!ti.empty()) {
+      unsigned id = add_triangles(layer, tv, ti, &layer.tri_vb, &layer.tri_ib);
+      layer.enter(id, {&resolve_static_triangles, &layer, nullptr, 0});
+    }
+    layer.tri_offset.resize(ti.size() / 3);
+    for (std::size_t t = 0; t < layer.tri_offset.size(); ++t)
+      layer.tri_offset[t] =
+          triangle_offset(layer.tri_vb + 3 * ti[3 * t], layer.tri_vb + 3 * ti[3 * t + 1],
+                          layer.tri_vb + 3 * ti[3 * t + 2]);
+    std::apply([&](const auto&... set) { (add_user(layer, set), ...); }, layer.user_sets);
+  }
+
+  const Layer& prototype(const ir::Scene& sc, std::uint32_t index);
+  void add_instance(const ir::Scene& sc, const ir::Shape& s, const ir::Instance& g,
+                    std::uint32_t shape, Vec3 origin, bool moving);
 
   // The resolvers of GeomEntry, one per geometry class.
   static void resolve_static_triangles(const GeomEntry& e, unsigned prim, float u, float v,
                                        const Ray&, float, Hit& hit) {
-    const Impl& im = *static_cast<const Impl*>(e.data);
+    const Layer& l = *static_cast<const Layer*>(e.data);
     hit.kind = Hit::Kind::Shape;
-    hit.index = im.tri_owner[prim];
-    triangle_point(im.tri_vb, im.tri_ib, prim, u, v, hit.p);
-    hit.offset = im.tri_offset[prim];
+    hit.index = l.tri_owner[prim];
+    hit.material = l.material_of(hit.index);
+    triangle_point(l.tri_vb, l.tri_ib, prim, u, v, hit.p);
+    hit.offset = l.tri_offset[prim];
   }
   // Moving triangles: o + t·d and the Wächter–Binder offset.
   static void resolve_plain(const GeomEntry& e, unsigned, float, float, const Ray& r, float t,
                             Hit& hit) {
     hit.kind = Hit::Kind::Shape;
     hit.index = e.shape;
+    hit.material = e.layer->material_of(hit.index);
     hit.p = r.org + r.dir * t, hit.offset = 0;
   }
   static void resolve_light(const GeomEntry&, unsigned prim, float, float, const Ray& r, float t,
@@ -214,18 +292,23 @@ struct EmbreeScene::Impl {
     hit.p = r.org + r.dir * t, hit.offset = 0;
   }
   template <class Set>
-  static void resolve_user(const GeomEntry& e, unsigned prim, float, float, const Ray& r, float t,
+  static void resolve_user(const GeomEntry& e, unsigned prim, float u, float, const Ray& r, float t,
                            Hit& hit) {
     const Set& set = *static_cast<const Set*>(e.data);
     hit.kind = Hit::Kind::Shape;
     hit.index = set.shape(prim);
-    set.refine(prim, r, t, hit);
+    hit.material = e.layer->material_of(hit.index);
+    if constexpr (HasParts<Set>)
+      set.refine(prim, r, t, hit, static_cast<unsigned>(u));
+    else
+      set.refine(prim, r, t, hit);
   }
 };
 namespace {
-// Adds one shape to the BVH's inputs by its kind's geometry class.
+// Adds one shape to a layer's inputs by its kind's geometry class.
 struct ShapeAdder {
   EmbreeScene::Impl& im;
+  Layer& layer;
   const ir::Scene& sc;
   Vec3 origin;
   bool shutter_open;
@@ -247,16 +330,28 @@ struct ShapeAdder {
       for (std::size_t i = 0; i < soup.verts.size(); ++i) {
         tv.push_back(xf.point(soup.verts[i]) - origin);
         ti.push_back(std::uint32_t(tv.size() - 1));
-        if (i % 3 == 0) im.tri_owner.push_back(si);
+        if (i % 3 == 0) layer.tri_owner.push_back(si);
       }
     } else if constexpr (G::kind == GeometryClass::User) {
+      auto& set = std::get<typename G::Static>(layer.user_sets);
+      auto& mset = std::get<typename G::Moving>(layer.user_sets);
+      auto add_to = [&](auto& target) {
+        if constexpr (requires { target.add(s, g, si, origin, sc); })
+          target.add(s, g, si, origin, sc);
+        else
+          target.add(s, g, si, origin);
+      };
       if (moving) {
-        std::get<typename G::Moving>(im.user_sets).add(s, g, si, origin);
+        add_to(mset);
         ++im.moving_shapes;
       } else {
-        std::get<typename G::Static>(im.user_sets).add(s, g, si, origin);
+        add_to(set);
       }
+    } else if constexpr (G::kind == GeometryClass::Instance) {
+      if (&layer != &im.world) throw std::runtime_error("an instance inside a prototype");
+      im.add_instance(sc, s, g, si, origin, moving);
     } else {
+      if (&layer != &im.world) throw std::runtime_error("an unbounded shape inside a prototype");
       std::get<typename G::Set>(im.unbounded).add(s, g, si, origin, moving);
       if (moving) ++im.moving_shapes;
     }
@@ -264,39 +359,83 @@ struct ShapeAdder {
 };
 }  // namespace
 
+const Layer& EmbreeScene::Impl::prototype(const ir::Scene& sc, std::uint32_t index) {
+  if (protos.size() <= index) protos.resize(sc.prototypes.size());
+  if (protos[index]) return *protos[index];
+  auto layer = std::make_unique<Layer>();
+  layer->scene = new_scene();
+  layer->shapes = &sc.parts;
+  std::vector<Vec3> tv;
+  std::vector<std::uint32_t> ti;
+  ShapeAdder add{*this, *layer, sc, Vec3{0, 0, 0}, false, tv, ti};
+  for (std::uint32_t pi : sc.prototypes[index].parts) {
+    const ir::Shape& s = sc.parts[pi];
+    std::visit([&](const auto& g) { add(g, s, pi); }, s.geom);
+    ir::world_hull_points(s, sc, [&](Vec3 p) { layer->box.grow(p); });
+  }
+  finish_layer(*layer, tv, ti);
+  rtcCommitScene(layer->scene);
+  protos[index] = std::move(layer);
+  return *protos[index];
+}
+
+void EmbreeScene::Impl::add_instance(const ir::Scene& sc, const ir::Shape& s, const ir::Instance& g,
+                                     std::uint32_t shape, Vec3 origin, bool moving) {
+  const Layer& proto = prototype(sc, g.prototype);
+  RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
+  rtcSetGeometryInstancedScene(geom, proto.scene);
+  auto set_step = [&](unsigned step, const ir::Mat4& m) {
+    float xfm[12];  // column-major 3x4
+    for (int c = 0; c < 4; ++c)
+      for (int r = 0; r < 3; ++r) xfm[3 * c + r] = float(m(r, c));
+    rtcSetGeometryTransform(geom, step, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, xfm);
+  };
+  ir::Transform rel = ir::Transform::translate(-origin) * s.world_from_object;
+  if (moving) {
+    // Embree interpolates the matrices linearly between steps: as many steps as a
+    // moving triangle shape whose vertices are the prototype's box corners.
+    std::vector<Vec3> corners;
+    for (int i = 0; i < 8; ++i)
+      corners.push_back(Vec3{i & 1 ? proto.box.hi[0] : proto.box.lo[0],
+                             i & 2 ? proto.box.hi[1] : proto.box.lo[1],
+                             i & 4 ? proto.box.hi[2] : proto.box.lo[2]});
+    unsigned segs = motion_segments(s, corners, origin);
+    rtcSetGeometryTimeStepCount(geom, segs + 1);
+    for (unsigned step = 0; step <= segs; ++step)
+      set_step(step, rel_at(s, origin, double(step) / segs).m);
+    ++moving_shapes;
+    motion_steps += segs + 1;
+  } else {
+    set_step(0, rel.m);
+  }
+  rtcCommitGeometry(geom);
+  unsigned id = rtcAttachGeometry(world.scene, geom);
+  rtcReleaseGeometry(geom);
+  if (instances.size() <= id) instances.resize(id + 1);
+  instances[id] = {&proto, &s, shape, rel.inv, rel.m, origin, moving};
+  ++instance_count;
+}
+
 EmbreeScene::EmbreeScene(const ir::Scene& sc, ir::Vec3 origin)
     : origin_(origin), impl_(std::make_unique<Impl>()) {
   Impl& im = *impl_;
   im.device = rtcNewDevice(nullptr);
   if (!im.device) throw std::runtime_error("cannot create the Embree device");
   rtcSetDeviceErrorFunction(im.device, embree_error, &im.error);
-  im.scene = rtcNewScene(im.device);
-  rtcSetSceneBuildQuality(im.scene, RTC_BUILD_QUALITY_HIGH);
-  // Robust mode: watertight triangle tests and conservative traversal. Without
-  // it, rays aimed exactly at the shared vertices of a closed mesh missed 12.9 %
-  // of the time (tests/hardcases, #6); see embree_scene.hpp for the cost.
-  rtcSetSceneFlags(im.scene, RTC_SCENE_FLAG_ROBUST);
+  im.world.scene = im.new_scene();
+  im.world.shapes = &sc.shapes;
   // §6/§8: objects move only while the shutter is open; with a closed shutter they
   // stand where their transforms place them (the shutter-open placement).
   bool shutter_open = sc.camera.shutter_close > sc.camera.shutter_open;
 
   std::vector<Vec3> tv;
   std::vector<std::uint32_t> ti;
-  ShapeAdder add{im, sc, origin, shutter_open, tv, ti};
+  ShapeAdder add{im, im.world, sc, origin, shutter_open, tv, ti};
   for (std::uint32_t si = 0; si < sc.shapes.size(); ++si) {
     const ir::Shape& s = sc.shapes[si];
     std::visit([&](const auto& g) { add(g, s, si); }, s.geom);
   }
-  im.triangle_count = ti.size() / 3;
-  if (!ti.empty()) {
-    unsigned id = im.add_triangles(tv, ti, &im.tri_vb, &im.tri_ib);
-    im.enter(id, {&Impl::resolve_static_triangles, &im, 0});
-  }
-  im.tri_offset.resize(ti.size() / 3);
-  for (std::size_t t = 0; t < im.tri_offset.size(); ++t)
-    im.tri_offset[t] = triangle_offset(im.tri_vb + 3 * ti[3 * t], im.tri_vb + 3 * ti[3 * t + 1],
-                                       im.tri_vb + 3 * ti[3 * t + 2]);
-  std::apply([&](const auto&... set) { (im.add_user(set), ...); }, im.user_sets);
+  im.finish_layer(im.world, tv, ti);
   im.any_unbounded =
       std::apply([](const auto&... set) { return (!set.empty() || ...); }, im.unbounded);
 
@@ -315,11 +454,11 @@ EmbreeScene::EmbreeScene(const ir::Scene& sc, ir::Vec3 origin)
       lv.push_back(c + l.edge2);
       for (std::uint32_t j : {0u, 1u, 2u, 0u, 2u, 3u}) li.push_back(base + j);
     }
-    unsigned id = im.add_triangles(lv, li);
-    im.enter(id, {&Impl::resolve_light, nullptr, 0});
+    unsigned id = im.add_triangles(im.world, lv, li);
+    im.world.enter(id, {&Impl::resolve_light, nullptr, nullptr, 0});
     im.light_tris = 2;
   }
-  rtcCommitScene(im.scene);
+  rtcCommitScene(im.world.scene);
   if (!im.error.empty()) throw std::runtime_error(im.error);
 }
 
@@ -345,6 +484,42 @@ RTCRayHit make_rayhit(const Ray& r) {
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   return rh;
 }
+
+// A hit on an instance: resolved in the prototype's space from the ray carried
+// there in double, then brought back. The point's error is the prototype's
+// (its bounded offset, stretched by the transform) plus the rounding of the
+// transformed point; a moving instance uses o + t·d and the Wächter–Binder offset,
+// as moving shapes do (Embree interpolates its matrices between time steps).
+void resolve_instance(const InstanceEntry& ie, const RTCRayHit& rh, const Ray& r, Hit& hit) {
+  ir::Mat4 obj_from_rel = ie.obj_from_rel, rel_from_obj = ie.rel_from_obj;
+  if (ie.moving) {
+    ir::Transform t = rel_at(*ie.shape_ir, ie.origin, shutter_fraction(r.time));
+    obj_from_rel = t.inv, rel_from_obj = t.m;
+  }
+  Vec3 o = xform_point(obj_from_rel, Vec3(r.org.x, r.org.y, r.org.z));
+  Vec3 d = xform_vector(obj_from_rel, Vec3(r.dir.x, r.dir.y, r.dir.z));
+  Ray ro{to_float(o.x, o.y, o.z), to_float(d.x, d.y, d.z), r.tmax, r.time, r.tnear};
+  const GeomEntry& e = ie.proto->geoms[rh.hit.geomID];
+  e.resolve(e, rh.hit.primID, rh.hit.u, rh.hit.v, ro, hit.t, hit);
+  if (hit.material == ir::kInheritMaterial) hit.material = ie.shape_ir->material;
+  hit.index = ie.shape;
+  Vec3 n = ir::normalize(
+      xform_normal_by_inverse(obj_from_rel, Vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z)));
+  hit.ng = to_float(n.x, n.y, n.z);
+  if (ie.moving || !(hit.offset > 0)) {
+    hit.p = r.org + r.dir * hit.t, hit.offset = 0;
+    return;
+  }
+  Vec3 p = xform_point(rel_from_obj, Vec3(hit.p.x, hit.p.y, hit.p.z));
+  // The largest stretch of the linear part bounds how far the offset grows.
+  double stretch = 0;
+  for (int i = 0; i < 3; ++i)
+    stretch = std::fmax(stretch, std::fabs(rel_from_obj(i, 0)) + std::fabs(rel_from_obj(i, 1)) +
+                                     std::fabs(rel_from_obj(i, 2)));
+  hit.p = to_float(p.x, p.y, p.z);
+  hit.offset =
+      float(double(hit.offset) * stretch + kSurfaceOffsetUlps * 0x1p-24 * double(max_abs(hit.p)));
+}
 }  // namespace
 
 bool EmbreeScene::intersect(const Ray& r, Hit& hit) const {
@@ -352,7 +527,7 @@ bool EmbreeScene::intersect(const Ray& r, Hit& hit) const {
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   RTCRayHit rh = make_rayhit(r);
-  rtcIntersect1(im.scene, &ctx, &rh);
+  rtcIntersect1(im.world.scene, &ctx, &rh);
   bool found = false;
   // Embree's float test overflows on triangles ~1e13 across (t = inf, Ng = 0); the
   // compiler keeps scenes within 1e12 of the camera, and such a hit is a miss here.
@@ -360,9 +535,13 @@ bool EmbreeScene::intersect(const Ray& r, Hit& hit) const {
       (rh.hit.Ng_x != 0 || rh.hit.Ng_y != 0 || rh.hit.Ng_z != 0)) {
     found = true;
     hit.t = rh.ray.tfar;
-    hit.ng = normalize(Vec3f(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
-    const GeomEntry& e = im.geoms[rh.hit.geomID];
-    e.resolve(e, rh.hit.primID, rh.hit.u, rh.hit.v, r, hit.t, hit);
+    if (rh.hit.instID[0] != RTC_INVALID_GEOMETRY_ID) {
+      resolve_instance(im.instances[rh.hit.instID[0]], rh, r, hit);
+    } else {
+      hit.ng = normalize(Vec3f(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
+      const GeomEntry& e = im.world.geoms[rh.hit.geomID];
+      e.resolve(e, rh.hit.primID, rh.hit.u, rh.hit.v, r, hit.t, hit);
+    }
   }
   double tmax = found ? double(hit.t) : double(r.tmax);
   // Coincident surfaces (a box resting on a plane: its bottom face and the floor):
@@ -374,11 +553,13 @@ bool EmbreeScene::intersect(const Ray& r, Hit& hit) const {
   double tie = found && im.any_unbounded
                    ? std::fmax(double(hit.offset), 0x1p-19 * double(max_abs(hit.p)))
                    : 0;
+  bool plane = false;
   std::apply(
       [&](const auto&... set) {
-        ((set.intersect(r, tmax, tie, hit) ? (found = true, tie = 0) : 0), ...);
+        ((set.intersect(r, tmax, tie, hit) ? (found = plane = true, tie = 0) : 0), ...);
       },
       im.unbounded);
+  if (plane) hit.material = im.world.material_of(hit.index);
   return found;
 }
 
@@ -389,7 +570,7 @@ bool EmbreeScene::occluded(const Ray& r) const {
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   RTCRay ray = make_rayhit(r).ray;
-  rtcOccluded1(im.scene, &ctx, &ray);
+  rtcOccluded1(im.world.scene, &ctx, &ray);
   return ray.tfar < 0;
 }
 
@@ -408,18 +589,19 @@ std::string to_string(const Ray& r) {
 }
 
 std::string to_string(const Hit& h) {
-  return fmt::format("hit {{ t {} ng {} p {} offset {} {} {} }}", h.t, rt::to_string(h.ng),
-                     rt::to_string(h.p), h.offset,
-                     h.kind == Hit::Kind::Shape ? "shape" : "area_light", h.index);
+  return fmt::format("hit {{ t {} ng {} p {} offset {} {} {} material {} }}", h.t,
+                     rt::to_string(h.ng), rt::to_string(h.p), h.offset,
+                     h.kind == Hit::Kind::Shape ? "shape" : "area_light", h.index, h.material);
 }
 
 std::string EmbreeScene::to_string() const {
   const Impl& im = *impl_;
   return fmt::format(
-      "embree_scene {{ origin {} spheres {} planes {} triangles {} area_light_tris {} "
-      "moving_shapes {} motion_steps {} }}",
-      ir::to_string(origin_), std::get<SphereSet>(im.user_sets).size(),
-      std::get<PlaneSet>(im.unbounded).size(), im.triangle_count, im.light_tris, im.moving_shapes,
+      "embree_scene {{ origin {} spheres {} csg {} planes {} triangles {} area_light_tris {} "
+      "instances {} prototypes {} moving_shapes {} motion_steps {} }}",
+      ir::to_string(origin_), std::get<SphereSet>(im.world.user_sets).size(),
+      std::get<CsgSet>(im.world.user_sets).size(), std::get<PlaneSet>(im.unbounded).size(),
+      im.world.triangle_count, im.light_tris, im.instance_count, im.protos.size(), im.moving_shapes,
       im.motion_steps);
 }
 

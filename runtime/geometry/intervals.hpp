@@ -25,8 +25,12 @@
 
 namespace snell::rt::geom {
 
+// The outward normals (any length, the solid's object space) where the ray enters
+// and leaves; a bound clipped to [tmin, tmax] has no surface there and a
+// meaningless normal.
 struct Span {
   double t_in, t_out;
+  Vec3 n_in, n_out;
 };
 
 // Up to four spans per primitive (a torus seen edge on has two; room to spare).
@@ -35,22 +39,24 @@ struct Spans {
   Span span[kMax];
   int count = 0;
   // Adds [a, b] ∩ [lo, hi] when not empty.
-  void add(double a, double b, double lo, double hi) {
+  void add(double a, double b, double lo, double hi, Vec3 na = {}, Vec3 nb = {}) {
     a = std::fmax(a, lo), b = std::fmin(b, hi);
-    if (a < b && count < kMax) span[count++] = {a, b};
+    if (a < b && count < kMax) span[count++] = {a, b, na, nb};
   }
 };
 
 inline Spans solid_intervals(const ir::Sphere& s, Vec3 o, Vec3 d, double lo, double hi) {
   Spans out;
   double t0, t1;
-  if (sphere_roots(o, d, s.center, s.radius, t0, t1)) out.add(t0, t1, lo, hi);
+  if (sphere_roots(o, d, s.center, s.radius, t0, t1))
+    out.add(t0, t1, lo, hi, o + d * t0 - s.center, o + d * t1 - s.center);
   return out;
 }
 
 inline Spans solid_intervals(const ir::Box& b, Vec3 o, Vec3 d, double lo, double hi) {
   Spans out;
   double a = -INFINITY, z = INFINITY;
+  int ka = 0, kz = 0;  // the slabs entered last and left first
   for (int k = 0; k < 3; ++k) {
     if (d[k] == 0) {
       if (!(o[k] >= b.min[k] && o[k] <= b.max[k])) return out;
@@ -58,9 +64,14 @@ inline Spans solid_intervals(const ir::Box& b, Vec3 o, Vec3 d, double lo, double
     }
     double t0 = (b.min[k] - o[k]) / d[k], t1 = (b.max[k] - o[k]) / d[k];
     if (t0 > t1) std::swap(t0, t1);
-    a = std::fmax(a, t0), z = std::fmin(z, t1);
+    if (t0 > a) a = t0, ka = k;
+    if (t1 < z) z = t1, kz = k;
   }
-  out.add(a, z, lo, hi);
+  // Entering through a face the ray runs against: its outward normal faces -d.
+  Vec3 na, nz;
+  na[ka] = d[ka] > 0 ? -1 : 1;
+  nz[kz] = d[kz] > 0 ? 1 : -1;
+  out.add(a, z, lo, hi, na, nz);
   return out;
 }
 
@@ -68,14 +79,14 @@ inline Spans solid_intervals(const ir::Plane& p, Vec3 o, Vec3 d, double lo, doub
   Spans out;
   double s = ir::dot(p.normal, o) - p.distance, dn = ir::dot(p.normal, d);
   if (dn == 0) {
-    if (s < 0) out.add(-INFINITY, INFINITY, lo, hi);
+    if (s < 0) out.add(-INFINITY, INFINITY, lo, hi, p.normal, p.normal);
     return out;
   }
   double t = -s / dn;
   if (dn > 0)
-    out.add(-INFINITY, t, lo, hi);  // leaving the half-space
+    out.add(-INFINITY, t, lo, hi, p.normal, p.normal);  // leaving the half-space
   else
-    out.add(t, INFINITY, lo, hi);
+    out.add(t, INFINITY, lo, hi, p.normal, p.normal);
   return out;
 }
 
@@ -90,7 +101,10 @@ Spans walk_surface(const L& l, Vec3 o, Vec3 d, double lo, double hi) {
   ir::Mat4 local_from_object = l.object_from_local.inv;
   Vec3 ol = xform_point(local_from_object, o), dl = xform_vector(local_from_object, d);
   double t = lo, start = lo;
+  Vec3 n_start;
   bool inside = false, first = true;
+  // Normals to the kind's object space: the inverse transpose of object_from_local.
+  auto to_object = [&](Vec3 n) { return xform_normal_by_inverse(local_from_object, n); };
   for (int i = 0; i < 4 * Spans::kMax; ++i) {
     double th;
     Vec3 n;
@@ -99,10 +113,10 @@ Spans walk_surface(const L& l, Vec3 o, Vec3 d, double lo, double hi) {
     if (first && !entering) inside = true, start = lo;  // the ray starts inside
     first = false;
     if (entering && !inside) {
-      start = th;
+      start = th, n_start = to_object(n);
       inside = true;
     } else if (!entering && inside) {
-      out.add(start, th, lo, hi);
+      out.add(start, th, lo, hi, n_start, to_object(n));
       inside = false;
     }
     double ulp = std::nextafter(std::fabs(th), INFINITY) - std::fabs(th);
@@ -115,7 +129,7 @@ Spans walk_surface(const L& l, Vec3 o, Vec3 d, double lo, double hi) {
     Vec3 n;
     if (l.intersect(ol, dl, hi, INFINITY, th, n) && !(ir::dot(n, dl) < 0)) inside = true;
   }
-  if (inside) out.add(start, hi, lo, hi);
+  if (inside) out.add(start, hi, lo, hi, n_start);
   return out;
 }
 

@@ -35,6 +35,9 @@ struct Hit {
   float offset = 0;
   enum class Kind : std::uint8_t { Shape, AreaLight } kind = Kind::Shape;
   std::uint32_t index = 0;  // into ir::Scene::shapes or ::area_lights
+  // Into ir::Scene::materials: the surface's, which for a CSG object is the leaf's
+  // and for an instance the part's (or the instance's, where the part has none).
+  std::uint32_t material = 0;
 };
 
 // Where a ray leaving `h` to the side of unit `n` starts: `h.p` moved off the

@@ -25,6 +25,7 @@
 #include <tuple>
 
 #include "runtime/geometry/cone.hpp"
+#include "runtime/geometry/csg.hpp"
 #include "runtime/geometry/disc.hpp"
 #include "runtime/geometry/local_set.hpp"
 #include "runtime/geometry/plane.hpp"
@@ -34,7 +35,7 @@
 
 namespace snell::rt::geom {
 
-enum class GeometryClass { Triangles, User, Unbounded };
+enum class GeometryClass { Triangles, User, Unbounded, Instance };
 
 template <class Kind>
 struct Geometry;
@@ -86,12 +87,27 @@ struct Geometry<ir::Torus> {
   using Moving = MovingLocalSet<TorusSurface>;
 };
 
+// §12: one user primitive per CSG object (csg.hpp); its set also takes the scene
+// (`add(shape, kind, index, origin, scene)`: the tree) and reports the leaf hit.
+template <>
+struct Geometry<ir::Csg> {
+  static constexpr GeometryClass kind = GeometryClass::User;
+  using Static = CsgSet;
+  using Moving = MovingCsgSet;
+};
+// §13: an instance of a prototype, which the accelerator builds once as a BVH of
+// its own and instances (embree_scene.cpp).
+template <>
+struct Geometry<ir::Instance> {
+  static constexpr GeometryClass kind = GeometryClass::Instance;
+};
+
 // Every user primitive set, in the order the BVH attaches them, and every
 // unbounded set.
 using UserSets =
     std::tuple<SphereSet, MovingSphereSet, LocalSet<TruncatedCone>, MovingLocalSet<TruncatedCone>,
                LocalSet<DiscSurface>, MovingLocalSet<DiscSurface>, LocalSet<TorusSurface>,
-               MovingLocalSet<TorusSurface>>;
+               MovingLocalSet<TorusSurface>, CsgSet, MovingCsgSet>;
 using UnboundedSets = std::tuple<PlaneSet>;
 
 }  // namespace snell::rt::geom

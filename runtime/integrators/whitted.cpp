@@ -214,7 +214,7 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
                            ir::to_string(scene_.area_lights[hit.index].src, scene_), hit.t);
     } else {
       const ir::Shape& shape = scene_.shapes[hit.index];
-      const ir::Material& mat = mats[shape.material];
+      const ir::Material& mat = mats[hit.material];
       Vec3f p = hit.p;
       p_surface = p;
       Vec3f ng = hit.ng;               // outward

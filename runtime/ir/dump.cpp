@@ -97,7 +97,8 @@ std::string to_string(const Shape& sh) {
         return std::string(KindName<std::decay_t<decltype(g)>>::value) + " {" + fields_text(g);
       },
       sh.geom);
-  s += " material #" + std::to_string(sh.material);
+  s += sh.material == kInheritMaterial ? std::string(" material inherit")
+                                       : " material #" + std::to_string(sh.material);
   if (!sh.world_from_object.is_identity())
     s += " world_from_object " + to_string(sh.world_from_object);
   if (!sh.motion.ops.empty()) {
@@ -179,9 +180,28 @@ std::string to_string(const Scene& scene) {
     s += "mesh #" + std::to_string(i) + " " + to_string(scene.meshes[i]) + "\n";
   for (std::size_t i = 0; i < scene.shapes.size(); ++i)
     s += "shape #" + std::to_string(i) + " " + to_string(scene.shapes[i]) + "\n";
+  for (std::size_t i = 0; i < scene.parts.size(); ++i)
+    s += "part #" + std::to_string(i) + " " + to_string(scene.parts[i]) + "\n";
+  for (std::size_t i = 0; i < scene.csg_nodes.size(); ++i)
+    s += "csg #" + std::to_string(i) + " " + to_string(scene.csg_nodes[i]) + "\n";
+  for (std::size_t i = 0; i < scene.prototypes.size(); ++i)
+    s += "prototype #" + std::to_string(i) + " " + to_string(scene.prototypes[i]) + "\n";
   for (const PointLight& l : scene.point_lights) s += to_string(l) + "\n";
   for (const AreaLight& l : scene.area_lights) s += to_string(l) + "\n";
   return s;
+}
+
+std::string to_string(const CsgNode& n) {
+  if (n.leaf()) return "leaf { part #" + std::to_string(n.part) + " }";
+  std::string s = std::string(spelling(n.op)) + " {";
+  for (std::uint32_t c : n.children) s += " #" + std::to_string(c);
+  return s + " }";
+}
+
+std::string to_string(const Prototype& p) {
+  std::string s = "{ parts";
+  for (std::uint32_t c : p.parts) s += " #" + std::to_string(c);
+  return s + " }";
 }
 
 }  // namespace snell::ir

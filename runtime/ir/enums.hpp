@@ -32,6 +32,7 @@ struct EnumInfo;
 #define SNELL_KIND_SPELLING(name, Type) #name,
 enum class ShapeKind : std::uint8_t {
 #define SNELL_SHAPE SNELL_KIND_ENUMERATOR
+#define SNELL_COMPOSITE SNELL_KIND_ENUMERATOR
 #include "runtime/ir/kinds.def"
 };
 template <>
@@ -39,6 +40,7 @@ struct EnumInfo<ShapeKind> {
   static constexpr std::string_view name = "ShapeKind";
   static constexpr std::string_view spellings[] = {
 #define SNELL_SHAPE SNELL_KIND_SPELLING
+#define SNELL_COMPOSITE SNELL_KIND_SPELLING
 #include "runtime/ir/kinds.def"
   };
 };

@@ -59,6 +59,8 @@ Features analyze_features(const Scene& scene) {
   std::vector<bool> used(scene.materials.size(), false);
   for (const Shape& s : scene.shapes)
     if (s.material < used.size()) used[s.material] = true;
+  for (const Shape& s : scene.parts)
+    if (s.material < used.size()) used[s.material] = true;
   for (std::size_t i = 0; i < scene.materials.size(); ++i) {
     if (!used[i]) continue;
     const Material& m = scene.materials[i];

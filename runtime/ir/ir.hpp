@@ -94,6 +94,11 @@ struct Scene {
   Vec3 background{0, 0, 0};
   std::vector<Material> materials;
   std::vector<Shape> shapes;
+  // §12-§13: what CSG objects and instances are made of. A part's world_from_object
+  // places it in its CSG object's or prototype's space.
+  std::vector<Shape> parts;
+  std::vector<CsgNode> csg_nodes;
+  std::vector<Prototype> prototypes;
   std::vector<MeshData> meshes;
   std::vector<PointLight> point_lights;
   std::vector<AreaLight> area_lights;
@@ -144,6 +149,8 @@ std::string to_string(const Texture& t);
 std::string to_string(const Material& m);
 std::string to_string(const Shape& s);
 std::string to_string(const MeshData& m);
+std::string to_string(const CsgNode& n);
+std::string to_string(const Prototype& p);
 std::string to_string(const PointLight& l);
 std::string to_string(const AreaLight& l);
 std::string to_string(const Camera& c);

@@ -4,7 +4,9 @@
 // kinds' defaults (compiler/properties.def takes its defaults from them).
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <tuple>
 #include <variant>
@@ -155,12 +157,31 @@ struct Torus {
   }
 };
 
+// §12. A CSG object: the tree rooted at Scene::csg_nodes[node], whose leaves are
+// Scene::parts placed in the CSG object's space.
+struct Csg {
+  std::uint32_t node = 0;
+  template <class Scene, class F>
+  void hull(const Scene& scene, F&& f) const;  // below: the leaves' hulls
+  static constexpr auto fields() { return std::tuple{field("node", &Csg::node)}; }
+};
+// §13. An instance: Scene::prototypes[prototype], shared by every instance of it,
+// placed by the instance's transforms.
+struct Instance {
+  std::uint32_t prototype = 0;
+  template <class Scene, class F>
+  void hull(const Scene& scene, F&& f) const;  // below: the prototype's parts' hulls
+  static constexpr auto fields() { return std::tuple{field("prototype", &Instance::prototype)}; }
+};
+
 #define SNELL_SHAPE(name, Type) Type,
+#define SNELL_COMPOSITE(name, Type) Type,
 using ShapeGeom = variant_of<
 #include "runtime/ir/kinds.def"
     ListEnd>;
 
 #define SNELL_SHAPE SNELL_KIND_NAME
+#define SNELL_COMPOSITE SNELL_KIND_NAME
 #include "runtime/ir/kinds.def"
 
 // One transform step of a `motion { }` block (§8).
@@ -193,11 +214,70 @@ struct Shape {
   }
 };
 
+// A part (an element of Scene::parts: a CSG leaf or a prototype's shape) whose
+// material is this takes the material of the instance that places it (§13: an
+// instance's material applies to the children that have none).
+inline constexpr std::uint32_t kInheritMaterial = 0xffffffffu;
+inline constexpr std::uint32_t kNoPart = 0xffffffffu;
+
+// A node of a CSG tree (§12): a leaf names a part (Scene::parts[part]: a solid,
+// placed in the CSG object's space by its world_from_object), an operation its
+// children (indices into Scene::csg_nodes). Inside another CSG a union is the
+// solid union of its children, as merge is.
+struct CsgNode {
+  CsgOp op = CsgOp::Union;
+  std::uint32_t part = kNoPart;
+  std::vector<std::uint32_t> children;
+  bool leaf() const { return part != kNoPart; }
+};
+
+// The shared geometry of the instances of one object value (§13): parts placed in
+// the value's own space.
+struct Prototype {
+  std::vector<std::uint32_t> parts;  // into Scene::parts
+  SourceRef src;
+};
+
 // The triangles of mesh files, in object space.
 struct MeshData {
   std::string path;                    // as resolved on disk
   std::vector<Vec3> positions;         // object space
   std::vector<std::uint32_t> indices;  // three per triangle
 };
+
+// The composites' hulls: every leaf's hull points, placed in the composite's space
+// (a difference's removed children add nothing: it lies inside its first child).
+// The callback is type-erased: a part may itself be a composite, and a template
+// over the callback would recurse in its instantiation.
+template <class Scene>
+void composite_hull(const Scene& scene, const Shape& part, const std::function<void(Vec3)>& f);
+template <class Scene>
+void csg_hull(const Scene& scene, std::uint32_t node, const std::function<void(Vec3)>& f) {
+  if (node >= scene.csg_nodes.size()) return;
+  const CsgNode& n = scene.csg_nodes[node];
+  if (n.leaf()) {
+    if (n.part < scene.parts.size()) composite_hull(scene, scene.parts[n.part], f);
+    return;
+  }
+  std::size_t count =
+      n.op == CsgOp::Difference ? std::min<std::size_t>(1, n.children.size()) : n.children.size();
+  for (std::size_t i = 0; i < count; ++i) csg_hull(scene, n.children[i], f);
+}
+template <class Scene>
+void composite_hull(const Scene& scene, const Shape& part, const std::function<void(Vec3)>& f) {
+  std::function<void(Vec3)> placed = [&](Vec3 p) { f(part.world_from_object.point(p)); };
+  std::visit([&](const auto& g) { g.hull(scene, placed); }, part.geom);
+}
+template <class Scene, class F>
+void Csg::hull(const Scene& scene, F&& f) const {
+  csg_hull(scene, node, std::function<void(Vec3)>(std::ref(f)));
+}
+template <class Scene, class F>
+void Instance::hull(const Scene& scene, F&& f) const {
+  if (prototype >= scene.prototypes.size()) return;
+  std::function<void(Vec3)> g(std::ref(f));
+  for (std::uint32_t i : scene.prototypes[prototype].parts)
+    if (i < scene.parts.size()) composite_hull(scene, scene.parts[i], g);
+}
 
 }  // namespace snell::ir

@@ -99,6 +99,14 @@ void check_kind(const Disc& d, const Scene&, Bad&& bad) {
   if (!(d.hole >= 0 && d.hole < d.radius)) bad("disc hole must be >= 0 and < its radius");
 }
 template <class Bad>
+void check_kind(const Csg& c, const Scene& scene, Bad&& bad) {
+  if (c.node >= scene.csg_nodes.size()) bad("csg node out of range");
+}
+template <class Bad>
+void check_kind(const Instance& i, const Scene& scene, Bad&& bad) {
+  if (i.prototype >= scene.prototypes.size()) bad("prototype out of range");
+}
+template <class Bad>
 void check_kind(const Torus& t, const Scene&, Bad&& bad) {
   if (!(t.major > t.minor && t.minor > 0)) bad("torus needs major > minor > 0");
 }
@@ -213,16 +221,35 @@ std::vector<Problem> validate(const Scene& scene) {
         },
         m.model);
   }
-  for (const Shape& s : scene.shapes) {
+  auto check_shape = [&](const Shape& s, bool part) {
     auto bad_here = [&](const std::string& what) { bad(s.src, what); };
     bool finite = std::visit([](const auto& g) { return all_finite(g); }, s.geom);
     if (!finite || !finite_transform(s.world_from_object))
       bad(s.src, to_string(s.kind()) + " has a non-finite position, size or transform");
     for (const TransformOp& op : s.motion.ops)
       if (!is_finite(op.value)) bad(s.src, "motion has a non-finite value");
-    if (s.material >= scene.materials.size()) bad(s.src, "material index out of range");
+    if (s.material >= scene.materials.size() && !(part && s.material == kInheritMaterial))
+      bad(s.src, "material index out of range");
+    if (part && !s.motion.ops.empty()) bad(s.src, "a part does not move on its own");
     std::visit([&](const auto& g) { check_kind(g, scene, bad_here); }, s.geom);
+  };
+  for (const Shape& s : scene.shapes) check_shape(s, false);
+  for (const Shape& s : scene.parts) {
+    check_shape(s, true);
+    if (s.kind() == ShapeKind::Instance) bad(s.src, "an instance cannot be a part");
   }
+  // Children come before their parents, so a tree has no cycles.
+  for (std::size_t i = 0; i < scene.csg_nodes.size(); ++i) {
+    const CsgNode& n = scene.csg_nodes[i];
+    if (n.leaf() ? n.part >= scene.parts.size() : n.children.empty())
+      problems.push_back({{}, "csg node #" + std::to_string(i) + " is empty or out of range"});
+    for (std::uint32_t child : n.children)
+      if (child >= i)
+        problems.push_back({{}, "csg node #" + std::to_string(i) + " child out of order"});
+  }
+  for (const Prototype& p : scene.prototypes)
+    for (std::uint32_t i : p.parts)
+      if (i >= scene.parts.size()) bad(p.src, "prototype part out of range");
   for (const MeshData& m : scene.meshes) {
     for (const Vec3& p : m.positions)
       if (!is_finite(p)) {

@@ -16,6 +16,7 @@
 
 #include "compiler/lower.hpp"
 #include "compiler/properties.hpp"
+#include "language/ast.hpp"
 #include "language/diagnostics.hpp"
 
 using namespace snell;
@@ -316,4 +317,37 @@ TEST_CASE("registry: enum spellings parse back to their enumerators", "[registry
   round_trip(ir::ShapeKind{});
   round_trip(ir::MaterialKind{});
   round_trip(ir::PatternKind{});
+}
+
+TEST_CASE("registry: groups.def's CSG blocks, instance block and object properties agree",
+          "[registry]") {
+  // Every CSG block is a CsgOp spelling and a block of properties.def that takes
+  // the object properties; and the reverse.
+  std::set<std::string> groups;
+#define SNELL_GROUP(name) groups.insert(#name);
+#include "language/groups.def"
+  std::set<std::string> ops;
+  for (std::string_view s : ir::spellings<ir::CsgOp>()) ops.insert(std::string(s));
+  CHECK(groups == ops);
+  for (const std::string& g : groups) {
+    INFO(g);
+    const BlockInfo* b = find_block(g);
+    REQUIRE(b);
+    CHECK(b->kind == BlockKind::Item);
+    CHECK(b->is_object);
+    CHECK(b->csg_op >= 0);
+    CHECK(lang::is_group_name(g));
+  }
+  // The instance keyword is the `object` block, whose properties are the Obj rows.
+  std::set<std::string> instance;
+#define SNELL_INSTANCE(name) instance.insert(#name);
+#include "language/groups.def"
+  CHECK(instance == std::set<std::string>{"object"});
+  std::set<std::string> listed, obj_rows;
+#define SNELL_OBJECT_PROP(name) listed.insert(#name);
+#include "language/groups.def"
+  for (const PropInfo* p : find_block("object")->props) obj_rows.insert(std::string(p->name));
+  CHECK(listed == obj_rows);
+  for (const std::string& p : listed) CHECK(lang::is_object_property(p));
+  CHECK_FALSE(lang::is_object_property("radius"));
 }

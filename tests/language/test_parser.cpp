@@ -47,6 +47,8 @@ std::string sexpr(const Expr& e) {
         return s + " })";
       }
       return "(" + e.text + args(0) + ")";
+    case ExprKind::Object:
+      return "(object " + e.text + ")";
     case ExprKind::Error:
       return "ERROR";
   }
@@ -319,4 +321,42 @@ TEST_CASE("AST dump format", "[parser][dump]") {
         "  String \"a\\\"b\" @2:9\n");
   CHECK(parse_text("let x = 0.1 + 1e300;").dump.find("Number 0.1 @") != std::string::npos);
   CHECK(parse_text("let x = 0.1 + 1e300;").dump.find("Number 1e+300 @") != std::string::npos);
+}
+
+TEST_CASE("object blocks are values where an expression is expected (§13)", "[parser]") {
+  CHECK(expr("sphere { radius 1 }") == "(object sphere)");
+  CHECK(expr("union { sphere { } box { } }") == "(object union)");
+  CHECK(expr("f(torus { major 1 minor 0.2 })") == "(call f (object torus))");
+  // In a condition or loop bound the brace begins the body; parentheses make it a
+  // value there.
+  Parsed p = parse_text("if ready { sphere { } } for i in 0 .. n { box { } }");
+  CHECK(p.diags == Diags{});
+  CHECK(p.dump.find("Object") == std::string::npos);
+  Parsed q = parse_text("if (sphere { }) == x { }");
+  CHECK(q.diags == Diags{});
+  CHECK(q.dump.find("Object sphere") != std::string::npos);
+}
+
+TEST_CASE("a CSG body holds statements and object properties (§12)", "[parser]") {
+  Parsed p = parse_text(
+      "difference {\n"
+      "  box { min <0, 0, 0> max <1, 1, 1> }\n"
+      "  let r = 0.3;\n"
+      "  for i in 0 .. 3 { sphere { center <i, 1, 0> radius r } }\n"
+      "  if r > 0 { peg(1); }\n"
+      "  material m  scale (2)  translate <1, 0, 0>  motion { rotate <0, 9, 0> }\n"
+      "}\n"
+      "object { w rotate <90, 0, 0> material glass }\n");
+  CHECK(p.diags == Diags{});
+  const Stmt& d = *p.program.statements[0];
+  REQUIRE(d.block);
+  CHECK(d.block->statements.size() == 4);
+  REQUIRE(d.block->properties.size() == 4);
+  CHECK(d.block->properties[1].name == "scale");
+  CHECK(d.block->properties[3].block != nullptr);
+  const Stmt& o = *p.program.statements[1];
+  REQUIRE(o.block);
+  REQUIRE(o.block->subject);
+  CHECK(o.block->subject->text == "w");
+  CHECK(o.block->properties.size() == 2);
 }

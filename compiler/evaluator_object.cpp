@@ -1,0 +1,95 @@
+// §12-§13: object blocks as values, CSG blocks' bodies, and `object { EXPR }`.
+// Evaluating a block makes an ObjectNode (object_value.hpp); making one as a
+// statement places it: into the CSG block being evaluated (collectors_), or, at the
+// outermost level, into the scene through the builder.
+#include "compiler/evaluator.hpp"
+
+namespace snell::compile {
+
+using lang::DiagKind;
+using lang::Expr;
+using lang::Span;
+
+bool Evaluator::inside_group_error(std::string_view what, Span at) {
+  if (collectors_.empty()) return false;
+  const Collector& c = collectors_.back();
+  error(DiagKind::NotInsideCsg, at,
+        "'" + std::string(what) + "' cannot be inside a '" + std::string(c.block->name) +
+            "' block: a CSG block holds objects only")
+      .note(c.keyword, "the '" + std::string(c.block->name) + "' block is here");
+  return true;
+}
+
+void Evaluator::emit(std::shared_ptr<const ObjectNode> node) {
+  if (!collectors_.empty()) {
+    collectors_.back().children->push_back(std::move(node));
+    return;
+  }
+  builder_.add_object_tree(node);
+}
+
+Value Evaluator::eval_object_expr(const Expr& e, const std::shared_ptr<Env>& env) {
+  const BlockInfo* block = symbol_block_[symbol_of(e)];
+  bool instance = lang::is_instance_name(e.text);
+  if (!instance && !(block && block->is_object)) {
+    std::vector<std::string_view> names;
+    for (std::string_view n : block_names(BlockKind::Item))
+      if (const BlockInfo* b = find_block(n); b && b->is_object) names.push_back(n);
+    names.push_back("object");
+    auto d = error(DiagKind::UnknownBlock, e.span,
+                   "'" + e.text + "' is not an object block, so it is not a value");
+    std::string guess = lang::closest_match(e.text, names);
+    if (!guess.empty())
+      d.note("did you mean '" + guess + "'?");
+    else if (block && block->kind == BlockKind::Item)
+      d.note("a '" + e.text + "' is a scene item: write it as a statement");
+    return Value::error();
+  }
+  Span kw{e.span.file, e.span.begin, e.span.begin + static_cast<std::uint32_t>(e.text.size())};
+  return eval_object(e.text, instance ? nullptr : block, *e.block, kw, env);
+}
+
+Value Evaluator::eval_object(std::string_view keyword, const BlockInfo* block,
+                             const lang::Block& body, Span kw, const std::shared_ptr<Env>& env) {
+  auto node = std::make_shared<ObjectNode>();
+  node->block = block;
+  node->keyword = kw;
+  bool ok = true;
+  if (!block) {
+    // object { EXPR ... }: EXPR is the object value placed.
+    if (!body.subject) return Value::error();  // reported by the parser
+    Value v = eval(*body.subject, env);
+    if (v.is_error()) return v;
+    if (v.type != Type::Object) {
+      error(DiagKind::TypeMismatch, body.subject->span,
+            "'" + std::string(keyword) + " { }' places an object value, not a " +
+                std::string(type_name(v.type)))
+          .note("an object value is an object block used as a value: let w = union { ... };");
+      return Value::error();
+    }
+    node->children.push_back(v.object());
+    static const BlockInfo* const object_props = find_block("object");
+    eval_props(*object_props, body, kw, env, node->props, ok);
+    return ok ? Value::of_object(std::move(node)) : Value::error();
+  }
+  if (block->csg_op >= 0) {
+    // The body runs in a scope of its own, as a loop body does; its properties see
+    // the names it defines.
+    auto scope = std::make_shared<Env>();
+    scope->parent = env;
+    collectors_.push_back({&node->children, block, kw});
+    Frame frame;
+    exec_block(body.statements, scope, frame);
+    collectors_.pop_back();
+    eval_props(*block, body, kw, scope, node->props, ok);
+    if (node->children.empty() && !aborted_) {
+      error(DiagKind::EmptyCsg, kw, "this '" + std::string(block->name) + "' holds no object");
+      ok = false;
+    }
+    return ok ? Value::of_object(std::move(node)) : Value::error();
+  }
+  eval_props(*block, body, kw, env, node->props, ok);
+  return ok ? Value::of_object(std::move(node)) : Value::error();
+}
+
+}  // namespace snell::compile

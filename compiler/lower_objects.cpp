@@ -1,0 +1,200 @@
+// Lowering of object trees (§12-§13): CSG blocks, instances and the objects made
+// inside them. What each construct becomes in the IR:
+//   a shape          a Shape (in the scene, or a part of a CSG object or prototype)
+//   union            its children, placed one by one (it keeps every surface, as
+//                    POV-Ray's does); inside another CSG block, a node of the tree
+//   merge, intersection, difference
+//                    a Shape of kind Csg whose tree (Scene::csg_nodes) has the
+//                    children as leaves (Scene::parts) in the CSG object's space
+//   object { V }     a Shape of kind Instance of V's prototype, made once per value
+//                    and shared by every instance of it; inside a CSG block or a
+//                    prototype, V's tree is copied in instead (one level of
+//                    instancing), and so it is where V moves or holds a plane
+//                    outside a CSG block (the BVH instances bounded, static geometry)
+// Children inherit the transform (applied after their own), the material (when
+// they have none) and the motion of the objects around them.
+#include <string>
+
+#include "compiler/lower.hpp"
+#include "compiler/object_value.hpp"
+
+namespace snell::compile {
+
+using lang::DiagKind;
+
+namespace {
+
+ir::CsgOp op_of(const ObjectNode& n) {
+  return static_cast<ir::CsgOp>(n.block->csg_op);
+}
+
+// Why a CSG child has no inside (§12), or "" when it is a solid.
+std::string no_inside(const ir::ShapeGeom& g) {
+  return std::visit(
+      ir::Overloaded{[](const ir::Cylinder& c) -> std::string {
+                       return c.open ? "an open cylinder has no inside" : "";
+                     },
+                     [](const ir::Cone& c) -> std::string {
+                       return c.open ? "an open cone has no inside" : "";
+                     },
+                     [](const ir::Disc&) -> std::string { return "a disc has no inside"; },
+                     [](const ir::Triangle&) -> std::string { return "a triangle has no inside"; },
+                     [](const ir::Mesh&) -> std::string {
+                       return "a mesh cannot be part of a CSG object yet (closed meshes are not "
+                              "yet solids here)";
+                     },
+                     [](const auto&) -> std::string { return ""; }},
+      g);
+}
+
+// Whether an object value can be a prototype that the BVH instances: bounded and
+// static (no plane outside a CSG block, nothing moves).
+bool instanceable(const ObjectNode& n, bool in_csg) {
+  if (find_evaluated(n.props, PropId::object_motion)) return false;
+  if (n.instance()) return instanceable(*n.children[0], in_csg);
+  if (n.csg()) {
+    bool solid = in_csg || op_of(n) != ir::CsgOp::Union;
+    for (const auto& c : n.children)
+      if (!instanceable(*c, solid)) return false;
+    return true;
+  }
+  return in_csg || n.block->shape_kind != static_cast<int>(ir::ShapeKind::Plane);
+}
+
+}  // namespace
+
+// The outermost objects inherit "no material yet": the default material is made
+// only for an object that ends up without one (so a scene's material table is the
+// same whichever way its objects are written).
+void SceneBuilder::add_object_tree(const std::shared_ptr<const ObjectNode>& node) {
+  place(*node, Placement{ir::Transform{}, ir::kInheritMaterial, nullptr}, nullptr);
+}
+
+void SceneBuilder::place(const ObjectNode& n, const Placement& at,
+                         std::vector<std::uint32_t>* proto) {
+  const EvaluatedProp* own_motion = find_evaluated(n.props, PropId::object_motion);
+  if (own_motion && at.motion) {
+    diags_
+        .report(DiagKind::NestedMotion, own_motion->name_span,
+                "this object has motion inside an object that moves; only one of them may "
+                "have 'motion'")
+        .note(at.motion->name_span, "the enclosing object's motion is here");
+    return;
+  }
+  Placement inner{at.world_from_parent * object_transforms(n.props),
+                  material_of(n.props, at.material), own_motion ? own_motion : at.motion};
+  // In the scene (not a prototype) an object without a material has the default.
+  auto settle = [&] {
+    if (!proto && inner.material == ir::kInheritMaterial) inner.material = default_material();
+  };
+  auto add = [&](ir::ShapeGeom geom) {
+    settle();
+    std::vector<ir::Shape>& list = proto ? scene_.parts : scene_.shapes;
+    if (proto) proto->push_back(static_cast<std::uint32_t>(list.size()));
+    ir::Shape& s = list.emplace_back();
+    s.geom = std::move(geom);
+    s.material = inner.material;
+    s.world_from_object = inner.world_from_parent;
+    s.motion = object_motion(inner.motion);
+    s.src = ref(n.keyword);
+  };
+  if (n.instance()) {
+    const std::shared_ptr<const ObjectNode>& value = n.children[0];
+    if (!proto && instanceable(*value, false)) {
+      std::int64_t p = prototype_for(value);
+      if (p >= 0) add(ir::Instance{static_cast<std::uint32_t>(p)});
+      return;
+    }
+    place(*value, inner, proto);
+    return;
+  }
+  if (n.csg()) {
+    if (op_of(n) == ir::CsgOp::Union) {
+      for (const auto& c : n.children) place(*c, inner, proto);
+      return;
+    }
+    settle();
+    std::int64_t root = csg_children(n, ir::Transform{}, inner.material, n);
+    if (root >= 0) add(ir::Csg{static_cast<std::uint32_t>(root)});
+    return;
+  }
+  ir::ShapeGeom geom;
+  LowerContext cx{*this, n.keyword, n.props, diags_};
+  if (lower_shape(*n.block, cx, geom)) add(std::move(geom));
+}
+
+std::int64_t SceneBuilder::csg_children(const ObjectNode& n, const ir::Transform& csg_from_node,
+                                        std::uint32_t material, const ObjectNode& csg) {
+  ir::CsgNode node;
+  node.op = op_of(n);
+  bool ok = true;
+  for (const auto& c : n.children) {
+    std::int64_t k = csg_node(*c, csg_from_node, material, csg);
+    if (k < 0) {
+      ok = false;
+      continue;
+    }
+    node.children.push_back(static_cast<std::uint32_t>(k));
+  }
+  if (!ok) return -1;
+  scene_.csg_nodes.push_back(std::move(node));
+  return static_cast<std::int64_t>(scene_.csg_nodes.size() - 1);
+}
+
+std::int64_t SceneBuilder::csg_node(const ObjectNode& c, const ir::Transform& csg_from_parent,
+                                    std::uint32_t material, const ObjectNode& csg) {
+  std::string_view csg_name = csg.block->name;
+  if (const EvaluatedProp* m = find_evaluated(c.props, PropId::object_motion)) {
+    diags_
+        .report(DiagKind::NestedMotion, m->name_span,
+                "the objects of a '" + std::string(csg_name) +
+                    "' cannot move on their own; give the motion to the '" + std::string(csg_name) +
+                    "' block")
+        .note(csg.keyword, "the '" + std::string(csg_name) + "' block is here");
+    return -1;
+  }
+  ir::Transform xf = csg_from_parent * object_transforms(c.props);
+  std::uint32_t mat = material_of(c.props, material);
+  if (c.instance()) return csg_node(*c.children[0], xf, mat, csg);
+  if (c.csg()) return csg_children(c, xf, mat, csg);
+  ir::ShapeGeom geom;
+  LowerContext cx{*this, c.keyword, c.props, diags_};
+  if (!lower_shape(*c.block, cx, geom)) return -1;
+  if (std::string why = no_inside(geom); !why.empty()) {
+    diags_
+        .report(DiagKind::NotASolid, c.keyword,
+                "this " + std::string(c.block->name) + " cannot be part of the '" +
+                    std::string(csg_name) + "': " + why)
+        .note(csg.keyword, "the '" + std::string(csg_name) +
+                               "' is here; its objects must be solids: sphere, box, cylinder, "
+                               "cone, torus, plane or CSG of them ('union' takes any object)");
+    return -1;
+  }
+  ir::Shape& s = scene_.parts.emplace_back();
+  s.geom = std::move(geom);
+  s.material = mat;
+  s.world_from_object = xf;
+  s.src = ref(c.keyword);
+  ir::CsgNode leaf;
+  leaf.part = static_cast<std::uint32_t>(scene_.parts.size() - 1);
+  scene_.csg_nodes.push_back(std::move(leaf));
+  return static_cast<std::int64_t>(scene_.csg_nodes.size() - 1);
+}
+
+std::int64_t SceneBuilder::prototype_for(const std::shared_ptr<const ObjectNode>& value) {
+  if (auto it = prototype_ids_.find(value.get()); it != prototype_ids_.end()) return it->second;
+  ir::Prototype p;
+  p.src = ref(value->keyword);
+  std::size_t errors = diags_.error_count();
+  place(*value, Placement{ir::Transform{}, ir::kInheritMaterial, nullptr}, &p.parts);
+  std::int64_t id = -1;
+  if (diags_.error_count() == errors && !p.parts.empty()) {
+    id = static_cast<std::int64_t>(scene_.prototypes.size());
+    scene_.prototypes.push_back(std::move(p));
+  }
+  prototype_ids_[value.get()] = id;
+  prototype_values_.push_back(value);
+  return id;
+}
+
+}  // namespace snell::compile

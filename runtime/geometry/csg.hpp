@@ -1,0 +1,115 @@
+// CSG objects (§12), composed from their solids' ray intervals (intervals.hpp).
+// A ray's hit is where it crosses the boundary of the result: every leaf's entry
+// and exit along the ray are events; swept in order of t, the tree's inside test
+// is re-evaluated after each group of events, and the first group that changes it
+// is the hit. The surface is the leaf whose event it is; its normal is turned to
+// point out of the result (so in a difference, the removed children's surfaces
+// face into the removed region).
+//
+// Coincident faces (a face of FIRST lying on a face of REST, or two children
+// sharing a face): events closer in t than a tolerance far below any rounding of
+// the spawned rays' offsets (kCoincident of the ray's scale) are one group, applied
+// together, so a shared face is decided by the tree — present or absent for the
+// whole face — and never by which rounding error happens to be smaller. Within a
+// group the leaf written first owns the surface (its material, its normal).
+//
+// Cost: every leaf whose box the ray meets is intersected (a CSG object is not a
+// BVH of its children): fine for the tens of children POV-Ray scenes use. No
+// Embree types.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "runtime/geometry/motion.hpp"
+#include "runtime/geometry/ray.hpp"
+#include "runtime/geometry/xform.hpp"
+#include "runtime/ir/ir.hpp"
+#include "runtime/vec.hpp"
+
+namespace snell::rt::geom {
+
+// A CSG tree prepared for rays, in the CSG object's space.
+class CsgProgram {
+ public:
+  CsgProgram(const ir::Scene& scene, std::uint32_t root);
+
+  // The nearest boundary crossing in (tnear, tfar) of o + t·d (any length of d):
+  // its t, the outward normal of the result there (any length), and the leaf.
+  bool intersect(Vec3 o, Vec3 d, double tnear, double tfar, double& t, Vec3& n,
+                 std::uint32_t& leaf) const;
+  // The crossing of leaf `leaf`'s surface nearest `t` (for refining a float t).
+  double leaf_crossing(std::uint32_t leaf, Vec3 o, Vec3 d, double t) const;
+  std::uint32_t material(std::uint32_t leaf) const { return leaves_[leaf].material; }
+  std::uint32_t part(std::uint32_t leaf) const { return leaves_[leaf].part; }
+  // The corners of a box holding the result (an unbounded one clamped to `clamp`
+  // around the origin of the CSG space).
+  template <class F>
+  void corners(double clamp, F&& f) const {
+    for (int i = 0; i < 8; ++i) {
+      Vec3 c;
+      for (int k = 0; k < 3; ++k)
+        c[k] = std::fmin(clamp, std::fmax(-clamp, (i >> k) & 1 ? box_.hi[k] : box_.lo[k]));
+      f(c);
+    }
+  }
+  std::size_t leaf_count() const { return leaves_.size(); }
+  std::string to_string() const;
+
+ private:
+  struct Leaf {
+    ir::ShapeGeom geom;
+    ir::Mat4 leaf_from_csg;
+    Box3 box;  // in CSG space; infinite for a plane
+    bool bounded = true;
+    std::uint32_t material = 0, part = 0;
+  };
+  // Postfix code of the tree: a leaf pushes its inside flag, an operation pops
+  // `count` flags and pushes the result.
+  struct Op {
+    enum Kind : std::uint8_t { Leaf, Any, All, FirstNotRest } kind;
+    std::uint32_t arg;  // Leaf: the leaf; otherwise the number of operands
+  };
+  Box3 compile(const ir::Scene& scene, std::uint32_t node);
+  bool inside(const std::uint8_t* flags) const;
+
+  std::vector<Leaf> leaves_;
+  std::vector<Op> code_;
+  Box3 box_;
+};
+
+// The user primitive sets of CSG objects (traits.hpp's interface, plus the leaf a
+// hit is on through `hit(..., sub)` and `refine(..., sub)`): one primitive per
+// CSG object, static or moving.
+template <bool kMoving>
+class CsgSetT {
+ public:
+  void add(const ir::Shape& s, const ir::Csg& g, std::uint32_t index, Vec3 origin,
+           const ir::Scene& scene);
+  std::size_t size() const { return prims_.size(); }
+  std::uint32_t shape(unsigned prim) const { return prims_[prim].shape; }
+  const CsgProgram& program(unsigned prim) const { return prims_[prim].program; }
+  void bounds(unsigned prim, Box3& box) const;
+  bool hit(unsigned prim, float time, Vec3f o, Vec3f d, float tnear, float tfar, float& t, Vec3f& n,
+           unsigned& sub) const;
+  // The hit point on leaf `sub` in double (static: the leaf's crossing, the bounded
+  // offset of spheres; moving: o + t·d and the Wächter–Binder offset), and its
+  // material.
+  void refine(unsigned prim, const Ray& r, float t, Hit& hit, unsigned sub) const;
+
+ private:
+  struct Prim {
+    CsgProgram program;
+    const ir::Shape* shape_ir = nullptr;
+    Vec3 origin;
+    ir::Mat4 csg_from_rel, rel_from_csg;  // the static placement
+    std::uint32_t shape = 0;
+  };
+  ir::Transform rel_from_csg(const Prim& p, float time) const;
+  std::vector<Prim> prims_;
+};
+using CsgSet = CsgSetT<false>;
+using MovingCsgSet = CsgSetT<true>;
+
+}  // namespace snell::rt::geom
