@@ -114,6 +114,7 @@ struct EmbreeScene::Impl {
   std::vector<float> tri_offset;
   const float* tri_vb = nullptr;
   const unsigned* tri_ib = nullptr;
+  SmoothNormals smooth;  // the static triangles' shading normals (smooth meshes only)
   std::size_t triangle_count = 0, moving_shapes = 0, motion_steps = 0, light_tris = 0;
   bool any_unbounded = false;  // some unbounded set is not empty (known once built)
 
@@ -193,12 +194,14 @@ struct EmbreeScene::Impl {
 
   // The resolvers of GeomEntry, one per geometry class.
   static void resolve_static_triangles(const GeomEntry& e, unsigned prim, float u, float v,
-                                       const Ray&, float, Hit& hit) {
+                                       const Ray& r, float, Hit& hit) {
     const Impl& im = *static_cast<const Impl*>(e.data);
     hit.kind = Hit::Kind::Shape;
     hit.index = im.tri_owner[prim];
     triangle_point(im.tri_vb, im.tri_ib, prim, u, v, hit.p);
     hit.offset = im.tri_offset[prim];
+    if (!im.smooth.empty())
+      hit.smooth = im.smooth.shade(prim, u, v, r.dir, im.tri_vb, im.tri_ib, hit);
   }
   // Moving triangles: o + t·d and the Wächter–Binder offset.
   static void resolve_plain(const GeomEntry& e, unsigned, float, float, const Ray& r, float t,
@@ -239,11 +242,14 @@ struct ShapeAdder {
     if constexpr (G::kind == GeometryClass::Triangles) {
       const ir::Transform& xf = s.world_from_object;
       Soup soup;
-      object_triangles(g, sc, det3(xf.m) < 0, soup);  // mirroring reverses the winding
-      if (moving) {
+      bool flip = det3(xf.m) < 0;  // mirroring reverses the winding
+      object_triangles(g, sc, flip, soup);
+      if (moving) {  // smooth normals are not interpolated on moving meshes (flat)
         im.add_moving_triangles(s, si, soup, origin);
         return;
       }
+      std::vector<Vec3> normals;
+      if (object_normals(g, sc, flip, normals)) im.smooth.add(im.tri_owner.size(), normals, xf);
       for (std::size_t i = 0; i < soup.verts.size(); ++i) {
         tv.push_back(xf.point(soup.verts[i]) - origin);
         ti.push_back(std::uint32_t(tv.size() - 1));
@@ -354,6 +360,7 @@ bool EmbreeScene::intersect(const Ray& r, Hit& hit) const {
   RTCRayHit rh = make_rayhit(r);
   rtcIntersect1(im.scene, &ctx, &rh);
   bool found = false;
+  hit.smooth = false;
   // Embree's float test overflows on triangles ~1e13 across (t = inf, Ng = 0); the
   // compiler keeps scenes within 1e12 of the camera, and such a hit is a miss here.
   if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID && rh.ray.tfar < INFINITY &&
@@ -376,7 +383,7 @@ bool EmbreeScene::intersect(const Ray& r, Hit& hit) const {
                    : 0;
   std::apply(
       [&](const auto&... set) {
-        ((set.intersect(r, tmax, tie, hit) ? (found = true, tie = 0) : 0), ...);
+        ((set.intersect(r, tmax, tie, hit) ? (found = true, tie = 0, hit.smooth = false) : 0), ...);
       },
       im.unbounded);
   return found;
@@ -408,9 +415,10 @@ std::string to_string(const Ray& r) {
 }
 
 std::string to_string(const Hit& h) {
-  return fmt::format("hit {{ t {} ng {} p {} offset {} {} {} }}", h.t, rt::to_string(h.ng),
+  return fmt::format("hit {{ t {} ng {} p {} offset {} {} {}{} }}", h.t, rt::to_string(h.ng),
                      rt::to_string(h.p), h.offset,
-                     h.kind == Hit::Kind::Shape ? "shape" : "area_light", h.index);
+                     h.kind == Hit::Kind::Shape ? "shape" : "area_light", h.index,
+                     h.smooth ? " ns " + rt::to_string(h.ns) : "");
 }
 
 std::string EmbreeScene::to_string() const {
