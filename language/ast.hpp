@@ -48,6 +48,10 @@ struct Property {
 struct Block {
   Span span;  // from '{' to '}'
   std::vector<Property> properties;
+  // Comma-separated values before the first property, POV-Ray's habit
+  // (`cylinder { <0,0,0>, <0,1,0>, 0.5 }`): kept so the compiler can show the named
+  // form with these values; the language has no positional blocks (§5).
+  std::vector<ExprPtr> positional;
 };
 
 enum class ExprKind : std::uint8_t {
