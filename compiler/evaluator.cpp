@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "compiler/builtins.hpp"
+#include "compiler/povray_forms.hpp"
 #include "compiler/properties.hpp"
 
 namespace snell::compile {
@@ -370,6 +371,21 @@ void Evaluator::eval_props(const BlockInfo& block, const lang::Block& body, Span
                            bool& ok) {
   const std::size_t first = out.size();
   std::bitset<kPropCount> given;  // the properties in out[first..] (by id)
+  if (!body.positional.empty()) [[unlikely]] {
+    // POV-Ray's positional values: one error that shows the named form, and no
+    // "needs 'radius'" errors after it (they would say the same thing again).
+    std::vector<std::string> texts;
+    for (const lang::ExprPtr& v : body.positional) {
+      std::string_view src =
+          v->span.file < sources_.size() ? sources_.file(v->span.file).text() : std::string_view();
+      texts.emplace_back(v->span.end <= src.size()
+                             ? src.substr(v->span.begin, v->span.end - v->span.begin)
+                             : std::string_view("…"));
+    }
+    PositionalHint hint = positional_hint(block, texts);
+    error(DiagKind::PositionalValues, body.positional[0]->span, hint.message).note(hint.note);
+    ok = false;
+  }
   for (const lang::Property& p : body.properties) {
     // A Block is always checked against the same table (its keyword's), so the
     // property it names can be remembered on the node.
@@ -439,7 +455,7 @@ void Evaluator::eval_props(const BlockInfo& block, const lang::Block& body, Span
         // A property that failed its own check counts as given: no second error.
         bool attempted = false;
         for (const lang::Property& p : body.properties) attempted |= p.name == info->name;
-        if (!attempted)
+        if (!attempted && body.positional.empty())
           error(DiagKind::MissingProperty, keyword_span,
                 "'" + std::string(block.name) + "' needs '" + std::string(info->name) + "' (" +
                     describe(*info) + ")");

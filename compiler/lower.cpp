@@ -1,12 +1,9 @@
 #include "compiler/lower.hpp"
 
-#include <tiny_obj_loader.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <filesystem>
 #include <new>
 
 #include "compiler/ir_binding.hpp"
@@ -336,71 +333,7 @@ std::uint32_t SceneBuilder::material_of(const std::vector<EvaluatedProp>& props,
   return i;
 }
 
-bool SceneBuilder::load_mesh(const std::string& file, Span span, std::uint32_t& index) {
-  namespace fs = std::filesystem;
-  fs::path p(file);
-  if (p.is_relative() && span.file < sources_.size())
-    p = fs::path(sources_.file(span.file).path()).parent_path() / p;
-  std::string key = p.lexically_normal().string();
-  if (auto it = mesh_ids_.find(key); it != mesh_ids_.end()) {
-    index = it->second;
-    return true;
-  }
-  std::error_code ec;
-  if (!fs::is_regular_file(p, ec)) {
-    diags_.report(DiagKind::FileUnreadable, span, "mesh file '" + key + "' does not exist");
-    return false;
-  }
-  tinyobj::ObjReaderConfig cfg;
-  cfg.triangulate = true;
-  cfg.vertex_color = false;
-  cfg.mtl_search_path = "";
-  tinyobj::ObjReader reader;
-  if (!reader.ParseFromFile(key, cfg)) {
-    diags_.report(DiagKind::FileUnreadable, span,
-                  "cannot read mesh '" + key + "': " + reader.Error());
-    return false;
-  }
-  ir::MeshData mesh;
-  mesh.path = key;
-  const auto& verts = reader.GetAttrib().vertices;
-  for (std::size_t i = 0; i + 2 < verts.size(); i += 3)
-    mesh.positions.push_back({verts[i], verts[i + 1], verts[i + 2]});
-  std::size_t dropped = 0;
-  for (const tinyobj::shape_t& sh : reader.GetShapes()) {
-    const auto& idx = sh.mesh.indices;
-    for (std::size_t i = 0; i + 2 < idx.size(); i += 3) {
-      int a = idx[i].vertex_index, b = idx[i + 1].vertex_index, c = idx[i + 2].vertex_index;
-      auto valid = [&](int k) {
-        return k >= 0 && static_cast<std::size_t>(k) < mesh.positions.size();
-      };
-      if (!valid(a) || !valid(b) || !valid(c)) {
-        ++dropped;
-        continue;
-      }
-      ir::Vec3 pa = mesh.positions[a], pb = mesh.positions[b], pc = mesh.positions[c];
-      if (!ir::is_finite(pa) || !ir::is_finite(pb) || !ir::is_finite(pc) ||
-          ir::length(ir::cross(pb - pa, pc - pa)) == 0) {
-        ++dropped;
-        continue;
-      }
-      mesh.indices.insert(mesh.indices.end(),
-                          {std::uint32_t(a), std::uint32_t(b), std::uint32_t(c)});
-    }
-  }
-  if (dropped > 0)
-    diags_.report(DiagKind::DegenerateGeometry, span,
-                  std::to_string(dropped) + " degenerate or invalid triangle(s) of '" + key +
-                      "' are left out");
-  if (mesh.indices.empty()) {
-    diags_.report(DiagKind::FileUnreadable, span, "mesh '" + key + "' has no usable triangles");
-    return false;
-  }
-  index = static_cast<std::uint32_t>(scene_.meshes.size());
-  mesh_ids_[key] = index;
-  scene_.meshes.push_back(std::move(mesh));
-  return true;
-}
+// SceneBuilder::load_mesh is in mesh_load.cpp.
 
 ir::Scene SceneBuilder::finish() {
   if (!focal_distance_set_)

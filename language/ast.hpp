@@ -52,6 +52,10 @@ struct Block {
   std::vector<Property> properties;
   std::vector<StmtPtr> statements;  // CSG blocks
   ExprPtr subject;                  // `object { EXPR ... }`
+  // Comma-separated values before the first property, POV-Ray's habit
+  // (`cylinder { <0,0,0>, <0,1,0>, 0.5 }`): kept so the compiler can show the named
+  // form with these values; the language has no positional blocks (§5).
+  std::vector<ExprPtr> positional;
 };
 
 enum class ExprKind : std::uint8_t {

@@ -12,7 +12,8 @@
 // else:), Import "PATH", ExprStmt, Item KEYWORD, Background, ErrorStmt.
 // Expressions: Number, Bool, String, Name, Vector, Unary OP, Binary OP, Call (callee
 // first), Component NAME, Constructor NAME (positional) or Constructor NAME {} (named),
-// Error. Properties: Property NAME, or Property NAME {} for a nested block.
+// Error. Properties: Property NAME, or Property NAME {} for a nested block; a block's
+// leading POV-Ray-style values (Block::positional) come first, under Positional.
 #include <charconv>
 #include <cstdio>
 #include <optional>
@@ -130,6 +131,10 @@ class Dumper {
 
   void properties(const Block& b, int indent) {
     if (b.subject) expr(*b.subject, indent, "places: ");
+    if (!b.positional.empty()) {
+      line(indent, "", "Positional", b.positional[0]->span);
+      expr_children(b.positional, indent + 1);
+    }
     for (const Property& p : b.properties) {
       if (p.block) {
         line(indent, "", "Property " + p.name + " {}", p.name_span);

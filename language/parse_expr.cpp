@@ -323,9 +323,15 @@ bool Parser::parse_property(Property& prop) {
   return true;
 }
 
-// block -> '{' { property } '}'
+// block -> '{' [ positional ] { property } '}'
+// positional -> expr ',' expr { ',' expr }
 // Properties have no separators: a value ends where the next property name starts,
 // since no expression can continue with an identifier.
+// `positional` is not the language (§5): it is POV-Ray's habit, recorded so the
+// compiler can say what to write instead. It is recognised only right after '{',
+// where a value starts with '<', a number or '-' (or is a name followed by ','),
+// and only when a ',' follows the first value; a lone value there stays the
+// ExpectedProperty error it always was.
 BlockPtr Parser::parse_block(std::string_view owner) {
   DepthGuard guard(*this);
   Token open = take();  // callers checked it is '{'
@@ -345,6 +351,21 @@ BlockPtr Parser::parse_block_rest(const Token& open, std::string_view owner) {
   in_vector_ = false;
   no_object_ = false;
   std::size_t mark = scratch_properties_.size();
+  bool leads_value = at(TokenKind::Less) || at(TokenKind::Number) || at(TokenKind::Minus) ||
+                     (at(TokenKind::Identifier) && peek_.kind == TokenKind::Comma);
+  if (leads_value) {
+    std::string found = describe(cur_);
+    Span first = here();
+    std::size_t values = scratch_exprs_.size();
+    scratch_exprs_.push_back(parse_expr());
+    if (at(TokenKind::Comma)) {
+      while (accept(TokenKind::Comma)) scratch_exprs_.push_back(parse_expr());
+      take_scratch(block->positional, values);
+    } else {
+      scratch_exprs_.resize(values);
+      error(DiagKind::ExpectedProperty, first, "expected a property name or '}', found " + found);
+    }
+  }
   for (;;) {
     if (accept(TokenKind::RBrace)) break;
     if (at(TokenKind::EndOfFile) || starts_statement(cur_.kind)) {

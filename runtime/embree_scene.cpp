@@ -132,6 +132,7 @@ struct Layer {
   std::vector<float> tri_offset;
   const float* tri_vb = nullptr;
   const unsigned* tri_ib = nullptr;
+  SmoothNormals smooth;  // the static triangles' shading normals (smooth meshes only)
   std::size_t triangle_count = 0;
   Box3 box;  // of a prototype, in its space (a moving instance's time steps)
 
@@ -269,13 +270,14 @@ struct EmbreeScene::Impl {
 
   // The resolvers of GeomEntry, one per geometry class.
   static void resolve_static_triangles(const GeomEntry& e, unsigned prim, float u, float v,
-                                       const Ray&, float, Hit& hit) {
+                                       const Ray& r, float, Hit& hit) {
     const Layer& l = *static_cast<const Layer*>(e.data);
     hit.kind = Hit::Kind::Shape;
     hit.index = l.tri_owner[prim];
     hit.material = l.material_of(hit.index);
     triangle_point(l.tri_vb, l.tri_ib, prim, u, v, hit.p);
     hit.offset = l.tri_offset[prim];
+    if (!l.smooth.empty()) hit.smooth = l.smooth.shade(prim, u, v, r.dir, l.tri_vb, l.tri_ib, hit);
   }
   // Moving triangles: o + t·d and the Wächter–Binder offset.
   static void resolve_plain(const GeomEntry& e, unsigned, float, float, const Ray& r, float t,
@@ -322,11 +324,15 @@ struct ShapeAdder {
     if constexpr (G::kind == GeometryClass::Triangles) {
       const ir::Transform& xf = s.world_from_object;
       Soup soup;
-      object_triangles(g, sc, det3(xf.m) < 0, soup);  // mirroring reverses the winding
-      if (moving) {
+      bool flip = det3(xf.m) < 0;  // mirroring reverses the winding
+      object_triangles(g, sc, flip, soup);
+      if (moving) {  // smooth normals are not interpolated on moving meshes (flat)
         im.add_moving_triangles(s, si, soup, origin);
         return;
       }
+      std::vector<Vec3> normals;
+      if (object_normals(g, sc, flip, normals))
+        layer.smooth.add(layer.tri_owner.size(), normals, xf);
       for (std::size_t i = 0; i < soup.verts.size(); ++i) {
         tv.push_back(xf.point(soup.verts[i]) - origin);
         ti.push_back(std::uint32_t(tv.size() - 1));
@@ -506,6 +512,13 @@ void resolve_instance(const InstanceEntry& ie, const RTCRayHit& rh, const Ray& r
   Vec3 n = ir::normalize(
       xform_normal_by_inverse(obj_from_rel, Vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z)));
   hit.ng = to_float(n.x, n.y, n.z);
+  if (hit.smooth) {  // a smooth mesh's shading normal and shadow-ray start, to the world
+    Vec3 ns =
+        ir::normalize(xform_normal_by_inverse(obj_from_rel, Vec3(hit.ns.x, hit.ns.y, hit.ns.z)));
+    Vec3 ps = xform_point(rel_from_obj, Vec3(hit.ps.x, hit.ps.y, hit.ps.z));
+    hit.ns = to_float(ns.x, ns.y, ns.z);
+    hit.ps = to_float(ps.x, ps.y, ps.z);
+  }
   if (ie.moving || !(hit.offset > 0)) {
     hit.p = r.org + r.dir * hit.t, hit.offset = 0;
     return;
@@ -529,6 +542,7 @@ bool EmbreeScene::intersect(const Ray& r, Hit& hit) const {
   RTCRayHit rh = make_rayhit(r);
   rtcIntersect1(im.world.scene, &ctx, &rh);
   bool found = false;
+  hit.smooth = false;
   // Embree's float test overflows on triangles ~1e13 across (t = inf, Ng = 0); the
   // compiler keeps scenes within 1e12 of the camera, and such a hit is a miss here.
   if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID && rh.ray.tfar < INFINITY &&
@@ -556,7 +570,9 @@ bool EmbreeScene::intersect(const Ray& r, Hit& hit) const {
   bool plane = false;
   std::apply(
       [&](const auto&... set) {
-        ((set.intersect(r, tmax, tie, hit) ? (found = plane = true, tie = 0) : 0), ...);
+        ((set.intersect(r, tmax, tie, hit) ? (found = plane = true, tie = 0, hit.smooth = false)
+                                           : 0),
+         ...);
       },
       im.unbounded);
   if (plane) hit.material = im.world.material_of(hit.index);
@@ -589,9 +605,10 @@ std::string to_string(const Ray& r) {
 }
 
 std::string to_string(const Hit& h) {
-  return fmt::format("hit {{ t {} ng {} p {} offset {} {} {} material {} }}", h.t,
+  return fmt::format("hit {{ t {} ng {} p {} offset {} {} {} material {}{} }}", h.t,
                      rt::to_string(h.ng), rt::to_string(h.p), h.offset,
-                     h.kind == Hit::Kind::Shape ? "shape" : "area_light", h.index, h.material);
+                     h.kind == Hit::Kind::Shape ? "shape" : "area_light", h.index, h.material,
+                     h.smooth ? " ns " + rt::to_string(h.ns) : "");
 }
 
 std::string EmbreeScene::to_string() const {

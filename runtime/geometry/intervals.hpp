@@ -16,6 +16,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <string>
 
 #include "runtime/geometry/cone.hpp"
 #include "runtime/geometry/sphere.hpp"
@@ -163,6 +164,28 @@ inline bool has_inside(const ir::Shape& s) {
           return kSolid<K>;
       },
       s.geom);
+}
+// The same for every kind, meshes included: a mesh has an inside when its file's
+// triangles are closed (MeshData::closed: watertight, consistently wound, outward;
+// ir/mesh_topology.hpp). Its intervals are not in this file yet.
+inline bool has_inside(const ir::Shape& s, const ir::Scene& scene) {
+  if (const ir::Mesh* m = s.as<ir::Mesh>())
+    return m->mesh < scene.meshes.size() && scene.meshes[m->mesh].closed;
+  return has_inside(s);
+}
+// Why a shape has no inside, in words an error can quote after "needs a solid:"
+// ("mesh 'cup.obj' is not closed: it has 14 boundary edges, e.g. (v3, v7) ...");
+// empty when has_inside(s, scene).
+inline std::string no_inside_reason(const ir::Shape& s, const ir::Scene& scene) {
+  if (has_inside(s, scene)) return "";
+  if (const ir::Mesh* m = s.as<ir::Mesh>()) {
+    if (m->mesh >= scene.meshes.size()) return "the mesh has no data";
+    const ir::MeshData& d = scene.meshes[m->mesh];
+    return "mesh '" + d.path + "' is not closed" +
+           (d.open_reason.empty() ? std::string() : ": it " + d.open_reason);
+  }
+  const char* open = s.as<ir::Cylinder>() || s.as<ir::Cone>() ? "an open " : "a ";
+  return open + ir::to_string(s.kind()) + " has no inside";
 }
 
 }  // namespace snell::rt::geom

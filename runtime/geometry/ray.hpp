@@ -34,6 +34,13 @@ struct Hit {
   Vec3f p;
   float offset = 0;
   enum class Kind : std::uint8_t { Shape, AreaLight } kind = Kind::Shape;
+  // A smooth mesh face: `ns` is its interpolated shading normal (unit, on the side
+  // of `ng`). Shading bends the lobes with it; `ng` still decides sides and offsets
+  // (shading/shading_normal.hpp). `ps`: where its shadow rays start from, `p`
+  // lifted towards the smooth surface on the ray's side (Hanika 2021; triangles.cpp).
+  // False everywhere else, and `ns`, `ps` unset.
+  bool smooth = false;
+  Vec3f ns, ps;
   std::uint32_t index = 0;  // into ir::Scene::shapes or ::area_lights
   // Into ir::Scene::materials: the surface's, which for a CSG object is the leaf's
   // and for an instance the part's (or the instance's, where the part has none).

@@ -41,6 +41,76 @@ void object_triangles(const ir::Mesh& mesh, const ir::Scene& sc, bool flip, Soup
   }
 }
 
+bool object_normals(const ir::Mesh& mesh, const ir::Scene& sc, bool flip,
+                    std::vector<ir::Vec3>& out) {
+  if (mesh.mesh >= sc.meshes.size()) return false;
+  const ir::MeshData& m = sc.meshes[mesh.mesh];
+  if (!m.smooth() || m.normal_indices.size() != m.indices.size()) return false;
+  auto normal = [&](std::size_t corner) {
+    std::uint32_t k = m.normal_indices[corner];
+    return k < m.normals.size() ? m.normals[k] : Vec3(0, 0, 0);
+  };
+  // The same triangles, in the same order, as object_triangles(mesh) emits.
+  for (std::size_t i = 0; i + 2 < m.indices.size(); i += 3) {
+    if (m.indices[i] >= m.positions.size() || m.indices[i + 1] >= m.positions.size() ||
+        m.indices[i + 2] >= m.positions.size())
+      continue;
+    Vec3 a = normal(i), b = normal(i + 1), c = normal(i + 2);
+    if (a == Vec3(0, 0, 0) || b == Vec3(0, 0, 0) || c == Vec3(0, 0, 0)) a = b = c = Vec3(0, 0, 0);
+    out.push_back(a);
+    out.push_back(flip ? c : b);
+    out.push_back(flip ? b : c);
+  }
+  return true;
+}
+
+void SmoothNormals::add(std::size_t first_prim, const std::vector<ir::Vec3>& normals,
+                        const ir::Transform& xf) {
+  if (corners_.size() < 3 * first_prim + normals.size())
+    corners_.resize(3 * first_prim + normals.size(), Vec3f(0));
+  for (std::size_t t = 0; t + 2 < normals.size(); t += 3) {
+    if (normals[t] == Vec3(0, 0, 0)) continue;  // a flat face stays zero
+    for (std::size_t k = 0; k < 3; ++k) {
+      Vec3 n = xf.normal(normals[t + k]);
+      double len = ir::length(n);
+      if (!(len > 0) || !std::isfinite(len)) {  // a singular transform: shade flat
+        for (std::size_t j = 0; j < 3; ++j) corners_[3 * first_prim + t + j] = Vec3f(0);
+        break;
+      }
+      n = n / len;
+      corners_[3 * first_prim + t + k] = to_float(n.x, n.y, n.z);
+    }
+  }
+}
+
+bool SmoothNormals::shade(unsigned prim, float u, float v, Vec3f dir, const float* vb,
+                          const unsigned* ib, Hit& hit) const {
+  if (std::size_t(3) * prim + 2 >= corners_.size()) return false;
+  const Vec3f* c = &corners_[std::size_t(3) * prim];
+  if (c[0].x == 0 && c[0].y == 0 && c[0].z == 0) return false;
+  float b[3] = {1 - u - v, u, v};
+  Vec3f n = c[0] * b[0] + c[1] * b[1] + c[2] * b[2];
+  float len = length(n);
+  if (!(len > 1e-6f)) return false;
+  n = n * (1 / len);
+  // A vn that disagrees with the winding (a file whose faces wind inward but whose
+  // normals point out): face-forwarded to Ng, which decides the sides.
+  float flip = dot(n, hit.ng) < 0 ? -1.0f : 1.0f;
+  hit.ns = n * flip;
+  // The lift, with the corner normals on the ray's side of the facet.
+  float side = dot(dir, hit.ng) < 0 ? flip : -flip;
+  Vec3f lift(0);
+  for (int i = 0; i < 3; ++i) {
+    const float* q = vb + 3 * ib[3 * prim + i];
+    Vec3f ni = c[i] * side;
+    float depth = dot(hit.p - Vec3f(q[0], q[1], q[2]), ni);
+    if (depth < 0) lift = lift - ni * (b[i] * depth);
+  }
+  Vec3f nf = dot(dir, hit.ng) < 0 ? hit.ng : -hit.ng;
+  hit.ps = dot(lift, nf) > 0 ? hit.p + lift : hit.p;
+  return true;
+}
+
 // The hit point of a static triangle from Embree's barycentrics, p = v0 + u·e1 + v·e2:
 // an error in (u, v) moves p within the plane, never off it (as pbrt-v4's
 // Triangle::InteractionFromIntersection rebuilds its hit points). Where the three

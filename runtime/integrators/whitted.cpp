@@ -7,6 +7,7 @@
 
 #include "runtime/ir/bounds.hpp"
 #include "runtime/shading/fresnel.hpp"
+#include "runtime/shading/shading_normal.hpp"
 
 namespace snell::rt {
 
@@ -220,6 +221,9 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
       Vec3f ng = hit.ng;               // outward
       bool entering = dot(d, ng) < 0;  // §8: against the outward normal
       Vec3f nf = entering ? ng : -ng;  // the normal on the ray's side
+      // The lobes' normal: nf, or a smooth mesh's shading normal made valid for this
+      // viewer (hard case #20, shading/shading_normal.hpp).
+      const HitFrame frame = HitFrame::make(-d, nf, entering, hit.smooth, hit.ns);
       Color w = node.weight;
       if (trace)
         desc =
@@ -245,20 +249,32 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
       auto draw1 = [&] { return sample1(sc.spec, sc.pixel, sc.index, node_dim(node.key, 9)); };
       auto draw2 = [&] { return sample2(sc.spec, sc.pixel, sc.index, node_dim(node.key, 7)); };
       ScatterContext<decltype(draw1), decltype(draw2)> cx{
-          -d,    nf,   entering, {p, ng, embree_.origin()}, fresnel_, stochastic_branching_,
+          -d,    frame.ns, entering, {p, ng, embree_.origin()}, fresnel_, stochastic_branching_,
           draw1, draw2};
       if (shaded) {
         Scatter s = scatter(mat, cx);
         if (s.tir) ++stats.tir_events;
-        if (s.lit) contrib = s.lit->reflect(w, direct_timed(p, o_out, nf));
+        if (s.lit) {
+          // Smooth: lit by the shading normal's hemisphere, the shadow rays leaving
+          // from the point lifted towards the smooth surface (Hanika 2021), so the
+          // terminator of a coarse mesh is not a row of black facets.
+          Vec3f o_light = o_out;
+          if (frame.smooth) {
+            Hit lifted = hit;
+            lifted.p = hit.ps;
+            o_light = spawn_origin(lifted, nf, offset_scale_);
+          }
+          contrib = s.lit->reflect(w, direct_timed(p, o_light, frame.ns));
+        }
         for (int i = 0; i < s.count; ++i) {
           const Branch& b = s.branches[i];
           switch (b.from) {
             case Branch::From::Outside:
-              spawn(b.kind, o_out, b.wi, w * b.weight, b.slot);
+              spawn(b.kind, o_out, frame.leave(b.wi, true), w * b.weight, b.slot);
               break;
             case Branch::From::Inside:
-              spawn(b.kind, spawn_origin(hit, -nf, offset_scale_), b.wi, w * b.weight, b.slot);
+              spawn(b.kind, spawn_origin(hit, -nf, offset_scale_), frame.leave(b.wi, false),
+                    w * b.weight, b.slot);
               break;
             case Branch::From::SameRay:
               // Still a refraction for max_depth and min_weight as §6 defines them.

@@ -115,8 +115,17 @@ std::string to_string(const Shape& sh) {
 }
 
 std::string to_string(const MeshData& m) {
-  return quoted(m.path) + " " + std::to_string(m.positions.size()) + " vertices " +
-         std::to_string(m.indices.size() / 3) + " triangles";
+  std::string s = quoted(m.path) + " " + std::to_string(m.positions.size()) + " vertices " +
+                  std::to_string(m.indices.size() / 3) + " triangles";
+  if (m.smooth()) {
+    std::size_t smooth = 0;
+    for (std::size_t i = 0; i < m.normal_indices.size(); i += 3)
+      smooth += m.normal_indices[i] != MeshData::kNoNormal;
+    s += " " + std::to_string(m.normals.size()) + " normals " + std::to_string(smooth) +
+         " smooth triangles";
+  }
+  if (m.closed) return s + " closed";
+  return s + (m.open_reason.empty() ? " open" : " open (" + m.open_reason + ")");
 }
 
 std::string to_string(const PointLight& l) {

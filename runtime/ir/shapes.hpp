@@ -240,9 +240,23 @@ struct Prototype {
 
 // The triangles of mesh files, in object space.
 struct MeshData {
+  // A corner of a flat face in `normal_indices`.
+  static constexpr std::uint32_t kNoNormal = 0xffffffffu;
   std::string path;                    // as resolved on disk
   std::vector<Vec3> positions;         // object space
   std::vector<std::uint32_t> indices;  // three per triangle
+  // Smooth shading (OBJ `vn`): unit object-space normals and, parallel to
+  // `indices`, the one each corner interpolates, or kNoNormal at all three corners
+  // of a face that shades flat (a corner without a usable vn). Both are empty when
+  // every face is flat: such a mesh renders exactly as one without normals.
+  std::vector<Vec3> normals;
+  std::vector<std::uint32_t> normal_indices;
+  // Whether the triangles bound a solid (ir/mesh_topology.hpp: watertight after
+  // welding equal positions, consistently wound, outward); when not, `open_reason`
+  // says why in words an error can quote ("has 14 boundary edges, e.g. (v3, v7)").
+  bool closed = false;
+  std::string open_reason;
+  bool smooth() const { return !normal_indices.empty(); }
 };
 
 // The composites' hulls: every leaf's hull points, placed in the composite's space

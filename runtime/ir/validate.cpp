@@ -263,6 +263,18 @@ std::vector<Problem> validate(const Scene& scene) {
         problems.push_back({{}, m.path + ": vertex index out of range"});
         break;
       }
+    if (m.smooth() && m.normal_indices.size() != m.indices.size())
+      problems.push_back({{}, m.path + ": normal index count differs from the vertex index count"});
+    for (std::uint32_t i : m.normal_indices)
+      if (i != MeshData::kNoNormal && i >= m.normals.size()) {
+        problems.push_back({{}, m.path + ": normal index out of range"});
+        break;
+      }
+    for (const Vec3& n : m.normals)
+      if (!is_finite(n)) {
+        problems.push_back({{}, m.path + ": non-finite normal"});
+        break;
+      }
   }
   for (const PointLight& l : scene.point_lights)
     if (!is_finite(l.position) || !is_finite(l.intensity))
