@@ -275,7 +275,7 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
     // its interior. `crossing` is the surface that counts, when the hit is one.
     [[maybe_unused]] bool lost = false, prioritised = false;
     [[maybe_unused]] int passes = 0;
-    [[maybe_unused]] Crossing crossing;
+    [[maybe_unused]] std::conditional_t<K::interiors, Crossing, NoInterior> crossing{};
     if constexpr (K::interiors) {
       while (found && hit.kind == Hit::Kind::Shape && interiors_.priority(hit.index) > 0) {
         crossing = interiors_.cross(node.interior, hit.index, dot(d, hit.ng) < 0);
@@ -373,18 +373,17 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
           -d,    nf,   entering, {p, ng, embree_.origin()}, fresnel_, stochastic_branching_,
           draw1, draw2};
       if (shaded) {
-        Scatter s;
-        if constexpr (K::interiors) {
-          if (prioritised) {
-            // §14: the interface between the media on the two sides.
-            s = scatter_interface(interiors_.ior(crossing.to) / interiors_.ior(crossing.from), cx);
-            far_side = crossing.after;
-          } else {
-            s = scatter(mat, cx);
+        const Scatter s = [&] {
+          if constexpr (K::interiors) {
+            if (prioritised) {
+              // §14: the interface between the media on the two sides.
+              far_side = crossing.after;
+              return scatter_interface(interiors_.ior(crossing.to) / interiors_.ior(crossing.from),
+                                       cx);
+            }
           }
-        } else {
-          s = scatter(mat, cx);
-        }
+          return scatter(mat, cx);
+        }();
         if (s.tir) ++stats.tir_events;
         if (s.lit) contrib = s.lit->reflect(w, direct_timed(p, o_out, nf));
         for (int i = 0; i < s.count; ++i) {
