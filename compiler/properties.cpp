@@ -33,7 +33,7 @@ struct Registry {
     detail::prop_index = by_id.data();
     for (const PropInfo& p : props)
       for (BlockInfo& b : blocks)
-        if (b.name == p.block) b.props.push_back(&p);
+        if (b.name == p.block) (p.named_only() ? b.named : b.props).push_back(&p);
     // The kinds of runtime/ir/kinds.def: their blocks, and the IR defaults of
     // their properties (and of the settings).
     int index = 0;
@@ -192,6 +192,8 @@ const BlockInfo* find_block(std::string_view name) {
 const PropInfo* find_prop(const BlockInfo& block, std::string_view name) {
   for (const PropInfo* p : block.props)
     if (p->name == name) return p;
+  for (const PropInfo* p : block.named)
+    if (p->name == name) return p;
   if (block.is_object) return find_prop(object_block(), name);
   return nullptr;
 }
@@ -199,6 +201,7 @@ const PropInfo* find_prop(const BlockInfo& block, std::string_view name) {
 std::vector<std::string_view> prop_names(const BlockInfo& block) {
   std::vector<std::string_view> out;
   for (const PropInfo* p : block.props) out.push_back(p->name);
+  for (const PropInfo* p : block.named) out.push_back(p->name);
   if (block.is_object)
     for (const PropInfo* p : object_block().props) out.push_back(p->name);
   return out;

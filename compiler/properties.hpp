@@ -45,7 +45,10 @@ inline constexpr double kMaxMagnitude = ir::kMaxRadiometric;
 enum class Check { Any, Positive, NonNegative, AtLeast1, Fov, Ior, NonZero, Shutter, Pixels };
 inline constexpr double kMaxPixels = 268435456.0;  // 2^28, e.g. 16384 x 16384
 
-inline constexpr unsigned Req = 1, Rep = 2, Obj = 4;
+// Named: taken by name only, never a positional parameter (a constructor's
+// positional form keeps the core's parameter list: `dielectric <ior, absorb>`).
+// A Named property has no default and is not required.
+inline constexpr unsigned Req = 1, Rep = 2, Obj = 4, Named = 8;
 
 // The default column's `IR`: the default is the IR struct's own (the kind's
 // struct in runtime/ir/shapes.hpp or materials.hpp, or ir::Settings), read when
@@ -64,18 +67,20 @@ struct PropInfo {
   bool default_from_ir = false;  // the row said IR (default_value is filled from it)
   bool required() const { return flags & Req; }
   bool repeats() const { return flags & Rep; }
+  bool named_only() const { return flags & Named; }
 };
 
 struct BlockInfo {
   std::string_view name;
   BlockKind kind;
-  std::vector<const PropInfo*> props;  // own properties, in table order
+  std::vector<const PropInfo*> props;  // own properties but the Named ones, in table order
   bool is_object = false;              // also takes the `object` properties
   // The IR kind the block makes (runtime/ir/kinds.def, matched by name when the
   // registry is built): an index of ir::ShapeGeom, ir::MaterialModel or
   // ir::PatternVariant, or -1.
   int shape_kind = -1, material_kind = -1, pattern_kind = -1;
-  int csg_op = -1;  // a CSG block (§12): its ir::CsgOp, matched by spelling
+  int csg_op = -1;                       // a CSG block (§12): its ir::CsgOp, matched by spelling
+  std::vector<const PropInfo*> named{};  // own properties taken by name only (flag Named)
 };
 
 // True for the settings enums' property types.

@@ -43,6 +43,10 @@ struct RenderStats {
   std::uint64_t glossy_rays = 0;
   std::uint64_t pruned_by_depth = 0, pruned_by_weight = 0, tir_events = 0;
   std::uint64_t nonfinite_samples = 0;  // dropped, never written to the film
+  // §14 interiors: surfaces passed straight through (inside a solid of higher
+  // priority), entries forgotten by a full interior, branches lost after
+  // kMaxPassThroughs surfaces in a row.
+  std::uint64_t interior_passes = 0, interior_overflows = 0, interior_lost = 0;
   double build_seconds = 0, render_seconds = 0;
   // Distribution effects: camera samples that drew a lens / a time sample.
   std::uint64_t lens_samples = 0, time_samples = 0;

@@ -17,6 +17,9 @@ void RenderStats::merge(const RenderStats& b) {
   a.pruned_by_weight += b.pruned_by_weight;
   a.tir_events += b.tir_events;
   a.nonfinite_samples += b.nonfinite_samples;
+  a.interior_passes += b.interior_passes;
+  a.interior_overflows += b.interior_overflows;
+  a.interior_lost += b.interior_lost;
   a.lens_samples += b.lens_samples;
   a.time_samples += b.time_samples;
   a.timed_samples += b.timed_samples;
@@ -43,6 +46,11 @@ std::string RenderStats::to_string() const {
       kernel.empty() ? "?" : kernel, total, camera_rays, shadow_rays, reflection_rays,
       refraction_rays, glossy_rays, lens_samples, time_samples, pruned_by_depth, pruned_by_weight,
       tir_events, nonfinite_samples, build_seconds, render_seconds, mrays);
+  if (interior_passes + interior_overflows + interior_lost > 0)
+    s += fmt::format(
+        "interiors: {} surfaces passed through, {} entries forgotten (full), {} branches "
+        "lost\n",
+        interior_passes, interior_overflows, interior_lost);
   if (cost_stride == 0) return s;  // RenderOptions::measure_cost was off
   double cost = camera_seconds + shadow_seconds + reflection_seconds + refraction_seconds +
                 glossy_seconds + lens_seconds + time_seconds;

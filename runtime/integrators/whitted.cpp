@@ -60,9 +60,14 @@ std::string to_string(const SampleContext& c) {
                      c.py, c.index);
 }
 
-std::string to_string(const Node& n) {
+std::string to_string(const NodeOf<false>& n) {
   return fmt::format("node {{ {} {} weight {} depth {} key {:x} }}", rt::to_string(n.kind),
                      rt::to_string(n.ray), fmt_color(n.weight), n.depth, n.key);
+}
+std::string to_string(const NodeOf<true>& n) {
+  return fmt::format("node {{ {} {} weight {} depth {} key {:x} {} }}", rt::to_string(n.kind),
+                     rt::to_string(n.ray), fmt_color(n.weight), n.depth, n.key,
+                     rt::to_string(n.interior));
 }
 
 float offset_scale(const ir::Scene& scene, ir::Vec3 o) {
@@ -80,7 +85,7 @@ float offset_scale(const ir::Scene& scene, ir::Vec3 o) {
 }
 
 WhittedIntegrator::WhittedIntegrator(const ir::Scene& scene, const EmbreeScene& embree)
-    : scene_(scene), embree_(embree), lights_(scene, embree.origin()) {
+    : scene_(scene), embree_(embree), lights_(scene, embree.origin()), interiors_(scene) {
   offset_scale_ = offset_scale(scene, embree.origin());
   background_ = to_color(scene.background);
   max_depth_ = scene.settings.max_depth;
@@ -95,16 +100,59 @@ WhittedIntegrator::WhittedIntegrator(const ir::Scene& scene, const EmbreeScene& 
 // each sample L·cosθ_surf·cosθ_light·A/(d²·nu·nv) (area-to-solid-angle factor).
 // Shadow rays leave from the offset hit point and end at the offset light sample, so
 // the light's own surface never blocks them; everything else does (§7).
+//
+// §14: a shadow ray leaving a point inside prioritised solids passes through the
+// surfaces a ray would pass through there (they are not there for any ray), is
+// blocked by the first that counts, and carries the Beer factor of the medium it
+// travels in. From air the first surface always counts, so there it is the plain
+// occlusion query.
+template <class K>
+bool WhittedIntegrator::shadow_blocked(const Ray& ray, const Interior* in, Color& tr) const {
+  if constexpr (K::interiors) {
+    if (in && !in->empty()) {
+      Ray r = ray;
+      Interior cur = *in;
+      for (int passes = 0; passes <= kMaxPassThroughs; ++passes) {
+        Hit h;
+        if (!embree_.intersect(r, h)) {
+          if constexpr (K::absorption) {
+            if (const ir::Vec3* a = interiors_.absorb(in->medium())) {
+              double dist = double(length(r.dir)) * double(r.tmax);
+              tr = tr * to_float(beer(a->x, dist), beer(a->y, dist), beer(a->z, dist));
+            }
+          }
+          return false;
+        }
+        if (h.kind != Hit::Kind::Shape || interiors_.priority(h.index) == 0) return true;
+        Crossing c = interiors_.cross(cur, h.index, dot(r.dir, h.ng) < 0);
+        if (c.counts) return true;
+        cur = c.after;
+        r.tnear = std::nextafter(h.t, float(INFINITY));
+      }
+      return true;  // past kMaxPassThroughs: taken as blocked
+    }
+  }
+  (void)in, (void)tr;
+  return embree_.occluded(ray);
+}
+
 template <class K>
 Color WhittedIntegrator::direct(Vec3f p, Vec3f o, Vec3f nf, float time, std::uint64_t key,
-                                const SampleContext& sc, RenderStats& stats) const {
+                                const SampleContext& sc, RenderStats& stats,
+                                const Interior* in) const {
   Color e(0);
   LightSample ls;
   for (const PointLightF& l : lights_.points) {
     if (!l.sample_li(p, o, nf, time, ls)) continue;
     ++stats.shadow_rays;
-    if (embree_.occluded(ls.shadow)) continue;
-    if (std::isfinite(ls.g)) e += ls.value * ls.g;
+    Color tr(1);
+    if (shadow_blocked<K>(ls.shadow, in, tr)) continue;
+    if (std::isfinite(ls.g)) {
+      if constexpr (K::interiors)
+        e += ls.value * ls.g * tr;
+      else
+        e += ls.value * ls.g;
+    }
   }
   if constexpr (!K::area) return e;
   for (std::size_t li = 0; li < lights_.areas.size(); ++li) {
@@ -116,15 +164,21 @@ Color WhittedIntegrator::direct(Vec3f p, Vec3f o, Vec3f nf, float time, std::uin
         Sample2 s = sample2(sc.spec, sc.pixel, sc.index, dim);
         if (!l.sample_li(p, o, nf, time, iu, iv, s.u, s.v, offset_scale_, ls)) continue;
         ++stats.shadow_rays;
-        if (embree_.occluded(ls.shadow)) continue;
-        if (std::isfinite(ls.g)) e += ls.value * ls.g;
+        Color tr(1);
+        if (shadow_blocked<K>(ls.shadow, in, tr)) continue;
+        if (std::isfinite(ls.g)) {
+          if constexpr (K::interiors)
+            e += ls.value * ls.g * tr;
+          else
+            e += ls.value * ls.g;
+        }
       }
   }
   return e;
 }
 
 template <class K, class P>
-Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scratch& stack,
+Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scratch& scratch,
                             P& probe) const {
   RenderStats& stats = probe.stats;
   // Null at compile time under Probe<false>: every use below folds away.
@@ -132,24 +186,29 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
   CostClock* const cost = probe.cost;
   Color total(0);
   std::vector<TraceEntry> entries;
+  using N = NodeOf<K::interiors>;
+  auto& stack = scratch.template stack<K::interiors>();
   stack.clear();
   // Depth-first, reflection before refraction. The first child of a node is
   // traced next without a round trip through the stack; only its siblings wait
   // there (most trees are a single chain, and a diffuse hit has no child).
-  Node node;
+  N node;
   node.ray = camera_ray;
   node.start = camera_ray.org;
   node.key = kRootKey;
+  if constexpr (K::interiors) node.interior = interiors_.camera();
   const auto& mats = scene_.materials;
 
   for (;;) {
     double t_node = cost ? CostClock::now_ns() : 0, nested = 0;
     // Direct light is timed as shadow cost and taken out of the node's own time.
+    const Interior* in_here = nullptr;  // the interior at the shading point (shadow rays)
+    if constexpr (K::interiors) in_here = &node.interior;
     auto direct_timed = [&](Vec3f p, Vec3f o, Vec3f nf) {
-      if constexpr (!P::on) return direct<K>(p, o, nf, node.ray.time, node.key, sc, stats);
-      if (!cost) return direct<K>(p, o, nf, node.ray.time, node.key, sc, stats);
+      if constexpr (!P::on) return direct<K>(p, o, nf, node.ray.time, node.key, sc, stats, in_here);
+      if (!cost) return direct<K>(p, o, nf, node.ray.time, node.key, sc, stats, in_here);
       double t0 = CostClock::now_ns();
-      Color e = direct<K>(p, o, nf, node.ray.time, node.key, sc, stats);
+      Color e = direct<K>(p, o, nf, node.ray.time, node.key, sc, stats, in_here);
       double dt = cost->since(t0);
       cost->ns[kCostShadow] += dt;
       nested += dt + cost->overhead_ns;
@@ -174,9 +233,13 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
     Hit hit;
     Vec3f d = node.ray.dir;
     // Children are collected here; kids[0] (the reflection) is traced next.
-    Node kids[2];
+    N kids[2];
     int nkids = 0;
     Vec3f p_surface;
+    // The interior a refracted child starts with: the far side of a prioritised
+    // surface that counts, else the node's own (plain dielectrics are not tracked).
+    [[maybe_unused]] std::conditional_t<K::interiors, Interior, NoInterior> far_side{};
+    if constexpr (K::interiors) far_side = node.interior;
     auto spawn = [&](RayKind kind, Vec3f org, Vec3f dir, Color w, std::uint64_t slot,
                      float tnear = 0) {
       if (w.x == 0 && w.y == 0 && w.z == 0) return;  // nothing to carry: not a prune
@@ -196,20 +259,67 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
         }
         w = w * (1 / q);
       }
-      Node& k = kids[nkids++];
+      N& k = kids[nkids++];
       k.ray = Ray{org, dir, INFINITY, node.ray.time, tnear};
       k.start = p_surface;
       k.weight = w;
       k.depth = node.depth + 1;
       k.kind = kind;
       k.key = child_key(node.key, slot);
+      if constexpr (K::interiors)
+        k.interior = kind == RayKind::Refraction ? far_side : node.interior;
     };
 
-    if (!embree_.intersect(node.ray, hit)) {
+    bool found = embree_.intersect(node.ray, hit);
+    // §14: surfaces of prioritised solids that do not count are passed straight
+    // through: the same ray goes on, with no depth and no weight change, updating
+    // its interior. `crossing` is the surface that counts, when the hit is one.
+    [[maybe_unused]] bool lost = false, prioritised = false;
+    [[maybe_unused]] int passes = 0;
+    [[maybe_unused]] std::conditional_t<K::interiors, Crossing, NoInterior> crossing{};
+    if constexpr (K::interiors) {
+      while (found && hit.kind == Hit::Kind::Shape && interiors_.priority(hit.index) > 0) {
+        crossing = interiors_.cross(node.interior, hit.index, dot(d, hit.ng) < 0);
+        if (crossing.overflow) ++stats.interior_overflows;
+        if (crossing.counts) {
+          prioritised = true;
+          break;
+        }
+        node.interior = crossing.after;
+        ++stats.interior_passes;
+        if (++passes > kMaxPassThroughs) {
+          lost = true;
+          ++stats.interior_lost;
+          break;
+        }
+        node.ray.tnear = std::nextafter(hit.t, float(INFINITY));
+        found = embree_.intersect(node.ray, hit);
+      }
+      far_side = node.interior;
+    }
+    // The Beer factor of the medium the ray travels in, over `dist` (interiors:
+    // rays that escape or reach a light inside an absorbing solid).
+    [[maybe_unused]] auto medium_beer = [&](double dist) {
+      Color f(1);
+      if constexpr (K::interiors && K::absorption)
+        if (const ir::Vec3* a = interiors_.absorb(node.interior.medium()))
+          f = to_float(beer(a->x, dist), beer(a->y, dist), beer(a->z, dist));
+      return f;
+    };
+    if (K::interiors && lost) {
+      if (trace) desc = fmt::format("lost: passed through {} surfaces", passes - 1);
+    } else if (!found) {
       contrib = node.weight * background_;
+      if constexpr (K::interiors && K::absorption)
+        if (!node.interior.empty()) contrib = contrib * medium_beer(INFINITY);
       if (trace) desc = "escapes: background";
     } else if (hit.kind == Hit::Kind::AreaLight) {
       contrib = node.weight * lights_.areas[hit.index].le(d);
+      if constexpr (K::interiors && K::absorption)
+        if (!node.interior.empty()) {
+          Vec3f path = (node.ray.org - node.start) + d * hit.t;
+          contrib = contrib * medium_beer(double(length(path)));
+        }
       if (trace)
         desc = fmt::format("hits area light {} ({}) t={:.6g}", hit.index,
                            ir::to_string(scene_.area_lights[hit.index].src, scene_), hit.t);
@@ -230,9 +340,24 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
             fmt::format("hits shape {} ({} {}, {}) t={:.6g} {}", hit.index,
                         ir::to_string(shape.kind()), ir::to_string(mat.kind()),
                         ir::to_string(shape.src, scene_), hit.t, entering ? "entering" : "exiting");
+      if constexpr (K::interiors) {
+        if (trace) {
+          if (passes > 0) desc += fmt::format(" after passing through {} surface(s)", passes);
+          desc += " " + (prioritised ? rt::to_string(crossing) : rt::to_string(node.interior));
+        }
+      }
       // Not compiled in: a kernel without dielectrics has none to shade.
       bool shaded = K::dielectric || !std::holds_alternative<ir::Dielectric>(mat.model);
-      if (const ir::Vec3* a = K::absorption && !entering ? medium_absorb(mat) : nullptr) {
+      // The medium the ray has travelled in: the inside of the dielectric it leaves
+      // (§8), or with interiors the medium its interior names (§14).
+      const ir::Vec3* a = K::absorption && !entering ? medium_absorb(mat) : nullptr;
+      if constexpr (K::interiors && K::absorption) {
+        if (prioritised)
+          a = interiors_.absorb(crossing.from);
+        else if (!a)
+          a = interiors_.absorb(node.interior.medium());
+      }
+      if (a) {
         // Beer over the path inside this object (nested media are not modelled),
         // measured from the surface point the ray left, not its offset origin:
         // near the origin the offset is 2^-16 absolute, visible in thin slabs.
@@ -252,7 +377,17 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
           -d,    frame.ns, entering, {p, ng, embree_.origin()}, fresnel_, stochastic_branching_,
           draw1, draw2};
       if (shaded) {
-        Scatter s = scatter(mat, cx);
+        const Scatter s = [&] {
+          if constexpr (K::interiors) {
+            if (prioritised) {
+              // §14: the interface between the media on the two sides.
+              far_side = crossing.after;
+              return scatter_interface(interiors_.ior(crossing.to) / interiors_.ior(crossing.from),
+                                       cx);
+            }
+          }
+          return scatter(mat, cx);
+        }();
         if (s.tir) ++stats.tir_events;
         if (s.lit) {
           // Smooth: lit by the shading normal's hemisphere, the shadow rays leaving

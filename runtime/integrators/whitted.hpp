@@ -14,6 +14,7 @@
 
 #include <cstdint>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "runtime/embree_scene.hpp"
@@ -24,13 +25,20 @@
 #include "runtime/render/kernel.hpp"
 #include "runtime/render/tile.hpp"
 #include "runtime/sampler.hpp"
+#include "runtime/shading/interior.hpp"
 #include "runtime/shading/lights.hpp"
 #include "runtime/shading/materials.hpp"
 #include "runtime/vec.hpp"
 
 namespace snell::rt {
 
-struct Node {
+struct NoInterior {};
+
+// A ray of the tree. `Tracked`: the kernel follows §14 interiors, and each node
+// carries the prioritised solids its ray is inside (a kernel without priorities
+// keeps the smaller node).
+template <bool Tracked>
+struct NodeOf {
   Ray ray;
   Vec3f start;  // the surface point the ray leaves, before the origin offset
   Color weight{1, 1, 1};
@@ -38,9 +46,12 @@ struct Node {
   RayKind kind = RayKind::Camera;
   std::uint64_t key = 0;  // hashed path: names this node's sampler dimensions
   std::int32_t trace_id = -1, trace_parent = -1;
+  [[no_unique_address]] std::conditional_t<Tracked, Interior, NoInterior> interior;
 };
+using Node = NodeOf<false>;
 
-std::string to_string(const Node& n);
+std::string to_string(const NodeOf<false>& n);
+std::string to_string(const NodeOf<true>& n);
 
 // The scene's size around `origin` (the camera), at most 1: the largest distance
 // of any finite object's bounding corners or any light. Infinite planes do not
@@ -52,7 +63,17 @@ class WhittedIntegrator final : public Integrator {
   WhittedIntegrator(const ir::Scene& scene, const EmbreeScene& embree);
 
   // The ray tree's stack: scratch owned by each thread.
-  using Scratch = std::vector<Node>;
+  struct Scratch {
+    std::vector<NodeOf<false>> plain;
+    std::vector<NodeOf<true>> tracked;  // kernels with interiors
+    template <bool Tracked>
+    auto& stack() {
+      if constexpr (Tracked)
+        return tracked;
+      else
+        return plain;
+    }
+  };
   // Radiance along a camera ray. `probe` takes the counters and, when on, the
   // readable ray tree and the time of each ray by kind. Child and shadow rays keep
   // the camera ray's time.
@@ -72,20 +93,26 @@ class WhittedIntegrator final : public Integrator {
 
  private:
   // The kernel axes the ray tree reads; the others (lens, time) are the pixel loop's.
-  static constexpr unsigned kShadeAxes =
-      (1u << kAxis_area) | (1u << kAxis_dielectric) | (1u << kAxis_absorption);
+  static constexpr unsigned kShadeAxes = (1u << kAxis_area) | (1u << kAxis_dielectric) |
+                                         (1u << kAxis_absorption) | (1u << kAxis_interiors);
   template <class K, class P>
   Color li(const Ray& camera_ray, const SampleContext& sc, Scratch& stack, P& probe) const;
 
  private:
   template <class K>
-  // `o`: the shadow rays' origin, p moved off the surface (spawn_origin).
+  // `o`: the shadow rays' origin, p moved off the surface (spawn_origin); `in`: the
+  // interior there (null without interiors).
   Color direct(Vec3f p, Vec3f o, Vec3f n_facing, float time, std::uint64_t key,
-               const SampleContext& sc, RenderStats& stats) const;
+               const SampleContext& sc, RenderStats& stats, const Interior* in) const;
+  // Whether a shadow ray is blocked; `tr` is multiplied by the Beer factor of the
+  // medium it crosses when it is not (interiors only).
+  template <class K>
+  bool shadow_blocked(const Ray& r, const Interior* in, Color& tr) const;
 
   const ir::Scene& scene_;
   const EmbreeScene& embree_;
   Lights lights_;
+  Interiors interiors_;  // §14; empty unless the scene uses priorities
   Color background_;
   std::uint32_t max_depth_;
   float min_weight_;

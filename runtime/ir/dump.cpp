@@ -46,7 +46,8 @@ std::string to_string(const SourceRef& ref, const Scene& scene) {
 
 namespace {
 // " name value" for each field, in the struct's order: numbers shortest
-// round-trip, vectors <x, y, z>, textures as to_string(Texture), indices #N.
+// round-trip, vectors <x, y, z>, textures as to_string(Texture), indices #N
+// (uint32), integers (uint64) as written.
 std::string field_text(double v) {
   return num(v);
 }
@@ -58,6 +59,9 @@ std::string field_text(const Texture& t) {
 }
 std::string field_text(std::uint32_t index) {
   return "#" + std::to_string(index);
+}
+std::string field_text(std::uint64_t count) {  // a plain integer (a dielectric's priority)
+  return std::to_string(count);
 }
 std::string field_text(bool b) {
   return b ? "true" : "false";

@@ -8,7 +8,7 @@ namespace snell::ir {
 Features Features::all() {
   Features f;
   f.motion_blur = f.depth_of_field = f.point_lights = f.area_lights = f.mirror = f.glossy =
-      f.dielectric = f.absorption = f.glazed = f.textures = true;
+      f.dielectric = f.absorption = f.interiors = f.glazed = f.textures = true;
   f.reasons.push_back({"all", "--features=all forces the general kernel"});
   return f;
 }
@@ -95,6 +95,10 @@ Features analyze_features(const Scene& scene) {
                    "a dielectric of ior " + num(d.ior) + " at " + where);
               if (max_component(d.absorb) > 0)
                 once(f.absorption, "absorption", "absorb " + to_string(d.absorb) + " at " + where);
+              if (d.priority > 0)
+                once(f.interiors, "interiors",
+                     "a dielectric of priority " + std::to_string(d.priority) + " at " + where +
+                         ": rays track the prioritised solids they are inside");
             },
             [&](const Glazed& g) {
               textured(g.color);

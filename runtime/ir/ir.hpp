@@ -115,6 +115,7 @@ struct Features {
   bool glossy = false;
   bool dielectric = false;
   bool absorption = false;  // some dielectric absorbs (absorb > 0)
+  bool interiors = false;   // some dielectric has a priority (§14): rays track media
   bool glazed = false;
   bool textures = false;                                     // some colour is a pattern
   std::vector<std::pair<std::string, std::string>> reasons;  // (effect, why)

@@ -72,9 +72,13 @@ struct Glossy {
 struct Dielectric {
   double ior = 1.5;
   Vec3 absorb{0, 0, 0};  // Beer coefficient per channel, per scene unit
+  // §14: 0 is "none" (the core's interface from air, wherever it is); >= 1 makes
+  // the object's solid a medium that rays track (runtime/shading/interior.hpp).
+  std::uint64_t priority = 0;
   bool operator==(const Dielectric&) const = default;
   static constexpr auto fields() {
-    return std::tuple{field("ior", &Dielectric::ior), field("absorb", &Dielectric::absorb)};
+    return std::tuple{field("ior", &Dielectric::ior), field("absorb", &Dielectric::absorb),
+                      field("priority", &Dielectric::priority)};
   }
 };
 // The black glazed coating: a clear coat of index `ior` over a diffuse base.

@@ -26,6 +26,7 @@ void each_number(Vec3 v, auto&& f) {
   f(v.x), f(v.y), f(v.z);
 }
 void each_number(std::uint32_t, auto&&) {}  // indices are checked per kind
+void each_number(std::uint64_t, auto&&) {}  // integers (a priority) are finite
 void each_number(bool, auto&&) {}
 void each_number(const Texture& t, auto&& f) {
   std::visit(
@@ -142,6 +143,17 @@ void check_kind(const Glazed& m, Bad&& bad) {
   check_texture(m.color, bad);
   if (!(m.ior > 0) || !std::isfinite(m.ior)) bad("ior must be finite and > 0");
 }
+// §14: whether a shape bounds a volume a ray can be inside, as a prioritised
+// dielectric needs: not a triangle, a disc or an open tube. A mesh is taken to be
+// closed with outward normals (not checked: a leaky one confuses only itself).
+bool bounds_volume(const Shape& s) {
+  return std::visit(
+      Overloaded{[](const Triangle&) { return false; }, [](const Disc&) { return false; },
+                 [](const Cylinder& c) { return !c.open; }, [](const Cone& c) { return !c.open; },
+                 [](const auto&) { return true; }},
+      s.geom);
+}
+
 std::string far_message(const std::string& what, double r) {
   char buf[160];
   std::snprintf(buf, sizeof buf,
@@ -228,8 +240,14 @@ std::vector<Problem> validate(const Scene& scene) {
       bad(s.src, to_string(s.kind()) + " has a non-finite position, size or transform");
     for (const TransformOp& op : s.motion.ops)
       if (!is_finite(op.value)) bad(s.src, "motion has a non-finite value");
-    if (s.material >= scene.materials.size() && !(part && s.material == kInheritMaterial))
-      bad(s.src, "material index out of range");
+    if (s.material >= scene.materials.size()) {
+      if (!(part && s.material == kInheritMaterial)) bad(s.src, "material index out of range");
+    } else if (const Dielectric* d = scene.materials[s.material].as<Dielectric>();
+               d && d->priority > 0 && !bounds_volume(s)) {
+      bool open = s.kind() == ShapeKind::Cylinder || s.kind() == ShapeKind::Cone;
+      bad(s.src, "a dielectric with a 'priority' must fill a solid (§14), and this " +
+                     std::string(open ? "open " : "") + to_string(s.kind()) + " has no inside");
+    }
     if (part && !s.motion.ops.empty()) bad(s.src, "a part does not move on its own");
     std::visit([&](const auto& g) { check_kind(g, scene, bad_here); }, s.geom);
   };

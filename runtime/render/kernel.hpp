@@ -6,7 +6,8 @@
 //   X(axis, feature, needs, on, off)
 //     axis     the flag's name (Kernel<B>::axis)
 //     feature  the ir::Features member that turns it on
-//     needs    an axis that must be on too (or `none`): absorption needs dielectric
+//     needs    an axis that must be on too (or `none`): absorption and interiors
+//              need dielectric
 //     on, off  how --stats names the kernel's choice
 #pragma once
 
@@ -17,12 +18,13 @@
 
 #include "runtime/ir/ir.hpp"
 
-#define SNELL_KERNEL_AXES(X)                                             \
-  X(lens, depth_of_field, none, "thin lens", "pinhole")                  \
-  X(time, motion_blur, none, "motion (time sampled)", "static")          \
-  X(area, area_lights, none, "area lights", "point lights only")         \
-  X(dielectric, dielectric, none, "clear dielectrics", "no dielectrics") \
-  X(absorption, absorption, dielectric, "dielectrics with absorption", "")
+#define SNELL_KERNEL_AXES(X)                                               \
+  X(lens, depth_of_field, none, "thin lens", "pinhole")                    \
+  X(time, motion_blur, none, "motion (time sampled)", "static")            \
+  X(area, area_lights, none, "area lights", "point lights only")           \
+  X(dielectric, dielectric, none, "clear dielectrics", "no dielectrics")   \
+  X(absorption, absorption, dielectric, "dielectrics with absorption", "") \
+  X(interiors, interiors, dielectric, "nested dielectrics (priorities)", "")
 
 namespace snell::rt {
 

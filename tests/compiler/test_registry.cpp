@@ -267,8 +267,12 @@ TEST_CASE("registry: every IR kind of kinds.def is a block of properties.def, bo
     }
     // Every property of the block is a field of the kind's struct, except those a
     // kind's lowering hook reads itself (lower_kinds.cpp): the mesh's file.
-    for (const PropInfo* p : b->props) {
+    std::vector<const PropInfo*> all = b->props;
+    all.insert(all.end(), b->named.begin(), b->named.end());
+    for (const PropInfo* p : all) {
       INFO("property " << p->name);
+      // A Named property is never positional, so it cannot be required or defaulted.
+      if (p->named_only()) CHECK((!p->required() && p->default_value.type == Type::None));
       bool hooked = k.name == "mesh" && p->name == "file";
       bool field = std::count(fields[k.name].begin(), fields[k.name].end(), p->name) > 0;
       CHECK((field || hooked));

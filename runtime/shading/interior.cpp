@@ -1,0 +1,106 @@
+#include "runtime/shading/interior.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <type_traits>
+#include <variant>
+
+#include "runtime/geometry/intervals.hpp"
+
+namespace snell::rt {
+
+namespace {
+std::string medium_text(std::uint32_t m) {
+  return m == Interior::kAir ? std::string("air") : fmt::format("#{}", m);
+}
+}  // namespace
+
+std::string to_string(const Interior& in) {
+  std::string s = "interior {";
+  for (int i = 0; i < in.count; ++i)
+    s += fmt::format(" #{} priority {}", in.entries[i].shape, in.entries[i].priority);
+  return s + " medium " + medium_text(in.medium()) + " }";
+}
+
+std::string to_string(const Crossing& c) {
+  return fmt::format("crossing {{ {} {} -> {}{} {} }}", c.counts ? "counts" : "passes",
+                     medium_text(c.from), medium_text(c.to), c.overflow ? " overflow" : "",
+                     to_string(c.after));
+}
+
+bool solid_contains(const ir::Shape& shape, ir::Vec3 world_point) {
+  ir::Vec3 p = shape.world_from_object.inverse().point(world_point);
+  // Any direction will do from a point inside; an oblique one keeps clear of the
+  // axis-aligned faces a point on an edge would make ambiguous.
+  const ir::Vec3 d = ir::normalize(ir::Vec3{0.5477, 0.3651, 0.7531});
+  return std::visit(
+      [&](const auto& g) {
+        using K = std::decay_t<decltype(g)>;
+        if constexpr (geom::kSolid<K>) {
+          geom::Spans s = geom::solid_intervals(g, p, d, 0.0, double(INFINITY));
+          return s.count > 0 && s.span[0].t_in <= 0;
+        } else {
+          return false;
+        }
+      },
+      shape.geom);
+}
+
+Interiors::Interiors(const ir::Scene& scene) : scene_(scene) {
+  bool any = false;
+  for (const ir::Material& m : scene.materials)
+    if (const ir::Dielectric* d = m.as<ir::Dielectric>()) any = any || d->priority > 0;
+  if (!any) return;
+  priority_.assign(scene.shapes.size(), 0);
+  for (std::size_t i = 0; i < scene.shapes.size(); ++i) {
+    const ir::Shape& s = scene.shapes[i];
+    if (s.material >= scene.materials.size()) continue;
+    const ir::Dielectric* d = scene.materials[s.material].as<ir::Dielectric>();
+    if (!d || d->priority == 0) continue;
+    // ir::validate keeps priorities to solids and the language to 32 bits.
+    priority_[i] = std::uint32_t(d->priority);
+  }
+  // Camera rays start inside the solids that contain the camera, entered in the
+  // scene's order (so among equal priorities the later object is the medium).
+  for (std::size_t i = 0; i < priority_.size(); ++i)
+    if (priority_[i] > 0 && solid_contains(scene.shapes[i], scene.camera.location))
+      camera_.enter(std::uint32_t(i), priority_[i]);
+}
+
+double Interiors::ior(std::uint32_t medium) const {
+  if (medium == Interior::kAir) return 1;
+  return scene_.materials[scene_.shapes[medium].material].as<ir::Dielectric>()->ior;
+}
+
+const ir::Vec3* Interiors::absorb(std::uint32_t medium) const {
+  if (medium == Interior::kAir) return nullptr;
+  return &scene_.materials[scene_.shapes[medium].material].as<ir::Dielectric>()->absorb;
+}
+
+Crossing Interiors::cross(const Interior& in, std::uint32_t shape, bool entering) const {
+  Crossing c;
+  c.after = in;
+  const std::uint32_t p = priority(shape);
+  const int mb = in.medium_index();
+  c.from = mb < 0 ? Interior::kAir : in.entries[mb].shape;
+  if (entering) {
+    c.overflow = !c.after.enter(shape, p);
+  } else if (int i = in.find(shape); i >= 0) {
+    c.after.remove(i);
+  } else if (mb < 0 || p > in.entries[mb].priority) {
+    c.from = shape;  // no entry: as if it had been entered first (interior.hpp)
+  }
+  c.to = c.after.medium();
+  c.counts = c.from != c.to;
+  return c;
+}
+
+std::string Interiors::to_string() const {
+  std::size_t solids = 0;
+  for (std::uint32_t p : priority_) solids += p > 0;
+  return fmt::format("interiors {{ {} prioritised solid(s) camera {} }}", solids,
+                     rt::to_string(camera_));
+}
+
+}  // namespace snell::rt

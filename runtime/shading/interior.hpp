@@ -1,0 +1,142 @@
+// §14 interiors: the prioritised dielectric solids a ray is inside, and what a
+// crossing of one of their surfaces does (Schmidt & Budge, "Simple nested
+// dielectrics in ray traced images", JGT 7(2), 2002; higher priority wins, as in
+// Arnold and RenderMan).
+//
+// A ray carries the prioritised solids it has entered, in order (`Interior`). Its
+// medium is the entry of highest priority, the one entered last among equals; air
+// (index 1) when there is none. A surface of a prioritised solid *counts* only
+// where the medium on its far side differs from the one the ray is in: a surface
+// inside a solid of higher priority changes nothing and the ray passes straight
+// through it (a false hit). Where it counts, the interface is n_leaving →
+// n_entering of those two media. Dielectrics without a priority are not tracked:
+// each is still the core's air ↔ ior interface wherever it is (§8).
+//
+// Limits, chosen to be defined rather than exact:
+//   - a ray passes through at most kMaxPassThroughs surfaces between two
+//     interactions; past that its branch is lost (black, counted in --stats);
+//   - at most Interior::kMax entries; entering one more forgets the entry of lowest
+//     priority (the earliest among equals, the new one included), counted in
+//     --stats as an interior overflow;
+//   - leaving a solid the ray has no entry for (forgotten, or a camera inside one
+//     the start-up test does not see) is taken as if the ray had entered it first:
+//     it counts when its priority beats the medium left on the stack;
+//   - the camera's starting interior is found once, by inside tests at the camera
+//     location at shutter open, for the kinds with ray intervals
+//     (geometry/intervals.hpp: sphere, box, plane, closed cylinder/cone, torus);
+//     a camera inside a prioritised mesh starts in air.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "runtime/ir/ir.hpp"
+
+namespace snell::rt {
+
+// The prioritised solids a ray is inside, oldest first. Plain data, copied into
+// each branch of the ray tree.
+struct Interior {
+  static constexpr int kMax = 8;
+  static constexpr std::uint32_t kAir = 0xffffffffu;  // the medium outside every solid
+  struct Entry {
+    std::uint32_t shape = 0;     // index into ir::Scene::shapes
+    std::uint32_t priority = 0;  // >= 1
+  };
+  Entry entries[kMax];
+  std::uint8_t count = 0;
+
+  bool empty() const { return count == 0; }
+  // The position of the medium's entry: highest priority, the latest among
+  // equals; -1 for air.
+  int medium_index() const {
+    int best = -1;
+    for (int i = 0; i < count; ++i)
+      if (best < 0 || entries[i].priority >= entries[best].priority) best = i;
+    return best;
+  }
+  // The shape whose inside the ray travels in, or kAir.
+  std::uint32_t medium() const {
+    int i = medium_index();
+    return i < 0 ? kAir : entries[i].shape;
+  }
+  // The position of the latest entry of `shape`, or -1.
+  int find(std::uint32_t shape) const {
+    for (int i = count - 1; i >= 0; --i)
+      if (entries[i].shape == shape) return i;
+    return -1;
+  }
+  // Pushes an entry; false when the stack was full and an entry was forgotten
+  // (the lowest priority, the earliest among equals; possibly this one).
+  bool enter(std::uint32_t shape, std::uint32_t priority) {
+    if (count < kMax) {
+      entries[count++] = {shape, priority};
+      return true;
+    }
+    int low = 0;
+    for (int i = 1; i < count; ++i)
+      if (entries[i].priority < entries[low].priority) low = i;
+    if (priority < entries[low].priority) return false;
+    remove(low);
+    entries[count++] = {shape, priority};
+    return false;
+  }
+  void remove(int i) {
+    for (int k = i; k + 1 < count; ++k) entries[k] = entries[k + 1];
+    --count;
+  }
+};
+
+std::string to_string(const Interior& in);
+
+// Surfaces one ray may pass straight through before its branch is given up as
+// lost (black, counted in --stats): false hits cost no depth, so this bounds them.
+inline constexpr int kMaxPassThroughs = 64;
+
+// What crossing one surface of a prioritised solid does.
+struct Crossing {
+  bool counts = false;                  // false: a false hit, the ray goes straight on
+  bool overflow = false;                // entering it forgot an entry (Interior::enter)
+  std::uint32_t from = Interior::kAir;  // the medium the ray leaves (shape index or kAir)
+  std::uint32_t to = Interior::kAir;    // the medium it enters
+  Interior after;                       // the interior on the far side
+};
+
+std::string to_string(const Crossing& c);
+
+// The scene's prioritised solids: each shape's priority, the media's indices and
+// absorption, and the camera's starting interior. A scene without priorities
+// keeps no table, and every shape's priority is 0.
+class Interiors {
+ public:
+  explicit Interiors(const ir::Scene& scene);
+
+  // The shape's priority, or 0 when it is not a prioritised dielectric solid.
+  std::uint32_t priority(std::uint32_t shape) const {
+    return shape < priority_.size() ? priority_[shape] : 0;
+  }
+  // The index of refraction of a medium (1 for air).
+  double ior(std::uint32_t medium) const;
+  // Its Beer coefficient, or null for air.
+  const ir::Vec3* absorb(std::uint32_t medium) const;
+  // The interior camera rays start with.
+  const Interior& camera() const { return camera_; }
+
+  // Crossing the surface of prioritised shape `shape` (priority(shape) > 0) with
+  // interior `in`, entering (against the outward normal) or leaving it.
+  Crossing cross(const Interior& in, std::uint32_t shape, bool entering) const;
+
+  std::string to_string() const;
+
+ private:
+  const ir::Scene& scene_;
+  std::vector<std::uint32_t> priority_;  // per shape; empty when the scene has none
+  Interior camera_;
+};
+
+// Whether the world point lies inside the shape's solid at its shutter-open
+// placement (false for kinds without ray intervals: meshes, open shapes).
+bool solid_contains(const ir::Shape& shape, ir::Vec3 world_point);
+
+}  // namespace snell::rt

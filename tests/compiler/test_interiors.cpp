@@ -1,0 +1,93 @@
+// §14 `priority`: what the compiler accepts, the messages it gives for what it
+// does not, and what reaches the IR (tests/lang/compile/interiors*.scn hold the
+// positions and the dump).
+#include <catch2/catch.hpp>
+#include <string>
+
+#include "compiler/compile.hpp"
+#include "compiler/properties.hpp"
+#include "runtime/ir/dump.hpp"
+
+using namespace snell;
+
+namespace {
+
+std::unique_ptr<compile::Compilation> run(const std::string& src) {
+  compile::CompileOptions opts;
+  opts.stdlib_dir = std::string(SNELL_SOURCE_DIR) + "/stdlib";
+  return compile::compile_source("test.scn", src, opts);
+}
+
+// Every message of the compilation, one a line.
+std::string messages(const compile::Compilation& c) {
+  std::string s;
+  for (const auto& d : c.diags.diagnostics())
+    s += std::string(lang::diag_name(d.kind)) + ": " + d.message + "\n";
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("priority: an integer >= 1, with messages that say so", "[compiler][interiors]") {
+  struct Case {
+    const char* value;
+    const char* kind;
+    const char* says;
+  };
+  const Case cases[] = {
+      {"0", "InvalidValue", "'priority' must be >= 1"},
+      {"-3", "InvalidValue", "'priority' must be >= 1"},
+      {"1.5", "NotAnInteger", "'priority' must be an integer, not 1.5"},
+      {"true", "InvalidValue", "'priority' takes an integer >= 1, not a bool"},
+      {"1e10", "InvalidValue", "'priority' is too large"},
+  };
+  for (const Case& k : cases) {
+    auto c = run(std::string("sphere { material dielectric { priority ") + k.value + " } }\n");
+    std::string m = messages(*c);
+    INFO("priority " << k.value << "\n" << m);
+    CHECK(c->status != compile::CompileStatus::Ok);
+    CHECK(m.find(std::string(k.kind) + ": " + k.says) != std::string::npos);
+  }
+}
+
+TEST_CASE("priority reaches the IR, is not positional, and 0 means none", "[compiler][interiors]") {
+  auto c =
+      run("sphere { material dielectric { ior 1.33 priority 2 } }\n"
+          "sphere { material dielectric <1.33, 0> }\n"
+          "sphere { material dielectric { ior 1.33 priority 4294967295 } }\n");
+  INFO(messages(*c));
+  REQUIRE(c->status == compile::CompileStatus::Ok);
+  REQUIRE(c->scene.shapes.size() == 3);
+  auto prio = [&](std::size_t i) {
+    return c->scene.materials[c->scene.shapes[i].material].as<ir::Dielectric>()->priority;
+  };
+  CHECK(prio(0) == 2);
+  CHECK(prio(1) == 0);
+  CHECK(prio(2) == 4294967295u);  // the largest: the runtime keeps 32 bits
+  // Different priorities are different materials.
+  CHECK(c->scene.shapes[0].material != c->scene.shapes[1].material);
+  CHECK(ir::to_string(c->scene.materials[c->scene.shapes[0].material]) ==
+        "dielectric { ior 1.33 absorb <0, 0, 0> priority 2 }");
+  // The positional form is the core's two parameters, whatever §14 adds.
+  const compile::BlockInfo* d = compile::find_block("dielectric");
+  REQUIRE(d);
+  CHECK(d->props.size() == 2);
+  REQUIRE(compile::find_prop(*d, "priority"));
+  CHECK(compile::find_prop(*d, "priority")->named_only());
+  auto features = ir::analyze_features(c->scene);
+  CHECK(features.interiors);
+  CHECK(ir::to_string(features).find("interiors: a dielectric of priority 2") != std::string::npos);
+}
+
+TEST_CASE("a prioritised dielectric needs a solid", "[compiler][interiors]") {
+  auto c =
+      run("let water = dielectric { priority 1 };\n"
+          "disc { center <0, 0, 0> normal <0, 1, 0> radius 1 material water }\n"
+          "box { min <0, 0, 0> max <1, 1, 1> material water }\n");
+  std::string m = messages(*c);
+  INFO(m);
+  CHECK(c->status != compile::CompileStatus::Ok);
+  CHECK(m ==
+        "InvalidValue: a dielectric with a 'priority' must fill a solid (§14), and this disc has "
+        "no inside\n");
+}
