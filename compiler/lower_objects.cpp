@@ -13,10 +13,12 @@
 //                    outside a CSG block (the BVH instances bounded, static geometry)
 // Children inherit the transform (applied after their own), the material (when
 // they have none) and the motion of the objects around them.
+#include <cmath>
 #include <string>
 
 #include "compiler/lower.hpp"
 #include "compiler/object_value.hpp"
+#include "runtime/ir/bounds.hpp"
 
 namespace snell::compile {
 
@@ -189,6 +191,12 @@ std::int64_t SceneBuilder::prototype_for(const std::shared_ptr<const ObjectNode>
   place(*value, Placement{ir::Transform{}, ir::kInheritMaterial, nullptr}, &p.parts);
   std::int64_t id = -1;
   if (diags_.error_count() == errors && !p.parts.empty()) {
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (std::uint32_t i : p.parts)
+      ir::world_hull_points(scene_.parts[i], scene_, [&](ir::Vec3 q) {
+        for (int k = 0; k < 3; ++k) lo[k] = std::fmin(lo[k], q[k]), hi[k] = std::fmax(hi[k], q[k]);
+      });
+    if (lo[0] <= hi[0]) p.lo = {lo[0], lo[1], lo[2]}, p.hi = {hi[0], hi[1], hi[2]};
     id = static_cast<std::int64_t>(scene_.prototypes.size());
     scene_.prototypes.push_back(std::move(p));
   }

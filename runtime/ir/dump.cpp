@@ -214,7 +214,7 @@ std::string to_string(const CsgNode& n) {
 std::string to_string(const Prototype& p) {
   std::string s = "{ parts";
   for (std::uint32_t c : p.parts) s += " #" + std::to_string(c);
-  return s + " }";
+  return s + " box " + to_string(p.lo) + " " + to_string(p.hi) + " }";
 }
 
 }  // namespace snell::ir

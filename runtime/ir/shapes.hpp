@@ -235,6 +235,9 @@ struct CsgNode {
 // the value's own space.
 struct Prototype {
   std::vector<std::uint32_t> parts;  // into Scene::parts
+  // The box of the parts' hull points in the prototype's space (the compiler fills
+  // it): an instance's hull is its corners, not every vertex of a mesh again.
+  Vec3 lo{0, 0, 0}, hi{0, 0, 0};
   SourceRef src;
 };
 
@@ -289,9 +292,9 @@ void Csg::hull(const Scene& scene, F&& f) const {
 template <class Scene, class F>
 void Instance::hull(const Scene& scene, F&& f) const {
   if (prototype >= scene.prototypes.size()) return;
-  std::function<void(Vec3)> g(std::ref(f));
-  for (std::uint32_t i : scene.prototypes[prototype].parts)
-    if (i < scene.parts.size()) composite_hull(scene, scene.parts[i], g);
+  const Prototype& p = scene.prototypes[prototype];
+  for (int i = 0; i < 8; ++i)
+    f(Vec3{i & 1 ? p.hi.x : p.lo.x, i & 2 ? p.hi.y : p.lo.y, i & 4 ? p.hi.z : p.lo.z});
 }
 
 }  // namespace snell::ir

@@ -294,6 +294,7 @@ TEST_CASE("instances: one prototype shared by every instance, placed by each", "
   q.scene.parts.push_back(part);
   ir::Prototype proto;
   proto.parts = {0};
+  proto.lo = {-0.5, -0.5, -0.5}, proto.hi = {0.5, 0.5, 0.5};
   q.scene.prototypes.push_back(proto);
   q.scene.materials.resize(40);
   for (int i = 0; i < 40; ++i) {
