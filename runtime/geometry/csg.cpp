@@ -238,23 +238,8 @@ void CsgSetT<kMoving>::bounds(unsigned prim, Box3& box) const {
     // transformed may overflow the float box otherwise).
     p.program.corners(kClamp, [&](Vec3 c) { box.grow(xform_point(p.rel_from_csg, c)); });
   } else {
-    constexpr int kSteps = 64;
-    std::vector<Vec3> prev;
-    double pad = 0;
-    for (int i = 0; i <= kSteps; ++i) {
-      ir::Mat4 rel = rel_at(*p.shape_ir, p.origin, double(i) / kSteps).m;
-      std::size_t c = 0;
-      p.program.corners(kClamp, [&](Vec3 q) {
-        Vec3 w = xform_point(rel, q);
-        box.grow(w);
-        if (i == 0)
-          prev.push_back(w);
-        else
-          pad = std::fmax(pad, ir::length(w - prev[c])), prev[c] = w;
-        ++c;
-      });
-    }
-    for (int k = 0; k < 3; ++k) box.lo[k] -= pad, box.hi[k] += pad;
+    swept_bounds([&](double u) { return rel_at(*p.shape_ir, p.origin, u).m; },
+                 [&](auto&& f) { p.program.corners(kClamp, f); }, box);
   }
   for (int k = 0; k < 3; ++k)
     box.lo[k] = std::fmax(box.lo[k], -kClamp), box.hi[k] = std::fmin(box.hi[k], kClamp);

@@ -120,24 +120,9 @@ class MovingLocalSet {
   // The union of the boxes at kSteps + 1 times, grown by the largest distance a
   // corner moves between two neighbouring times (MovingSphereSet::bounds: why).
   void bounds(unsigned prim, Box3& box) const {
-    constexpr int kSteps = 64;
     const Moving& m = prims_[prim];
-    std::vector<Vec3> prev;
-    double pad = 0;
-    for (int i = 0; i <= kSteps; ++i) {
-      ir::Mat4 rel = rel_from_local(m, double(i) / kSteps);
-      std::size_t c = 0;
-      m.surface.corners([&](Vec3 q) {
-        Vec3 w = xform_point(rel, q);
-        box.grow(w);
-        if (i == 0)
-          prev.push_back(w);
-        else
-          pad = std::fmax(pad, ir::length(w - prev[c])), prev[c] = w;
-        ++c;
-      });
-    }
-    for (int k = 0; k < 3; ++k) box.lo[k] -= pad, box.hi[k] += pad;
+    swept_bounds([&](double u) { return rel_from_local(m, u); },
+                 [&](auto&& f) { m.surface.corners(f); }, box);
   }
   bool hit(unsigned prim, float time, Vec3f o, Vec3f d, float tnear, float tfar, float& t,
            Vec3f& n) const {

@@ -4,6 +4,7 @@
 
 #include <vector>
 
+#include "runtime/geometry/xform.hpp"
 #include "runtime/ir/ir.hpp"
 
 namespace snell::rt::geom {
@@ -22,6 +23,31 @@ inline double shutter_fraction(float time) {
 // is within 1e-4 of the shape's size of the linear interpolation, at most 128
 // segments (129 steps, Embree's limit): a 90° turn takes 64 segments; a turn beyond
 // ~230° keeps a chord error above 1e-4 (documented limit).
+// The box of a moving shape: the union of its boxes at 65 times u in [0, 1], grown
+// by the largest distance a corner moves between two neighbouring times (a corner's
+// path between samples stays within that of the chord). `rel_at(u)`: the placement
+// at u (ir::Mat4); `corners(f)`: f(point) for the points whose hull holds the shape.
+template <class At, class Corners>
+void swept_bounds(At&& rel_at_u, Corners&& corners, Box3& box) {
+  constexpr int kSteps = 64;
+  std::vector<Vec3> prev;
+  double pad = 0;
+  for (int i = 0; i <= kSteps; ++i) {
+    ir::Mat4 rel = rel_at_u(double(i) / kSteps);
+    std::size_t c = 0;
+    corners([&](Vec3 q) {
+      Vec3 w = xform_point(rel, q);
+      box.grow(w);
+      if (i == 0)
+        prev.push_back(w);
+      else
+        pad = std::fmax(pad, ir::length(w - prev[c])), prev[c] = w;
+      ++c;
+    });
+  }
+  for (int k = 0; k < 3; ++k) box.lo[k] -= pad, box.hi[k] += pad;
+}
+
 unsigned motion_segments(const ir::Shape& s, const std::vector<ir::Vec3>& verts, ir::Vec3 origin);
 
 }  // namespace snell::rt::geom
