@@ -366,6 +366,47 @@ bool Evaluator::eval_prop_value(const PropInfo& info, const Expr& expr,
   return true;
 }
 
+// pair -> '<' expr ',' expr '>' | expr (a 2-vector value: two numbers)
+// Written as a vector literal, each part is evaluated and checked on its own, so a
+// part may be a colour or a pattern (`stop <0.5, <1, 0, 0>>`, `bump <noise { }, 0.2>`).
+bool Evaluator::eval_pair(const PropInfo& info, const Expr& expr, const std::shared_ptr<Env>& env,
+                          std::vector<EvaluatedProp>& parts) {
+  const BlockInfo* block = find_block(info.name);
+  auto take = [&](std::size_t i, const Expr& ex, const Value* given) {
+    EvaluatedProp& q = parts.emplace_back();
+    q.info = block->props[i];
+    q.name_span = ex.span;
+    q.value_span = ex.span;
+    bool ok;
+    if (given) {
+      q.value = *given;
+      std::string msg = check_value(*q.info, q.value);
+      if (!msg.empty()) error(DiagKind::InvalidValue, ex.span, msg);
+      ok = msg.empty();
+    } else {
+      ok = eval_prop_value(*q.info, ex, env, q.value);
+    }
+    if (!ok) parts.pop_back();
+    return ok;
+  };
+  if (expr.kind == ExprKind::Vector && expr.args.size() == 2) {
+    bool a = take(0, *expr.args[0], nullptr);
+    bool b = take(1, *expr.args[1], nullptr);
+    return a && b;
+  }
+  Value v = eval(expr, env);
+  if (v.is_error()) return false;
+  if (v.type == Type::Vec2) {
+    Value a = Value::number(v.v.x), b = Value::number(v.v.y);
+    bool ok = take(0, expr, &a);
+    return take(1, expr, &b) && ok;
+  }
+  error(DiagKind::InvalidValue, expr.span,
+        "'" + std::string(info.name) + "' takes " + describe(info) + ", not a " +
+            std::string(type_name(v.type)));
+  return false;
+}
+
 void Evaluator::eval_props(const BlockInfo& block, const lang::Block& body, Span keyword_span,
                            const std::shared_ptr<Env>& env, std::vector<EvaluatedProp>& out,
                            bool& ok) {
@@ -437,7 +478,8 @@ void Evaluator::eval_props(const BlockInfo& block, const lang::Block& body, Span
       eval_props(*nested, *p.block, p.name_span, env, ep.nested, ok);
     } else {
       ep.value_span = p.value->span;
-      if (!eval_prop_value(*info, *p.value, env, ep.value)) {
+      if (info->type == PropType::Pair ? !eval_pair(*info, *p.value, env, ep.nested)
+                                       : !eval_prop_value(*info, *p.value, env, ep.value)) {
         out.pop_back();
         ok = false;
         continue;

@@ -182,6 +182,9 @@ class Evaluator {
   };
   bool eval_prop_value(const PropInfo& info, const lang::Expr& expr,
                        const std::shared_ptr<Env>& env, Value& out);
+  // A Pair property's two parts into `parts` (properties.hpp PropType::Pair).
+  bool eval_pair(const PropInfo& info, const lang::Expr& expr, const std::shared_ptr<Env>& env,
+                 std::vector<EvaluatedProp>& parts);
 
   std::int32_t intern(const std::string& name);
   std::int32_t symbol_of(const lang::Expr& e) {

@@ -454,7 +454,7 @@ Value Evaluator::eval_constructor(const Expr& e, const std::shared_ptr<Env>& env
                           "{:g} > 1): facing reflections grow without bound",
                           block->name, m));
     }
-  return make_constructor_value(*block, props);
+  return make_constructor_value(*block, props, diags_);
 }
 
 }  // namespace snell::compile

@@ -113,6 +113,11 @@ struct Hasher {
   void operator()(const ir::Texture& t) {
     mix(t.pattern.index() << 7);
     std::visit([&](const auto& p) { fields(p); }, t.pattern);
+    for (const ir::ColorStop& c : t.color_map) (*this)(c.at), (*this)(c.color);
+    (*this)(t.turbulence);
+    mix(t.octaves), mix(std::uint64_t(t.space));
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 4; ++c) (*this)(t.world_from_pattern.m(r, c));
   }
   template <class T>
   void fields(const T& kind) {

@@ -28,7 +28,10 @@ struct EvaluatedProp {
 
 // Builds an ir::Material or ir::Texture value from a constructor's properties
 // (lower_kinds.cpp: the block's kind struct, filled field by field).
-Value make_constructor_value(const BlockInfo& block, const std::vector<EvaluatedProp>& props);
+// Problems only the whole block shows (a colour map's stops out of order) are
+// reported to `diags` and give an error value.
+Value make_constructor_value(const BlockInfo& block, const std::vector<EvaluatedProp>& props,
+                             lang::DiagnosticEngine& diags);
 
 class SceneBuilder;
 struct ObjectNode;

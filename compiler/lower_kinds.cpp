@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <tuple>
+#include <type_traits>
 
 #include "compiler/ir_binding.hpp"
 #include "compiler/lower.hpp"
@@ -149,20 +150,63 @@ constexpr ShapeFn kShapes[] = {
 };
 
 template <class T>
-Value make_material(const std::vector<EvaluatedProp>& props) {
+Value make_material(const std::vector<EvaluatedProp>& props, lang::DiagnosticEngine&) {
   T kind;
   bind_fields(kind, props);
   return Value::of_material(ir::Material(kind));
 }
+
+// §15's properties common to every pattern (properties.def SNELL_PATTERN_PROPS),
+// found by name: each pattern block has its own rows of them.
+bool common_pattern_props(ir::Texture& t, const std::vector<EvaluatedProp>& props,
+                          lang::DiagnosticEngine& diags) {
+  bool ok = true;
+  t.world_from_pattern = object_transforms(props);
+  for (const EvaluatedProp& p : props) {
+    std::string_view name = p.info->name;
+    if (name == "turbulence") {
+      t.turbulence = p.value.n;
+    } else if (name == "octaves") {
+      t.octaves = static_cast<std::uint32_t>(p.value.n);
+    } else if (name == "space") {
+      ir::parse_enum(p.value.str(), t.space);
+    } else if (name == "color_map") {
+      const EvaluatedProp* prev = nullptr;
+      for (const EvaluatedProp& stop : p.nested) {
+        if (stop.nested.size() != 2) continue;  // its error is reported
+        ir::ColorStop s{stop.nested[0].value.n, stop.nested[1].value.v};
+        if (!t.color_map.empty() && s.at < t.color_map.back().at) {
+          diags
+              .report(DiagKind::InvalidValue, stop.nested[0].value_span,
+                      "a colour map's stops must be in non-decreasing order: " + ir::num(s.at) +
+                          " comes after " + ir::num(t.color_map.back().at))
+              .note(prev->nested[0].value_span, "the stop before it");
+          ok = false;
+        }
+        t.color_map.push_back(s);
+        prev = &stop;
+      }
+      if (p.nested.empty()) {
+        diags.report(DiagKind::InvalidValue, p.value_span,
+                     "a colour map needs at least one 'stop <at, color>'");
+        ok = false;
+      }
+    }
+  }
+  return ok;
+}
+
 template <class T>
-Value make_pattern(const std::vector<EvaluatedProp>& props) {
+Value make_pattern(const std::vector<EvaluatedProp>& props, lang::DiagnosticEngine& diags) {
   ir::Texture t;
   T kind;
   bind_fields(kind, props);
   t.pattern = kind;
+  if constexpr (!std::is_same_v<T, ir::Constant>)
+    if (!common_pattern_props(t, props, diags)) return Value::error();
   return Value::of_pattern(t);
 }
-using MakeFn = Value (*)(const std::vector<EvaluatedProp>&);
+using MakeFn = Value (*)(const std::vector<EvaluatedProp>&, lang::DiagnosticEngine&);
 constexpr MakeFn kMaterials[] = {
 #define SNELL_MATERIAL(name, Type) &make_material<ir::Type>,
 #include "runtime/ir/kinds.def"
@@ -178,9 +222,10 @@ bool lower_shape(const BlockInfo& block, LowerContext& cx, ir::ShapeGeom& out) {
   return kShapes[block.shape_kind](out, cx);
 }
 
-Value make_constructor_value(const BlockInfo& block, const std::vector<EvaluatedProp>& props) {
-  if (block.material_kind >= 0) return kMaterials[block.material_kind](props);
-  if (block.pattern_kind >= 0) return kPatterns[block.pattern_kind](props);
+Value make_constructor_value(const BlockInfo& block, const std::vector<EvaluatedProp>& props,
+                             lang::DiagnosticEngine& diags) {
+  if (block.material_kind >= 0) return kMaterials[block.material_kind](props, diags);
+  if (block.pattern_kind >= 0) return kPatterns[block.pattern_kind](props, diags);
   return Value::error();
 }
 

@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "compiler/ir_binding.hpp"
+#include "runtime/pattern/noise.hpp"
 
 namespace snell::compile {
 
@@ -133,6 +134,8 @@ bool range_ok(Check c, double x) {
       return x > 0 && x < 180;
     case Check::Ior:
       return x > 0;
+    case Check::Octaves:
+      return x >= 1 && x <= pattern::kMaxOctaves;
   }
   return true;
 }
@@ -152,6 +155,8 @@ std::string check_range(Check c, double x) {
       return "must be in (0, 180) degrees";
     case Check::Ior:
       return "must be > 0";
+    case Check::Octaves:
+      return "must be in 1.." + std::to_string(pattern::kMaxOctaves);
     default:
       return {};
   }
@@ -175,6 +180,8 @@ std::string range_words(Check c) {
       return ", not zero";
     case Check::Shutter:
       return " <open, close> with open <= close";
+    case Check::Octaves:
+      return " in 1.." + std::to_string(pattern::kMaxOctaves);
     case Check::Any:
       return "";
   }
@@ -258,6 +265,15 @@ std::string describe(const PropInfo& p) {
       return "a number or a 3-vector, with no zero component";
     case PropType::Block:
       return "a block { ... }";
+    case PropType::Pattern:
+      return "a pattern (checker { ... }, gradient { ... }, ...)";
+    case PropType::Pair: {
+      std::string parts;
+      if (const BlockInfo* b = find_block(p.name))
+        for (const PropInfo* q : b->props)
+          parts += (parts.empty() ? "" : ", ") + std::string(q->name);
+      return "a pair <" + parts + ">";
+    }
   }
   return "?";
 }
@@ -346,8 +362,12 @@ std::string check_value(const PropInfo& p, Value& v, bool* integral) {
 #include "runtime/ir/kinds.def"
     case PropType::Material:
       return v.type == Type::Material ? "" : wrong();
+    case PropType::Pattern:
+      return v.type == Type::Pattern ? "" : wrong();
     case PropType::Block:
       return wrong();  // blocks are written `motion { ... }`
+    case PropType::Pair:
+      return wrong();  // taken apart by the evaluator (eval_pair)
   }
   return {};
 }

@@ -34,6 +34,10 @@ enum class PropType {
   Rotate,
   Scale,
   Block,
+  Pattern,  // a pattern value (§15: bump's)
+  // `NAME <a, b>`: two parts, checked as the properties of the Nested block NAME
+  // (EvaluatedProp::nested holds them; §15 `stop <at, C>`, §16 `bump <P, A>`).
+  Pair,
 };
 
 // Pixels: every component >= 1 and at most kMaxPixels in all (the image's
@@ -42,7 +46,18 @@ enum class PropType {
 // blur, aperture, min_weight) may take: the runtime's radiometric limit (the
 // renderer works in float, 3.4e38; 1e30 leaves room for sums over lights and samples).
 inline constexpr double kMaxMagnitude = ir::kMaxRadiometric;
-enum class Check { Any, Positive, NonNegative, AtLeast1, Fov, Ior, NonZero, Shutter, Pixels };
+enum class Check {
+  Any,
+  Positive,
+  NonNegative,
+  AtLeast1,
+  Fov,
+  Ior,
+  NonZero,
+  Shutter,
+  Pixels,
+  Octaves
+};
 inline constexpr double kMaxPixels = 268435456.0;  // 2^28, e.g. 16384 x 16384
 
 // Named: taken by name only, never a positional parameter (a constructor's

@@ -218,6 +218,8 @@ struct Program {
 
 // The names the parser treats as constructors in operand position (see parser.hpp).
 bool is_constructor_name(std::string_view name);
+// A constructor written only as `NAME { ... }` (constructors.def).
+bool is_block_only_constructor(std::string_view name);
 // groups.def: CSG blocks, the instance block, and the object properties.
 bool is_group_name(std::string_view name);
 bool is_instance_name(std::string_view name);

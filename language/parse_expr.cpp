@@ -46,6 +46,14 @@ bool is_constructor_name(std::string_view name) {
   return false;
 }
 
+bool is_block_only_constructor(std::string_view name) {
+#define SNELL_CONSTRUCTOR(ctor, type)
+#define SNELL_BLOCK_CONSTRUCTOR(ctor, type) \
+  if (name == #ctor) return true;
+#include "language/constructors.def"
+  return false;
+}
+
 bool is_group_name(std::string_view name) {
 #define SNELL_GROUP(group) \
   if (name == #group) return true;
@@ -212,9 +220,12 @@ ExprPtr Parser::parse_primary() {
       return e;
     }
     case TokenKind::Identifier: {
+      // In a condition or loop bound the brace begins the body there too: `if noise {`
+      // tests a variable named noise.
       if (is_constructor_name(cur_.text) &&
-          (peek_.kind == TokenKind::LBrace ||
-           (starts_operand(peek_.kind) && peek_.kind != TokenKind::Minus)))
+          ((peek_.kind == TokenKind::LBrace && !no_object_) ||
+           (starts_operand(peek_.kind) && peek_.kind != TokenKind::Minus &&
+            !is_block_only_constructor(cur_.text))))
         return parse_constructor();
       // `if c {` and `for i in 0..n {`: the brace begins the body (as in Rust, an
       // object value in a condition or loop bound needs parentheses).

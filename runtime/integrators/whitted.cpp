@@ -374,8 +374,10 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
       auto draw1 = [&] { return sample1(sc.spec, sc.pixel, sc.index, node_dim(node.key, 9)); };
       auto draw2 = [&] { return sample2(sc.spec, sc.pixel, sc.index, node_dim(node.key, 7)); };
       ScatterContext<decltype(draw1), decltype(draw2)> cx{
-          -d,    frame.ns, entering, {p, ng, embree_.origin()}, fresnel_, stochastic_branching_,
-          draw1, draw2};
+          -d,       frame.ns,
+          entering, {p, ng, embree_.origin(), &shape, node.ray.time},
+          fresnel_, stochastic_branching_,
+          draw1,    draw2};
       if (shaded) {
         const Scatter s = [&] {
           if constexpr (K::interiors) {

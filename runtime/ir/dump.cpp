@@ -81,14 +81,26 @@ std::string kind_text(const T& kind) {
 }  // namespace
 
 std::string to_string(const Texture& t) {
-  return std::visit(
-      [](const auto& p) -> std::string {
-        if constexpr (std::is_same_v<std::decay_t<decltype(p)>, Constant>)
-          return to_string(p.color);  // a plain colour prints as the colour
-        else
-          return kind_text(p);
+  if (const Constant* c = std::get_if<Constant>(&t.pattern))
+    return to_string(c->color);  // a plain colour prints as the colour
+  std::string s = std::visit(
+      [](const auto& p) {
+        return std::string(KindName<std::decay_t<decltype(p)>>::value) + " {" + fields_text(p);
       },
       t.pattern);
+  // §15's common properties, where they differ from their defaults.
+  if (!t.color_map.empty()) {
+    s += " color_map {";
+    for (const ColorStop& c : t.color_map)
+      s += " stop <" + num(c.at) + ", " + to_string(c.color) + ">";
+    s += " }";
+  }
+  if (t.turbulence != 0) s += " turbulence " + num(t.turbulence);
+  if (t.octaves != Texture{}.octaves) s += " octaves " + std::to_string(t.octaves);
+  if (!t.world_from_pattern.is_identity())
+    s += " world_from_pattern " + to_string(t.world_from_pattern);
+  if (t.space != PatternSpace::World) s += " space " + std::string(spelling(t.space));
+  return s + " }";
 }
 
 std::string to_string(const Material& m) {

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <tuple>
 #include <variant>
+#include <vector>
 
 #include "runtime/ir/enums.hpp"
 #include "runtime/ir/fields.hpp"
@@ -34,6 +35,55 @@ struct Checker {
   }
 };
 
+// §15's value patterns (runtime/pattern/patterns.hpp has their formulas; the
+// colour comes from the Texture's colour map). Kinds without parameters of their
+// own take only the common ones (Texture).
+struct Gradient {
+  Vec3 direction{0, 1, 0};
+  bool operator==(const Gradient&) const = default;
+  static constexpr auto fields() { return std::tuple{field("direction", &Gradient::direction)}; }
+};
+struct Brick {
+  Vec3 size{0.5, 0.25, 0.25};
+  double mortar = 0.02;
+  bool operator==(const Brick&) const = default;
+  static constexpr auto fields() {
+    return std::tuple{field("size", &Brick::size), field("mortar", &Brick::mortar)};
+  }
+};
+struct Fbm {
+  double lacunarity = 2;
+  double gain = 0.5;
+  bool operator==(const Fbm&) const = default;
+  static constexpr auto fields() {
+    return std::tuple{field("lacunarity", &Fbm::lacunarity), field("gain", &Fbm::gain)};
+  }
+};
+#define SNELL_PLAIN_PATTERN(Type)                           \
+  struct Type {                                             \
+    bool operator==(const Type&) const = default;           \
+    static constexpr auto fields() { return std::tuple{}; } \
+  };
+SNELL_PLAIN_PATTERN(Onion)
+SNELL_PLAIN_PATTERN(Radial)
+SNELL_PLAIN_PATTERN(Noise)
+SNELL_PLAIN_PATTERN(Marble)
+SNELL_PLAIN_PATTERN(Wood)
+SNELL_PLAIN_PATTERN(Granite)
+SNELL_PLAIN_PATTERN(Agate)
+SNELL_PLAIN_PATTERN(Leopard)
+SNELL_PLAIN_PATTERN(Ripples)
+SNELL_PLAIN_PATTERN(Waves)
+SNELL_PLAIN_PATTERN(Cells)
+#undef SNELL_PLAIN_PATTERN
+
+// A stop of a colour map (§15): the colour at value `at`.
+struct ColorStop {
+  double at = 0;
+  Vec3 color;
+  bool operator==(const ColorStop&) const = default;
+};
+
 #define SNELL_PATTERN(name, Type) Type,
 using PatternVariant = variant_of<
 #include "runtime/ir/kinds.def"
@@ -42,12 +92,31 @@ using PatternVariant = variant_of<
 // A colour parameter: a constant or a pattern evaluated at the hit point (§8).
 struct Texture {
   PatternVariant pattern{Constant{}};
+  // §15's properties common to every pattern (a constant has none of them):
+  // - color_map: the value patterns' colours, stops in non-decreasing order;
+  //   empty is the default map, black at 0 to white at 1. A checker with a map
+  //   takes its colours from it at 0 (even cells) and 1 (odd cells).
+  // - turbulence, octaves: the point is displaced by turbulence × a vector fbm of
+  //   `octaves` octaves first; `octaves` is also fbm's and the noise families'.
+  // - world_from_pattern: the pattern's transforms in the order written; it is
+  //   evaluated at the point taken back through them.
+  // - space: world (the hit point), or object (the point in the space of the
+  //   object the hit belongs to, moving with its transforms and motion).
+  std::vector<ColorStop> color_map;
+  double turbulence = 0;
+  std::uint32_t octaves = 6;
+  Transform world_from_pattern;
+  PatternSpace space = PatternSpace::World;
   Texture() = default;
   Texture(Vec3 color) : pattern(Constant{color}) {}  // a colour is a texture
   Texture(const Checker& c) : pattern(c) {}
   PatternKind kind() const { return PatternKind(pattern.index()); }
   bool is_constant() const { return std::holds_alternative<Constant>(pattern); }
-  bool operator==(const Texture&) const = default;
+  bool operator==(const Texture& o) const {
+    return pattern == o.pattern && color_map == o.color_map && turbulence == o.turbulence &&
+           octaves == o.octaves && world_from_pattern.m == o.world_from_pattern.m &&
+           space == o.space;
+  }
 };
 
 struct Diffuse {

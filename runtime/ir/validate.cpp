@@ -34,6 +34,10 @@ void each_number(const Texture& t, auto&& f) {
         for_each_field(p, [&](const char*, const auto& v) { each_number(v, f); });
       },
       t.pattern);
+  for (const ColorStop& c : t.color_map) f(c.at), each_number(c.color, f);
+  f(t.turbulence);
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) f(t.world_from_pattern.m(r, c)), f(t.world_from_pattern.inv(r, c));
 }
 template <class T>
 bool all_finite(const T& kind) {
@@ -119,6 +123,17 @@ template <class Bad>
 void check_texture(const Texture& t, Bad&& bad) {
   if (const Checker* c = std::get_if<Checker>(&t.pattern); c && !(c->size > 0))
     bad("checker size must be > 0");
+  if (const Gradient* g = std::get_if<Gradient>(&t.pattern); g && !(length(g->direction) > 0))
+    bad("gradient direction must be non-zero");
+  if (const Brick* b = std::get_if<Brick>(&t.pattern);
+      b && !(b->size.x > 0 && b->size.y > 0 && b->size.z > 0 && b->mortar >= 0))
+    bad("brick size must be > 0 and mortar >= 0");
+  if (const Fbm* f = std::get_if<Fbm>(&t.pattern); f && !(f->lacunarity > 0 && f->gain > 0))
+    bad("fbm lacunarity and gain must be > 0");
+  for (std::size_t i = 1; i < t.color_map.size(); ++i)
+    if (!(t.color_map[i - 1].at <= t.color_map[i].at)) bad("colour map stops out of order");
+  if (!(t.turbulence >= 0)) bad("turbulence must be >= 0");
+  if (t.octaves < 1 || t.octaves > 32) bad("octaves must be in 1..32");
 }
 template <class Bad>
 void check_kind(const Diffuse& m, Bad&& bad) {

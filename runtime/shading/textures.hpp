@@ -1,12 +1,14 @@
-// Colour sources evaluated at a hit (§8): constants and patterns, one overload per
-// pattern kind of runtime/ir/kinds.def. Points arrive camera-relative in float and
-// are taken back to world space in double here.
+// Colour sources evaluated at a hit (§8, §15): constants and patterns, one overload
+// per pattern kind of runtime/ir/kinds.def (the value patterns share one, over
+// runtime/pattern/patterns.hpp). Points arrive camera-relative in float and are
+// taken back to world space in double here.
 #pragma once
 
 #include <cmath>
 #include <variant>
 
 #include "runtime/ir/ir.hpp"
+#include "runtime/pattern/patterns.hpp"
 #include "runtime/vec.hpp"
 
 namespace snell::rt {
@@ -21,32 +23,89 @@ inline int floor_parity(double x) {
 }
 
 // Where a pattern is looked up: the camera-relative hit point, the outward normal,
-// and the world point of the camera-relative origin.
+// the world point of the camera-relative origin, and for `space "object"` the
+// object hit (the top-level object: a CSG object's or an instance's own space) and
+// the ray's time (its motion).
 struct TexturePoint {
   Vec3f p, n_out;
   ir::Vec3 origin;
+  const ir::Shape* shape = nullptr;
+  float time = 0;
 };
 
-inline Color pattern_color(const ir::Constant& c, const TexturePoint&) {
+// The length in world units of one unit of the space a pattern is evaluated in
+// (the cube root of its volume scale): §15 moves the point inward by 1e-4 of it.
+inline double unit_length(const ir::Mat4& world_from_space) {
+  const ir::Mat4& m = world_from_space;
+  double det = m(0, 0) * (m(1, 1) * m(2, 2) - m(1, 2) * m(2, 1)) -
+               m(0, 1) * (m(1, 0) * m(2, 2) - m(1, 2) * m(2, 0)) +
+               m(0, 2) * (m(1, 0) * m(2, 1) - m(1, 1) * m(2, 0));
+  return std::cbrt(std::fabs(det));
+}
+
+// The point a pattern is evaluated at: the world hit point moved inward by
+// size / divisor of the pattern's own unit (written so, a checker's S/100 rounds as
+// it always did), taken into the object's space (space "object") and
+// back through the pattern's transforms. Identity transforms cost nothing and
+// change no bit (a checker renders as it did before §15).
+inline ir::Vec3 pattern_point(const ir::Texture& t, const TexturePoint& tp, double size,
+                              double divisor) {
+  ir::Transform space_from_world;
+  bool moved = !t.world_from_pattern.is_identity();
+  bool object = t.space == ir::PatternSpace::Object && tp.shape;
+  if (object) {
+    const ir::Shape& sh = *tp.shape;
+    ir::Transform world_from_object = sh.motion.ops.empty()
+                                          ? sh.world_from_object
+                                          : sh.motion.at(double(tp.time)) * sh.world_from_object;
+    space_from_world = world_from_object.inverse();
+  }
+  if (moved) space_from_world = t.world_from_pattern.inverse() * space_from_world;
+  double unit = object || moved ? unit_length(space_from_world.inv) : 1.0;
+  const ir::Vec3 o = tp.origin;
+  const Vec3f p = tp.p, n = tp.n_out;
+  ir::Vec3 w(double(p.x) + o.x - n.x * size / divisor * unit,
+             double(p.y) + o.y - n.y * size / divisor * unit,
+             double(p.z) + o.z - n.z * size / divisor * unit);
+  return object || moved ? space_from_world.point(w) : w;
+}
+
+// §15 turbulence: the point displaced by T × a vector fbm before the pattern.
+inline ir::Vec3 turbulent(const ir::Texture& t, ir::Vec3 q) {
+  if (!(t.turbulence > 0)) return q;
+  return q + pattern::vector_fbm(q, int(t.octaves)) * t.turbulence;
+}
+
+inline Color pattern_color(const ir::Constant& c, const ir::Texture&, const TexturePoint&) {
   return to_float(c.color.x, c.color.y, c.color.z);
 }
 
 // §8 checker: p (world space) moved inward by S/100 along the outward normal, cell
-// floor(p / S), even i + j + k takes color1.
-inline Color pattern_color(const ir::Checker& c, const TexturePoint& tp) {
-  const ir::Vec3 o = tp.origin;
-  const Vec3f p = tp.p, n = tp.n_out;
+// floor(p / S), even i + j + k takes color1 (or the colour map's colour at 0).
+inline Color pattern_color(const ir::Checker& c, const ir::Texture& t, const TexturePoint& tp) {
   double s = c.size;
-  ir::Vec3 w(double(p.x) + o.x - n.x * s / 100, double(p.y) + o.y - n.y * s / 100,
-             double(p.z) + o.z - n.z * s / 100);
+  ir::Vec3 w = turbulent(t, pattern_point(t, tp, s, 100));
   // i + j + k is even exactly when the three parities cancel.
   int odd = floor_parity(w.x / s) ^ floor_parity(w.y / s) ^ floor_parity(w.z / s);
-  const ir::Vec3& k = odd == 0 ? c.color1 : c.color2;
+  const ir::Vec3 k = !t.color_map.empty() ? pattern::map_color(t.color_map, odd)
+                     : odd == 0           ? c.color1
+                                          : c.color2;
+  return to_float(k.x, k.y, k.z);
+}
+
+// §15's value patterns: the value at the point, through the colour map.
+template <class K>
+double pattern_value(const K& kind, const ir::Texture& t, const TexturePoint& tp) {
+  return pattern::value(kind, turbulent(t, pattern_point(t, tp, 1, 1e4)), int(t.octaves));
+}
+template <class K>
+Color pattern_color(const K& kind, const ir::Texture& t, const TexturePoint& tp) {
+  ir::Vec3 k = pattern::map_color(t.color_map, pattern_value(kind, t, tp));
   return to_float(k.x, k.y, k.z);
 }
 
 inline Color texture_color(const ir::Texture& t, const TexturePoint& tp) {
-  return std::visit([&](const auto& pattern) { return pattern_color(pattern, tp); }, t.pattern);
+  return std::visit([&](const auto& pattern) { return pattern_color(pattern, t, tp); }, t.pattern);
 }
 
 }  // namespace snell::rt

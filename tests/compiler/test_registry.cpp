@@ -30,6 +30,7 @@ struct ConstructorRow {
 };
 const std::vector<ConstructorRow> kConstructors = {
 #define SNELL_CONSTRUCTOR(name, result) {#name, #result},
+#define SNELL_BLOCK_CONSTRUCTOR(name, result) {#name, #result},
 #include "language/constructors.def"
 };
 
@@ -167,7 +168,9 @@ TEST_CASE("registry: constructors.def and properties.def name the same construct
       REQUIRE(err.empty());
       props.push_back(std::move(e));
     }
-    CHECK(result_of(make_constructor_value(*block, props)) == c.result);
+    snell::lang::SourceManager sources;
+    snell::lang::DiagnosticEngine diags(sources);
+    CHECK(result_of(make_constructor_value(*block, props, diags)) == c.result);
   }
 }
 
@@ -249,6 +252,10 @@ std::map<std::string, std::vector<std::string>> kind_fields() {
 }
 }  // namespace
 
+const std::set<std::string> kCommonPatternProps = {"color_map", "turbulence", "octaves",
+                                                   "translate", "rotate",     "scale",
+                                                   "space"};
+
 TEST_CASE("registry: every IR kind of kinds.def is a block of properties.def, bound field by field",
           "[registry]") {
   auto fields = kind_fields();
@@ -257,6 +264,11 @@ TEST_CASE("registry: every IR kind of kinds.def is a block of properties.def, bo
     if (k.name == "constant") continue;  // a plain colour: no block in the language
     const BlockInfo* b = find_block(k.name);
     REQUIRE(b);
+    if (k.family == "pattern")
+      for (const std::string& common : kCommonPatternProps) {
+        INFO("common property " << common);
+        CHECK(find_prop(*b, common));
+      }
     if (k.family == "shape") {
       CHECK(b->kind == BlockKind::Item);
       CHECK(b->shape_kind >= 0);
@@ -273,7 +285,10 @@ TEST_CASE("registry: every IR kind of kinds.def is a block of properties.def, bo
       INFO("property " << p->name);
       // A Named property is never positional, so it cannot be required or defaulted.
       if (p->named_only()) CHECK((!p->required() && p->default_value.type == Type::None));
-      bool hooked = k.name == "mesh" && p->name == "file";
+      // §15's properties common to every pattern are the Texture's, not the kind's
+      // (lower_kinds.cpp common_pattern_props).
+      bool hooked = (k.name == "mesh" && p->name == "file") ||
+                    (k.family == "pattern" && kCommonPatternProps.count(std::string(p->name)));
       bool field = std::count(fields[k.name].begin(), fields[k.name].end(), p->name) > 0;
       CHECK((field || hooked));
     }

@@ -1,0 +1,197 @@
+// §15's patterns at exact points against the formulas docs/language.md gives
+// (runtime/pattern/patterns.hpp), the colour map's interpolation, and how a hit
+// becomes the pattern's point (runtime/shading/textures.hpp): moved inward by 1e-4
+// of the pattern's unit, taken back through its transforms, into the object's
+// space with `space "object"`, displaced by turbulence.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <numbers>
+
+#include "runtime/pattern/patterns.hpp"
+#include "runtime/shading/textures.hpp"
+
+using namespace snell;
+using ir::Vec3;
+using Catch::Matchers::WithinAbs;
+namespace pat = snell::pattern;
+
+namespace {
+constexpr double kEps = 1e-12;  // the formulas are a handful of double operations
+}
+
+TEST_CASE("patterns: each formula at exact points", "[patterns]") {
+  CHECK_THAT(pat::value(ir::Gradient{{0, 2, 0}}, {5, 0.3, 7}, 6), WithinAbs(0.6, kEps));
+  CHECK_THAT(pat::value(ir::Gradient{{1, 1, 0}}, {0.25, 0.5, 9}, 6), WithinAbs(0.75, kEps));
+  CHECK_THAT(pat::value(ir::Gradient{{0, 1, 0}}, {0, -0.25, 0}, 6), WithinAbs(0.75, kEps));
+
+  CHECK_THAT(pat::value(ir::Onion{}, {0.3, 0.4, 0}, 6), WithinAbs(0.5, kEps));
+  CHECK_THAT(pat::value(ir::Onion{}, {0, 1.2, 1.6}, 6), WithinAbs(0.0, kEps));  // |p| = 2
+
+  // Degrees around y from +z towards +x.
+  CHECK_THAT(pat::value(ir::Radial{}, {1, 3, 0}, 6), WithinAbs(0.25, kEps));
+  CHECK_THAT(pat::value(ir::Radial{}, {0, 0, -1}, 6), WithinAbs(0.5, kEps));
+  CHECK_THAT(pat::value(ir::Radial{}, {-1, 0, 0}, 6), WithinAbs(0.75, kEps));
+  CHECK_THAT(pat::value(ir::Radial{}, {1, 0, 1}, 6), WithinAbs(0.125, kEps));
+
+  ir::Brick b;  // size <0.5, 0.25, 0.25>, mortar 0.02
+  CHECK(pat::value(b, {0.25, 0.125, 0.125}, 6) == 0);  // the middle of a brick
+  CHECK(pat::value(b, {0.005, 0.125, 0.125}, 6) == 1);  // within 0.01 of x = 0
+  CHECK(pat::value(b, {0.25, 0.245, 0.125}, 6) == 1);  // within 0.01 of y = 0.25
+  CHECK(pat::value(b, {0.25, 0.125, 0.255}, 6) == 1);  // within 0.01 of z = 0.25
+  // The next row (y in [0.25, 0.5)) is shifted half a brick: x = 0 is mid-brick there,
+  // x = 0.25 a joint.
+  CHECK(pat::value(b, {0.0, 0.375, 0.0}, 6) == 0);
+  CHECK(pat::value(b, {0.25, 0.375, 0.125}, 6) == 1);
+  CHECK(pat::value(b, {0.25, -0.125, 0.125}, 6) == 1);  // row -1 is odd too
+
+  CHECK(pat::value(ir::Noise{}, {3, -2, 7}, 6) == 0.5);
+  CHECK(pat::value(ir::Noise{}, {0.3, 0.2, 0.1}, 6) == pat::noise({0.3, 0.2, 0.1}));
+  CHECK(pat::value(ir::Fbm{2.5, 0.4}, {0.3, 0.2, 0.1}, 4) == pat::fbm({0.3, 0.2, 0.1}, 4, 2.5, 0.4));
+
+  CHECK_THAT(pat::value(ir::Marble{}, {0.25, 9, 9}, 6), WithinAbs(0.5, kEps));
+  CHECK_THAT(pat::value(ir::Marble{}, {1.5, 0, 0}, 6), WithinAbs(1.0, kEps));
+  CHECK_THAT(pat::value(ir::Marble{}, {-2, 0, 0}, 6), WithinAbs(0.0, kEps));
+  CHECK_THAT(pat::value(ir::Wood{}, {0.3, 0.4, 17}, 6), WithinAbs(1.0, kEps));  // r = 0.5
+  CHECK_THAT(pat::value(ir::Wood{}, {0.6, 0.8, -3}, 6), WithinAbs(0.0, kEps));  // r = 1
+
+  const double h = std::numbers::pi / 2;
+  CHECK_THAT(pat::value(ir::Leopard{}, {h, h, h}, 6), WithinAbs(1.0, kEps));
+  CHECK_THAT(pat::value(ir::Leopard{}, {0, 0, 0}, 6), WithinAbs(0.0, kEps));
+  CHECK_THAT(pat::value(ir::Leopard{}, {h, -h, 0}, 6), WithinAbs(0.0, kEps));
+
+  Vec3 q{0.7, -1.3, 2.2};
+  CHECK(pat::value(ir::Cells{}, q, 6) == std::fmin(1.0, pat::cells(q)));
+  double gran = 0;
+  for (int i = 0, f = 1; i < 3; ++i, f *= 2) gran += std::fabs(0.5 - pat::noise(q * (4.0 * f))) / f;
+  CHECK_THAT(pat::value(ir::Granite{}, q, 3), WithinAbs(std::fmin(1.0, gran), kEps));
+  double ag = std::pow(0.5 + 0.5 * std::sin(2 * std::numbers::pi *
+                                            (1.1 * q.z + 1.3 * pat::turbulence(q, 5))),
+                       0.77);
+  CHECK_THAT(pat::value(ir::Agate{}, q, 5), WithinAbs(ag, kEps));
+  // A ripple source's own point: every ring there is at phase 0 for it.
+  double rs = 0, ws = 0, wn = 0;
+  for (int i = 0; i < pat::kWaves; ++i) {
+    const pat::WaveSource& s = pat::wave_sources()[i];
+    double d = ir::length(q - s.c);
+    rs += std::sin(2 * std::numbers::pi * d);
+    ws += std::sin(2 * std::numbers::pi * s.f * d) / s.f;
+    wn += 1 / s.f;
+  }
+  CHECK_THAT(pat::value(ir::Ripples{}, q, 6), WithinAbs(0.5 + 0.5 * rs / pat::kWaves, kEps));
+  CHECK_THAT(pat::value(ir::Waves{}, q, 6), WithinAbs(0.5 + 0.5 * ws / wn, kEps));
+}
+
+TEST_CASE("patterns: every value is in [0, 1] and deterministic", "[patterns]") {
+  ir::PatternVariant kinds[] = {ir::Gradient{}, ir::Onion{}, ir::Radial{},  ir::Brick{},
+                                ir::Noise{},    ir::Fbm{},   ir::Marble{},  ir::Wood{},
+                                ir::Granite{},  ir::Agate{}, ir::Leopard{}, ir::Ripples{},
+                                ir::Waves{},    ir::Cells{}};
+  for (const ir::PatternVariant& k : kinds)
+    for (int i = 0; i < 2000; ++i) {
+      Vec3 p{std::sin(i * 1.7) * 40, std::cos(i * 0.37) * 40, (i - 1000) * 0.041};
+      double v = std::visit(
+          [&](const auto& kind) -> double {
+            if constexpr (requires { pat::value(kind, p, 6); })
+              return pat::value(kind, p, 6);
+            else
+              return 0.5;
+          },
+          k);
+      INFO("kind " << k.index() << " at " << ir::to_string(p));
+      REQUIRE(v >= 0);
+      REQUIRE(v <= 1);
+    }
+}
+
+TEST_CASE("colour map: linear between the stops around the value, held outside", "[patterns]") {
+  std::vector<ir::ColorStop> map = {{0.2, {1, 0, 0}}, {0.6, {0, 1, 0}}, {0.6, {0, 0, 1}},
+                                    {1.0, {1, 1, 1}}};
+  CHECK(pat::map_color(map, 0.0) == Vec3{1, 0, 0});  // held below the first
+  CHECK(pat::map_color(map, 0.2) == Vec3{1, 0, 0});
+  Vec3 mid = pat::map_color(map, 0.4);
+  CHECK_THAT(mid.x, WithinAbs(0.5, kEps));
+  CHECK_THAT(mid.y, WithinAbs(0.5, kEps));
+  CHECK(mid.z == 0);
+  CHECK(pat::map_color(map, 0.6) == Vec3{0, 0, 1});  // equal stops: a step, the later wins
+  CHECK_THAT(pat::map_color(map, 0.8).x, WithinAbs(0.5, kEps));
+  CHECK(pat::map_color(map, 1.0) == Vec3{1, 1, 1});
+  CHECK(pat::map_color(map, 7.0) == Vec3{1, 1, 1});
+  CHECK(pat::map_color(map, NAN) == Vec3{1, 0, 0});
+  // The default: black at 0 to white at 1.
+  CHECK(pat::map_color({}, 0.25) == Vec3(0.25));
+  CHECK(pat::map_color({{0.5, {0.3, 0.2, 0.1}}}, 0.9) == Vec3{0.3, 0.2, 0.1});
+}
+
+TEST_CASE("patterns: the hit point moved inward, through transforms and object space",
+          "[patterns]") {
+  ir::Texture t;
+  t.pattern = ir::Gradient{{0, 1, 0}};
+  // The top face of a box at y = 1 seen from above: the gradient's discontinuity.
+  // Inward (against the outward +y normal) by 1e-4 it is just below 1: value ~1,
+  // one value for the whole face.
+  rt::TexturePoint tp{{0, 0, 0}, {0, 1, 0}, {0.3, 1, 0.2}};
+  Vec3 q = rt::pattern_point(t, tp, 1, 1e4);
+  CHECK_THAT(q.y, WithinAbs(1 - 1e-4, 1e-15));
+  CHECK(rt::pattern_value(std::get<ir::Gradient>(t.pattern), t, tp) > 0.999);
+  // Its bottom face (outward -y) at y = 1 is the next period's start: value ~0.
+  rt::TexturePoint below{{0, 0, 0}, {0, -1, 0}, {0.3, 1, 0.2}};
+  CHECK(rt::pattern_value(std::get<ir::Gradient>(t.pattern), t, below) < 0.001);
+
+  // Scale 2 then translate <0, 1, 0>: the point is taken back through both, and the
+  // inward step is 1e-4 of the pattern's unit (2 world units): 2e-4.
+  t.world_from_pattern = ir::Transform::translate({0, 1, 0}) * ir::Transform::scale(Vec3(2));
+  rt::TexturePoint tp2{{0, 0, 0}, {0, 1, 0}, {0.5, 2, 0}};
+  q = rt::pattern_point(t, tp2, 1, 1e4);
+  CHECK_THAT(q.x, WithinAbs(0.25, 1e-15));
+  CHECK_THAT(q.y, WithinAbs((2 - 2e-4 - 1) / 2, 1e-15));
+
+  // space "object": the point in the object's space, following its motion at the
+  // ray's time.
+  ir::Texture o;
+  o.pattern = ir::Gradient{{1, 0, 0}};
+  o.space = ir::PatternSpace::Object;
+  ir::Shape sh;
+  sh.world_from_object = ir::Transform::translate({5, 0, 0});
+  sh.motion.ops.push_back({ir::TransformOp::Kind::Translate, {2, 0, 0}});
+  rt::TexturePoint at0{{0, 0, 0}, {0, 0, 1}, {5.3, 0, 0}, &sh, 0.0f};
+  rt::TexturePoint at1{{0, 0, 0}, {0, 0, 1}, {7.3, 0, 0}, &sh, 1.0f};
+  CHECK_THAT(rt::pattern_point(o, at0, 1, 1e4).x, WithinAbs(0.3, 1e-12));
+  CHECK_THAT(rt::pattern_point(o, at1, 1, 1e4).x, WithinAbs(0.3, 1e-12));
+  // World space ignores the object.
+  o.space = ir::PatternSpace::World;
+  CHECK_THAT(rt::pattern_point(o, at1, 1, 1e4).x, WithinAbs(7.3, 1e-12));
+}
+
+TEST_CASE("patterns: turbulence displaces the point by T times a vector fbm", "[patterns]") {
+  ir::Texture t;
+  t.pattern = ir::Marble{};
+  t.turbulence = 0.7;
+  t.octaves = 4;
+  rt::TexturePoint tp{{0, 0, 0}, {0, 0, -1}, {0.37, 0.21, 0.5}};
+  Vec3 p = rt::pattern_point(t, tp, 1, 1e4);
+  Vec3 d = p + pat::vector_fbm(p, 4) * 0.7;
+  CHECK(rt::pattern_value(ir::Marble{}, t, tp) == pat::triangle(d.x));
+}
+
+TEST_CASE("checker: the §8 formula, bit for bit, and a colour map", "[patterns]") {
+  ir::Checker c;
+  c.size = 0.37;
+  ir::Texture t(c);
+  for (int i = 0; i < 1000; ++i) {
+    rt::Vec3f p{float(std::sin(i * 0.7) * 3), float(std::cos(i * 1.3) * 2), float(i * 0.01)};
+    rt::Vec3f n = rt::normalize(rt::Vec3f{float(std::sin(i * 1.1)), 1, float(std::cos(i))});
+    ir::Vec3 o{1.5, -2.25, 3};
+    rt::TexturePoint tp{p, n, o};
+    // §8 as written before patterns had transforms.
+    double s = c.size;
+    ir::Vec3 w(double(p.x) + o.x - n.x * s / 100, double(p.y) + o.y - n.y * s / 100,
+               double(p.z) + o.z - n.z * s / 100);
+    int odd = rt::floor_parity(w.x / s) ^ rt::floor_parity(w.y / s) ^ rt::floor_parity(w.z / s);
+    rt::Color want = odd ? rt::Color(0) : rt::Color(1);
+    rt::Color got = rt::texture_color(t, tp);
+    REQUIRE(got.x == want.x);
+  }
+  t.color_map = {{0, {0.2, 0.4, 0.6}}, {1, {0.9, 0.8, 0.7}}};
+  rt::TexturePoint even{{0.1f, 0.1f, 0.1f}, {0, 1, 0}, {0, 0, 0}};
+  CHECK(rt::texture_color(t, even).x == 0.2f);
+}
