@@ -252,9 +252,8 @@ std::map<std::string, std::vector<std::string>> kind_fields() {
 }
 }  // namespace
 
-const std::set<std::string> kCommonPatternProps = {"color_map", "turbulence", "octaves",
-                                                   "translate", "rotate",     "scale",
-                                                   "space"};
+const std::set<std::string> kCommonPatternProps = {
+    "color_map", "turbulence", "octaves", "translate", "rotate", "scale", "space"};
 
 TEST_CASE("registry: every IR kind of kinds.def is a block of properties.def, bound field by field",
           "[registry]") {

@@ -11,8 +11,8 @@
 #include "runtime/shading/textures.hpp"
 
 using namespace snell;
-using ir::Vec3;
 using Catch::Matchers::WithinAbs;
+using ir::Vec3;
 namespace pat = snell::pattern;
 
 namespace {
@@ -33,11 +33,11 @@ TEST_CASE("patterns: each formula at exact points", "[patterns]") {
   CHECK_THAT(pat::value(ir::Radial{}, {-1, 0, 0}, 6), WithinAbs(0.75, kEps));
   CHECK_THAT(pat::value(ir::Radial{}, {1, 0, 1}, 6), WithinAbs(0.125, kEps));
 
-  ir::Brick b;  // size <0.5, 0.25, 0.25>, mortar 0.02
-  CHECK(pat::value(b, {0.25, 0.125, 0.125}, 6) == 0);  // the middle of a brick
+  ir::Brick b;                                          // size <0.5, 0.25, 0.25>, mortar 0.02
+  CHECK(pat::value(b, {0.25, 0.125, 0.125}, 6) == 0);   // the middle of a brick
   CHECK(pat::value(b, {0.005, 0.125, 0.125}, 6) == 1);  // within 0.01 of x = 0
-  CHECK(pat::value(b, {0.25, 0.245, 0.125}, 6) == 1);  // within 0.01 of y = 0.25
-  CHECK(pat::value(b, {0.25, 0.125, 0.255}, 6) == 1);  // within 0.01 of z = 0.25
+  CHECK(pat::value(b, {0.25, 0.245, 0.125}, 6) == 1);   // within 0.01 of y = 0.25
+  CHECK(pat::value(b, {0.25, 0.125, 0.255}, 6) == 1);   // within 0.01 of z = 0.25
   // The next row (y in [0.25, 0.5)) is shifted half a brick: x = 0 is mid-brick there,
   // x = 0.25 a joint.
   CHECK(pat::value(b, {0.0, 0.375, 0.0}, 6) == 0);
@@ -46,7 +46,8 @@ TEST_CASE("patterns: each formula at exact points", "[patterns]") {
 
   CHECK(pat::value(ir::Noise{}, {3, -2, 7}, 6) == 0.5);
   CHECK(pat::value(ir::Noise{}, {0.3, 0.2, 0.1}, 6) == pat::noise({0.3, 0.2, 0.1}));
-  CHECK(pat::value(ir::Fbm{2.5, 0.4}, {0.3, 0.2, 0.1}, 4) == pat::fbm({0.3, 0.2, 0.1}, 4, 2.5, 0.4));
+  CHECK(pat::value(ir::Fbm{2.5, 0.4}, {0.3, 0.2, 0.1}, 4) ==
+        pat::fbm({0.3, 0.2, 0.1}, 4, 2.5, 0.4));
 
   CHECK_THAT(pat::value(ir::Marble{}, {0.25, 9, 9}, 6), WithinAbs(0.5, kEps));
   CHECK_THAT(pat::value(ir::Marble{}, {1.5, 0, 0}, 6), WithinAbs(1.0, kEps));
@@ -64,9 +65,8 @@ TEST_CASE("patterns: each formula at exact points", "[patterns]") {
   double gran = 0;
   for (int i = 0, f = 1; i < 3; ++i, f *= 2) gran += std::fabs(0.5 - pat::noise(q * (4.0 * f))) / f;
   CHECK_THAT(pat::value(ir::Granite{}, q, 3), WithinAbs(std::fmin(1.0, gran), kEps));
-  double ag = std::pow(0.5 + 0.5 * std::sin(2 * std::numbers::pi *
-                                            (1.1 * q.z + 1.3 * pat::turbulence(q, 5))),
-                       0.77);
+  double ag = std::pow(
+      0.5 + 0.5 * std::sin(2 * std::numbers::pi * (1.1 * q.z + 1.3 * pat::turbulence(q, 5))), 0.77);
   CHECK_THAT(pat::value(ir::Agate{}, q, 5), WithinAbs(ag, kEps));
   // A ripple source's own point: every ring there is at phase 0 for it.
   double rs = 0, ws = 0, wn = 0;
@@ -104,8 +104,8 @@ TEST_CASE("patterns: every value is in [0, 1] and deterministic", "[patterns]") 
 }
 
 TEST_CASE("colour map: linear between the stops around the value, held outside", "[patterns]") {
-  std::vector<ir::ColorStop> map = {{0.2, {1, 0, 0}}, {0.6, {0, 1, 0}}, {0.6, {0, 0, 1}},
-                                    {1.0, {1, 1, 1}}};
+  std::vector<ir::ColorStop> map = {
+      {0.2, {1, 0, 0}}, {0.6, {0, 1, 0}}, {0.6, {0, 0, 1}}, {1.0, {1, 1, 1}}};
   CHECK(pat::map_color(map, 0.0) == Vec3{1, 0, 0});  // held below the first
   CHECK(pat::map_color(map, 0.2) == Vec3{1, 0, 0});
   Vec3 mid = pat::map_color(map, 0.4);
