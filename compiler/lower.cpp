@@ -130,6 +130,7 @@ std::uint64_t SceneBuilder::material_hash(const ir::Material& m) {
   Hasher hs;
   hs.mix(m.model.index());
   std::visit([&](const auto& k) { hs.fields(k); }, m.model);
+  if (m.bump.on()) hs(m.bump.pattern), hs(m.bump.amount);
   std::uint64_t h = hs.h;
   h = (h ^ (h >> 30)) * 0xBF58476D1CE4E5B9ull;  // SplitMix64 finaliser: spread all bits
   h = (h ^ (h >> 27)) * 0x94D049BB133111EBull;

@@ -153,7 +153,14 @@ template <class T>
 Value make_material(const std::vector<EvaluatedProp>& props, lang::DiagnosticEngine&) {
   T kind;
   bind_fields(kind, props);
-  return Value::of_material(ir::Material(kind));
+  ir::Material m(kind);
+  // §16 `bump <P, A>`, common to every material (its parts: properties.def `bump`).
+  for (const EvaluatedProp& p : props)
+    if (p.info->name == "bump" && p.nested.size() == 2) {
+      m.bump.pattern = p.nested[0].value.pat();
+      m.bump.amount = p.nested[1].value.n;
+    }
+  return Value::of_material(m);
 }
 
 // §15's properties common to every pattern (properties.def SNELL_PATTERN_PROPS),

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "runtime/ir/bounds.hpp"
+#include "runtime/shading/bump.hpp"
 #include "runtime/shading/fresnel.hpp"
 #include "runtime/shading/shading_normal.hpp"
 
@@ -331,15 +332,27 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
       Vec3f ng = hit.ng;               // outward
       bool entering = dot(d, ng) < 0;  // §8: against the outward normal
       Vec3f nf = entering ? ng : -ng;  // the normal on the ray's side
-      // The lobes' normal: nf, or a smooth mesh's shading normal made valid for this
-      // viewer (hard case #20, shading/shading_normal.hpp).
-      const HitFrame frame = HitFrame::make(-d, nf, entering, hit.smooth, hit.ns);
+      const TexturePoint tex{p, ng, embree_.origin(), &shape, node.ray.time};
+      // The lobes' normal: nf, or a smooth mesh's or a bump's (§16) shading normal made
+      // valid for this viewer (hard case #20, shading/shading_normal.hpp).
+      Vec3f ns_out = hit.ns;
+      bool bent = hit.smooth;
+      if constexpr (K::bumps)
+        if (mat.bump.on()) {
+          ns_out = bump_normal(mat.bump, tex, hit.smooth ? hit.ns : ng, ng);
+          bent = true;
+        }
+      const HitFrame frame = HitFrame::make(-d, nf, entering, bent, ns_out);
       Color w = node.weight;
       if (trace)
         desc =
             fmt::format("hits shape {} ({} {}, {}) t={:.6g} {}", hit.index,
                         ir::to_string(shape.kind()), ir::to_string(mat.kind()),
                         ir::to_string(shape.src, scene_), hit.t, entering ? "entering" : "exiting");
+      if (trace && frame.smooth)
+        desc += fmt::format(
+            " shading normal ({:.4g}, {:.4g}, {:.4g}) geometric ({:.4g}, {:.4g}, {:.4g})",
+            frame.ns.x, frame.ns.y, frame.ns.z, nf.x, nf.y, nf.z);
       if constexpr (K::interiors) {
         if (trace) {
           if (passes > 0) desc += fmt::format(" after passing through {} surface(s)", passes);
@@ -374,10 +387,7 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
       auto draw1 = [&] { return sample1(sc.spec, sc.pixel, sc.index, node_dim(node.key, 9)); };
       auto draw2 = [&] { return sample2(sc.spec, sc.pixel, sc.index, node_dim(node.key, 7)); };
       ScatterContext<decltype(draw1), decltype(draw2)> cx{
-          -d,       frame.ns,
-          entering, {p, ng, embree_.origin(), &shape, node.ray.time},
-          fresnel_, stochastic_branching_,
-          draw1,    draw2};
+          -d, frame.ns, entering, tex, fresnel_, stochastic_branching_, draw1, draw2};
       if (shaded) {
         const Scatter s = [&] {
           if constexpr (K::interiors) {
@@ -396,7 +406,7 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
           // from the point lifted towards the smooth surface (Hanika 2021), so the
           // terminator of a coarse mesh is not a row of black facets.
           Vec3f o_light = o_out;
-          if (frame.smooth) {
+          if (hit.smooth) {
             Hit lifted = hit;
             lifted.p = hit.ps;
             o_light = spawn_origin(lifted, nf, offset_scale_);

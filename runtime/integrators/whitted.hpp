@@ -94,7 +94,8 @@ class WhittedIntegrator final : public Integrator {
  private:
   // The kernel axes the ray tree reads; the others (lens, time) are the pixel loop's.
   static constexpr unsigned kShadeAxes = (1u << kAxis_area) | (1u << kAxis_dielectric) |
-                                         (1u << kAxis_absorption) | (1u << kAxis_interiors);
+                                         (1u << kAxis_absorption) | (1u << kAxis_interiors) |
+                                         (1u << kAxis_bumps);
   template <class K, class P>
   Color li(const Ray& camera_ray, const SampleContext& sc, Scratch& stack, P& probe) const;
 

@@ -104,7 +104,12 @@ std::string to_string(const Texture& t) {
 }
 
 std::string to_string(const Material& m) {
-  return std::visit([](const auto& k) { return kind_text(k); }, m.model);
+  std::string s = std::visit([](const auto& k) { return kind_text(k); }, m.model);
+  if (m.bump.on()) {
+    s.pop_back();  // the closing brace
+    s += "bump <" + to_string(m.bump.pattern) + ", " + num(m.bump.amount) + "> }";
+  }
+  return s;
 }
 
 std::string to_string(const Shape& sh) {

@@ -8,7 +8,7 @@ namespace snell::ir {
 Features Features::all() {
   Features f;
   f.motion_blur = f.depth_of_field = f.point_lights = f.area_lights = f.mirror = f.glossy =
-      f.dielectric = f.absorption = f.interiors = f.glazed = f.textures = true;
+      f.dielectric = f.absorption = f.interiors = f.glazed = f.textures = f.bumps = true;
   f.reasons.push_back({"all", "--features=all forces the general kernel"});
   return f;
 }
@@ -75,6 +75,10 @@ Features analyze_features(const Scene& scene) {
       if (!t.is_constant())
         once(f.textures, "textures", "a " + to_string(t.kind()) + " pattern at " + where);
     };
+    if (m.bump.on())
+      once(f.bumps, "bumps",
+           "a bump of " + to_string(m.bump.pattern.kind()) + " amount " + num(m.bump.amount) +
+               " at " + where);
     std::visit(
         Overloaded{
             [&](const Diffuse& d) { textured(d.color); },

@@ -117,7 +117,8 @@ struct Features {
   bool absorption = false;  // some dielectric absorbs (absorb > 0)
   bool interiors = false;   // some dielectric has a priority (§14): rays track media
   bool glazed = false;
-  bool textures = false;                                     // some colour is a pattern
+  bool textures = false;  // some colour is a pattern
+  bool bumps = false;     // some material has a bump (§16): shading normals from patterns
   std::vector<std::pair<std::string, std::string>> reasons;  // (effect, why)
 
   static Features all();  // every effect on: the general kernel

@@ -165,8 +165,19 @@ using MaterialModel = variant_of<
 #include "runtime/ir/kinds.def"
     ListEnd>;
 
+// §16 `bump <P, A>` (every material): the shading normal tilted by A times the
+// tangential gradient of P's value, as if the surface were pushed outward by A·P.
+// amount 0 is no bump (the pattern is then a constant and never evaluated).
+struct Bump {
+  Texture pattern;
+  double amount = 0;
+  bool on() const { return amount != 0 && !pattern.is_constant(); }
+  bool operator==(const Bump&) const = default;
+};
+
 struct Material {
   MaterialModel model{Diffuse{}};
+  Bump bump;
   SourceRef src;
   Material() = default;
   template <class T>
@@ -177,7 +188,7 @@ struct Material {
     return std::get_if<T>(&model);
   }
   // Equality ignores src: the materials table is deduplicated by value.
-  bool same_as(const Material& o) const { return model == o.model; }
+  bool same_as(const Material& o) const { return model == o.model && bump == o.bump; }
 };
 
 #define SNELL_MATERIAL SNELL_KIND_NAME

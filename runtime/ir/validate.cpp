@@ -247,6 +247,12 @@ std::vector<Problem> validate(const Scene& scene) {
           if (!all_finite(k)) bad(m.src, "material colours and absorb must be finite");
         },
         m.model);
+    if (m.bump.on()) {
+      check_texture(m.bump.pattern, bad_here);
+      bool finite = std::isfinite(m.bump.amount);
+      each_number(m.bump.pattern, [&](double x) { finite = finite && std::isfinite(x); });
+      if (!finite) bad(m.src, "bump pattern and amount must be finite");
+    }
   }
   auto check_shape = [&](const Shape& s, bool part) {
     auto bad_here = [&](const std::string& what) { bad(s.src, what); };

@@ -24,7 +24,8 @@
   X(area, area_lights, none, "area lights", "point lights only")           \
   X(dielectric, dielectric, none, "clear dielectrics", "no dielectrics")   \
   X(absorption, absorption, dielectric, "dielectrics with absorption", "") \
-  X(interiors, interiors, dielectric, "nested dielectrics (priorities)", "")
+  X(interiors, interiors, dielectric, "nested dielectrics (priorities)", "") \
+  X(bumps, bumps, none, "bumped normals", "")
 
 namespace snell::rt {
 

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cmath>
+#include <utility>
 #include <variant>
 
 #include "runtime/ir/ir.hpp"
@@ -43,14 +44,16 @@ inline double unit_length(const ir::Mat4& world_from_space) {
   return std::cbrt(std::fabs(det));
 }
 
-// The point a pattern is evaluated at: the world hit point moved inward by
-// size / divisor of the pattern's own unit (written so, a checker's S/100 rounds as
-// it always did), taken into the object's space (space "object") and
-// back through the pattern's transforms. Identity transforms cost nothing and
-// change no bit (a checker renders as it did before §15).
-inline ir::Vec3 pattern_point(const ir::Texture& t, const TexturePoint& tp, double size,
-                              double divisor) {
+// The space a pattern is evaluated in, seen from the world: the object's (space
+// "object") and then the pattern's transforms, and the length in world units of
+// one of its units. Identity when neither applies.
+struct PatternFrame {
   ir::Transform space_from_world;
+  bool identity = true;
+  double unit = 1;
+};
+inline PatternFrame pattern_frame(const ir::Texture& t, const TexturePoint& tp) {
+  PatternFrame f;
   bool moved = !t.world_from_pattern.is_identity();
   bool object = t.space == ir::PatternSpace::Object && tp.shape;
   if (object) {
@@ -58,16 +61,32 @@ inline ir::Vec3 pattern_point(const ir::Texture& t, const TexturePoint& tp, doub
     ir::Transform world_from_object = sh.motion.ops.empty()
                                           ? sh.world_from_object
                                           : sh.motion.at(double(tp.time)) * sh.world_from_object;
-    space_from_world = world_from_object.inverse();
+    f.space_from_world = world_from_object.inverse();
   }
-  if (moved) space_from_world = t.world_from_pattern.inverse() * space_from_world;
-  double unit = object || moved ? unit_length(space_from_world.inv) : 1.0;
+  if (moved) f.space_from_world = t.world_from_pattern.inverse() * f.space_from_world;
+  f.identity = !(object || moved);
+  if (!f.identity) f.unit = unit_length(f.space_from_world.inv);
+  return f;
+}
+
+// The world hit point moved inward by size / divisor of the pattern's unit
+// (written so, a checker's S/100 rounds as it always did).
+inline ir::Vec3 inward_point(const TexturePoint& tp, double size, double divisor, double unit) {
   const ir::Vec3 o = tp.origin;
   const Vec3f p = tp.p, n = tp.n_out;
-  ir::Vec3 w(double(p.x) + o.x - n.x * size / divisor * unit,
-             double(p.y) + o.y - n.y * size / divisor * unit,
-             double(p.z) + o.z - n.z * size / divisor * unit);
-  return object || moved ? space_from_world.point(w) : w;
+  return {double(p.x) + o.x - n.x * size / divisor * unit,
+          double(p.y) + o.y - n.y * size / divisor * unit,
+          double(p.z) + o.z - n.z * size / divisor * unit};
+}
+
+// The point a pattern is evaluated at: the inward point in the pattern's space.
+// Identity frames cost nothing and change no bit (a checker renders as it did
+// before §15).
+inline ir::Vec3 pattern_point(const ir::Texture& t, const TexturePoint& tp, double size,
+                              double divisor) {
+  PatternFrame f = pattern_frame(t, tp);
+  ir::Vec3 w = inward_point(tp, size, divisor, f.unit);
+  return f.identity ? w : f.space_from_world.point(w);
 }
 
 // §15 turbulence: the point displaced by T × a vector fbm before the pattern.
@@ -102,6 +121,21 @@ template <class K>
 Color pattern_color(const K& kind, const ir::Texture& t, const TexturePoint& tp) {
   ir::Vec3 k = pattern::map_color(t.color_map, pattern_value(kind, t, tp));
   return to_float(k.x, k.y, k.z);
+}
+
+// A pattern's value at a point of its own space (a checker's: 0 in even cells, 1 in
+// odd ones; a constant's: 0): what a bump differentiates.
+inline double value_at(const ir::Texture& t, ir::Vec3 q) {
+  return std::visit(
+      ir::Overloaded{
+          [](const ir::Constant&) { return 0.0; },
+          [&](const ir::Checker& c) {
+            ir::Vec3 w = turbulent(t, q);
+            double s = c.size;
+            return double(floor_parity(w.x / s) ^ floor_parity(w.y / s) ^ floor_parity(w.z / s));
+          },
+          [&](const auto& kind) { return pattern::value(kind, turbulent(t, q), int(t.octaves)); }},
+      t.pattern);
 }
 
 inline Color texture_color(const ir::Texture& t, const TexturePoint& tp) {
