@@ -18,12 +18,12 @@
 
 #include "runtime/ir/ir.hpp"
 
-#define SNELL_KERNEL_AXES(X)                                               \
-  X(lens, depth_of_field, none, "thin lens", "pinhole")                    \
-  X(time, motion_blur, none, "motion (time sampled)", "static")            \
-  X(area, area_lights, none, "area lights", "point lights only")           \
-  X(dielectric, dielectric, none, "clear dielectrics", "no dielectrics")   \
-  X(absorption, absorption, dielectric, "dielectrics with absorption", "") \
+#define SNELL_KERNEL_AXES(X)                                                 \
+  X(lens, depth_of_field, none, "thin lens", "pinhole")                      \
+  X(time, motion_blur, none, "motion (time sampled)", "static")              \
+  X(area, area_lights, none, "area lights", "point lights only")             \
+  X(dielectric, dielectric, none, "clear dielectrics", "no dielectrics")     \
+  X(absorption, absorption, dielectric, "dielectrics with absorption", "")   \
   X(interiors, interiors, dielectric, "nested dielectrics (priorities)", "") \
   X(bumps, bumps, none, "bumped normals", "")
 
