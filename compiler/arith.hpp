@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "language/token.hpp"
+#include "runtime/ir/scalar_math.hpp"
 
 namespace snell::compile {
 
@@ -20,7 +21,7 @@ inline double arith(lang::TokenKind op, double a, double b) {
     case TokenKind::Slash:
       return a / b;
     case TokenKind::Percent:
-      return a - b * std::floor(a / b);  // floored modulo
+      return ir::scalar::floored_mod(a, b);
     default:
       return 0;
   }

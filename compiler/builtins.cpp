@@ -1,9 +1,11 @@
 #include "compiler/builtins.hpp"
 
-#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+
+#include "runtime/ir/scalar_math.hpp"
+#include "runtime/pattern/noise.hpp"
 
 namespace snell::compile {
 namespace {
@@ -17,25 +19,6 @@ constexpr BuiltinInfo kBuiltins[] = {
 #define SNELL_BUILTIN(name, arity, sig) {#name, arity, sig},
 #include "compiler/builtins.def"
 };
-
-constexpr double kDeg = 3.14159265358979323846 / 180.0;
-
-// sin/cos in degrees, exact at multiples of 90 so that cos(90) == 0.
-double sin_deg(double d) {
-  double s, c;
-  ir::detail::sincos_degrees(d, s, c);
-  return s;
-}
-double cos_deg(double d) {
-  double s, c;
-  ir::detail::sincos_degrees(d, s, c);
-  return c;
-}
-double tan_deg(double d) {
-  double s, c;
-  ir::detail::sincos_degrees(d, s, c);
-  return s / c;  // tan(90) = ±inf: reported by the caller as non-finite
-}
 
 // Shape of a component-wise call: the common vector size of the arguments.
 bool common_dims(const Value* args, int n, int& dims, BuiltinError& err) {
@@ -83,21 +66,22 @@ Value map(const Value* args, int n, BuiltinError& err, F f) {
 // One component of the component-wise builtins: the only place their arithmetic
 // is written, so Value calls and the evaluator's numeric fast path agree bit for bit.
 double scalar(int id, double x, double y, double t) {
+  namespace m = ir::scalar;
   switch (static_cast<Id>(id)) {
     case Id::sin:
-      return sin_deg(x);
+      return m::sin_deg(x);
     case Id::cos:
-      return cos_deg(x);
+      return m::cos_deg(x);
     case Id::tan:
-      return tan_deg(x);
+      return m::tan_deg(x);
     case Id::asin:
-      return std::asin(x) / kDeg;
+      return m::asin_deg(x);
     case Id::acos:
-      return std::acos(x) / kDeg;
+      return m::acos_deg(x);
     case Id::atan:
-      return std::atan(x) / kDeg;
+      return m::atan_deg(x);
     case Id::atan2:
-      return std::atan2(x, y) / kDeg;
+      return m::atan2_deg(x, y);
     case Id::sqrt:
       return std::sqrt(x);
     case Id::pow:
@@ -119,9 +103,9 @@ double scalar(int id, double x, double y, double t) {
     case Id::max:
       return std::fmax(x, y);
     case Id::clamp:
-      return std::fmin(std::fmax(x, y), t);
+      return m::clamp(x, y, t);
     case Id::mix:
-      return x * (1 - t) + y * t;
+      return m::mix(x, y, t);
     default:
       return 0;
   }
@@ -149,22 +133,31 @@ const BuiltinInfo& builtin_info(int id) {
 }
 
 double random_hash(double n) {
-  if (n == 0) n = 0;  // -0 -> +0
-  std::uint64_t z = std::bit_cast<std::uint64_t>(n);
-  z += 0x9E3779B97F4A7C15ull;
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  z ^= z >> 31;
-  return static_cast<double>(z >> 11) * 0x1p-53;
+  return ir::scalar::random_hash(n);
+}
+
+bool octaves_ok(const Value& v, int arg, BuiltinError& err) {
+  if (v.type != Type::Number) {
+    err = {arg, "expects a number of octaves, got a " + std::string(type_name(v.type))};
+    return false;
+  }
+  if (v.n != std::floor(v.n)) {
+    err = {arg, "takes a whole number of octaves, not " + to_string(v),
+           lang::DiagKind::NotAnInteger};
+    return false;
+  }
+  if (v.n < 1 || v.n > pattern::kMaxOctaves) {
+    err = {arg,
+           "takes 1 to " + std::to_string(pattern::kMaxOctaves) + " octaves, not " + to_string(v),
+           lang::DiagKind::InvalidValue};
+    return false;
+  }
+  return true;
 }
 
 bool call_builtin_number(int id, const double* a, double& out) {
+  if (!builtin_numeric(id)) return false;
   switch (static_cast<Id>(id)) {
-    case Id::dot:
-    case Id::cross:
-    case Id::length:
-    case Id::normalize:
-      return false;
     case Id::random:
       out = random_hash(a[0]);
       return true;
@@ -175,11 +168,29 @@ bool call_builtin_number(int id, const double* a, double& out) {
 }
 
 bool builtin_numeric(int id) {
-  auto k = static_cast<Id>(id);
-  return k != Id::dot && k != Id::cross && k != Id::length && k != Id::normalize;
+  switch (static_cast<Id>(id)) {
+    case Id::dot:
+    case Id::cross:
+    case Id::length:
+    case Id::normalize:
+    case Id::noise:
+    case Id::fbm:
+    case Id::turbulence:
+    case Id::cells:
+      return false;
+    default:
+      return true;
+  }
 }
 
 Value call_builtin(int id, const Value* a, BuiltinError& err) {
+  auto vec3_arg = [&](int i) {
+    if (a[i].type != Type::Vec3) {
+      err = {i, "expects a 3-vector (a point), got a " + std::string(type_name(a[i].type))};
+      return false;
+    }
+    return true;
+  };
   auto vec_arg = [&](int i) {
     if (!a[i].is_vector()) {
       err = {i, "expects a vector, got a " + std::string(type_name(a[i].type))};
@@ -245,6 +256,20 @@ Value call_builtin(int id, const Value* a, BuiltinError& err) {
         return Value::error();
       }
       return Value::number(random_hash(a[0].n));
+    case Id::noise:
+      if (!vec3_arg(0)) return Value::error();
+      return Value::number(pattern::noise(a[0].v));
+    case Id::cells:
+      if (!vec3_arg(0)) return Value::error();
+      return Value::number(pattern::cells(a[0].v));
+    case Id::fbm:
+    case Id::turbulence: {
+      bool p_ok = vec3_arg(0);
+      if (!p_ok || !octaves_ok(a[1], 1, err)) return Value::error();
+      int oct = static_cast<int>(a[1].n);
+      return Value::number(static_cast<Id>(id) == Id::fbm ? pattern::fbm(a[0].v, oct)
+                                                          : pattern::turbulence(a[0].v, oct));
+    }
   }
   return Value::error();
 }

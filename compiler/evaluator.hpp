@@ -77,6 +77,9 @@ class Evaluator {
   std::uint64_t steps() const { return steps_; }
 
  private:
+  // §15: compiles user functions to shading programs with the evaluator's names,
+  // scopes and diagnostics (shading_function.cpp).
+  friend class ShadingCompiler;
   enum class Flow { Normal, Return };
   struct Frame {
     Value result;

@@ -334,7 +334,7 @@ Value Evaluator::eval_call(const Expr& e, const std::shared_ptr<Env>& env, bool 
     Value r = call_builtin(fn.builtin, args.data(), err);
     if (r.is_error()) {
       Span at = err.arg >= 0 ? e.args[err.arg + 1]->span : e.span;
-      error(DiagKind::TypeMismatch, at, "'" + fn.name + "' " + err.message)
+      error(err.kind, at, "'" + fn.name + "' " + err.message)
           .note(std::string(builtin_info(fn.builtin).signature));
       return r;
     }
