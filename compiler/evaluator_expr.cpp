@@ -7,6 +7,7 @@
 #include "compiler/builtins.hpp"
 #include "compiler/evaluator.hpp"
 #include "compiler/properties.hpp"
+#include "compiler/shading_function.hpp"
 
 namespace snell::compile {
 
@@ -454,7 +455,19 @@ Value Evaluator::eval_constructor(const Expr& e, const std::shared_ptr<Env>& env
                           "{:g} > 1): facing reflections grow without bound",
                           block->name, m));
     }
-  return make_constructor_value(*block, props, diags_);
+  Value made = make_constructor_value(*block, props, diags_);
+  // §15 `pattern { function f }`: f compiled here, where the evaluator that owns its
+  // scope is (lowering sees only values).
+  if (made.type == Type::Pattern && std::holds_alternative<ir::FunctionPattern>(made.pat().pattern))
+    for (const EvaluatedProp& p : props)
+      if (p.info->type == PropType::Function) {
+        ir::Texture t = made.pat();
+        if (!compile_shading_function(*this, p.value, p.value_span, e.span,
+                                      std::get<ir::FunctionPattern>(t.pattern).program))
+          return Value::error();
+        return Value::of_pattern(std::move(t));
+      }
+  return made;
 }
 
 }  // namespace snell::compile

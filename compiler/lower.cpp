@@ -114,6 +114,10 @@ struct Hasher {
     mix(t.pattern.index() << 7);
     std::visit([&](const auto& p) { fields(p); }, t.pattern);
     for (const ir::ColorStop& c : t.color_map) (*this)(c.at), (*this)(c.color);
+    if (const auto* f = std::get_if<ir::FunctionPattern>(&t.pattern)) {
+      mix(f->program.code.size());
+      for (double c : f->program.constants) (*this)(c);
+    }
     (*this)(t.turbulence);
     mix(t.octaves), mix(std::uint64_t(t.space));
     for (int r = 0; r < 3; ++r)

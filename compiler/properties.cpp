@@ -267,6 +267,8 @@ std::string describe(const PropInfo& p) {
       return "a block { ... }";
     case PropType::Pattern:
       return "a pattern (checker { ... }, gradient { ... }, ...)";
+    case PropType::Function:
+      return "a function (the name of an fn)";
     case PropType::Pair: {
       std::string parts;
       if (const BlockInfo* b = find_block(p.name))
@@ -364,6 +366,8 @@ std::string check_value(const PropInfo& p, Value& v, bool* integral) {
       return v.type == Type::Material ? "" : wrong();
     case PropType::Pattern:
       return v.type == Type::Pattern ? "" : wrong();
+    case PropType::Function:
+      return v.type == Type::Function ? "" : wrong();
     case PropType::Block:
       return wrong();  // blocks are written `motion { ... }`
     case PropType::Pair:

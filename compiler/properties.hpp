@@ -34,7 +34,8 @@ enum class PropType {
   Rotate,
   Scale,
   Block,
-  Pattern,  // a pattern value (§15: bump's)
+  Pattern,   // a pattern value (§15: bump's)
+  Function,  // a function value (§15: a shading function)
   // `NAME <a, b>`: two parts, checked as the properties of the Nested block NAME
   // (EvaluatedProp::nested holds them; §15 `stop <at, C>`, §16 `bump <P, A>`).
   Pair,

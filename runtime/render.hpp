@@ -47,6 +47,8 @@ struct RenderStats {
   // priority), entries forgotten by a full interior, branches lost after
   // kMaxPassThroughs surfaces in a row.
   std::uint64_t interior_passes = 0, interior_overflows = 0, interior_lost = 0;
+  // §15: hits where a shading function's value was not finite (0 used there).
+  std::uint64_t function_nonfinite = 0;
   double build_seconds = 0, render_seconds = 0;
   // Distribution effects: camera samples that drew a lens / a time sample.
   std::uint64_t lens_samples = 0, time_samples = 0;

@@ -20,6 +20,7 @@ void RenderStats::merge(const RenderStats& b) {
   a.interior_passes += b.interior_passes;
   a.interior_overflows += b.interior_overflows;
   a.interior_lost += b.interior_lost;
+  a.function_nonfinite += b.function_nonfinite;
   a.lens_samples += b.lens_samples;
   a.time_samples += b.time_samples;
   a.timed_samples += b.timed_samples;
@@ -51,6 +52,8 @@ std::string RenderStats::to_string() const {
         "interiors: {} surfaces passed through, {} entries forgotten (full), {} branches "
         "lost\n",
         interior_passes, interior_overflows, interior_lost);
+  if (function_nonfinite > 0)
+    s += fmt::format("shading functions: {} non-finite values (0 used)\n", function_nonfinite);
   if (cost_stride == 0) return s;  // RenderOptions::measure_cost was off
   double cost = camera_seconds + shadow_seconds + reflection_seconds + refraction_seconds +
                 glossy_seconds + lens_seconds + time_seconds;

@@ -332,7 +332,8 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
       Vec3f ng = hit.ng;               // outward
       bool entering = dot(d, ng) < 0;  // §8: against the outward normal
       Vec3f nf = entering ? ng : -ng;  // the normal on the ray's side
-      const TexturePoint tex{p, ng, embree_.origin(), &shape, node.ray.time};
+      const TexturePoint tex{
+          p, ng, embree_.origin(), &shape, node.ray.time, &stats.function_nonfinite};
       // The lobes' normal: nf, or a smooth mesh's or a bump's (§16) shading normal made
       // valid for this viewer (hard case #20, shading/shading_normal.hpp).
       Vec3f ns_out = hit.ns;

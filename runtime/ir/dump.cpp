@@ -88,6 +88,13 @@ std::string to_string(const Texture& t) {
         return std::string(KindName<std::decay_t<decltype(p)>>::value) + " {" + fields_text(p);
       },
       t.pattern);
+  if (const FunctionPattern* f = std::get_if<FunctionPattern>(&t.pattern)) {
+    std::string prog = to_string(f->program);  // one line per instruction
+    for (char& c : prog)
+      if (c == '\n') c = ';';
+    while (!prog.empty() && (prog.back() == ';' || prog.back() == ' ')) prog.pop_back();
+    s += " function { " + prog + " }";
+  }
   // §15's common properties, where they differ from their defaults.
   if (!t.color_map.empty()) {
     s += " color_map {";

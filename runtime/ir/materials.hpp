@@ -12,6 +12,7 @@
 #include "runtime/ir/enums.hpp"
 #include "runtime/ir/fields.hpp"
 #include "runtime/ir/math.hpp"
+#include "runtime/ir/program.hpp"
 #include "runtime/ir/source_ref.hpp"
 
 namespace snell::ir {
@@ -76,6 +77,14 @@ SNELL_PLAIN_PATTERN(Ripples)
 SNELL_PLAIN_PATTERN(Waves)
 SNELL_PLAIN_PATTERN(Cells)
 #undef SNELL_PLAIN_PATTERN
+
+// §15 `pattern { function f }`: f compiled (compiler/shading_function.hpp); its
+// value clamped to [0, 1], 0 where it is not finite.
+struct FunctionPattern {
+  Program program;
+  bool operator==(const FunctionPattern&) const = default;
+  static constexpr auto fields() { return std::tuple{}; }
+};
 
 // A stop of a colour map (§15): the colour at value `at`.
 struct ColorStop {

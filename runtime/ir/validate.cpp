@@ -133,6 +133,8 @@ void check_texture(const Texture& t, Bad&& bad) {
   for (std::size_t i = 1; i < t.color_map.size(); ++i)
     if (!(t.color_map[i - 1].at <= t.color_map[i].at)) bad("colour map stops out of order");
   if (!(t.turbulence >= 0)) bad("turbulence must be >= 0");
+  if (const FunctionPattern* f = std::get_if<FunctionPattern>(&t.pattern))
+    if (std::string why = check(f->program); !why.empty()) bad("shading program: " + why);
   if (t.octaves < 1 || t.octaves > 32) bad("octaves must be in 1..32");
 }
 template <class Bad>

@@ -28,7 +28,9 @@ inline Vec3f bump_normal(const ir::Bump& b, const TexturePoint& tp, Vec3f n, Vec
   PatternFrame f = pattern_frame(t, tp);
   ir::Vec3 w = inward_point(tp, 1, 1e4, f.unit);
   double h = 1e-3 * f.unit;
-  auto at = [&](ir::Vec3 x) { return value_at(t, f.identity ? x : f.space_from_world.point(x)); };
+  auto at = [&](ir::Vec3 x) {
+    return value_at(t, f.identity ? x : f.space_from_world.point(x), f, tp);
+  };
   ir::Vec3 g{(at(w + ir::Vec3{h, 0, 0}) - at(w - ir::Vec3{h, 0, 0})) / (2 * h),
              (at(w + ir::Vec3{0, h, 0}) - at(w - ir::Vec3{0, h, 0})) / (2 * h),
              (at(w + ir::Vec3{0, 0, h}) - at(w - ir::Vec3{0, 0, h})) / (2 * h)};

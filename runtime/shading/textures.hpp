@@ -10,6 +10,7 @@
 
 #include "runtime/ir/ir.hpp"
 #include "runtime/pattern/patterns.hpp"
+#include "runtime/pattern/program_eval.hpp"
 #include "runtime/vec.hpp"
 
 namespace snell::rt {
@@ -32,6 +33,7 @@ struct TexturePoint {
   ir::Vec3 origin;
   const ir::Shape* shape = nullptr;
   float time = 0;
+  std::uint64_t* nonfinite = nullptr;  // counts shading functions' non-finite values
 };
 
 // The length in world units of one unit of the space a pattern is evaluated in
@@ -123,12 +125,43 @@ Color pattern_color(const K& kind, const ir::Texture& t, const TexturePoint& tp)
   return to_float(k.x, k.y, k.z);
 }
 
+// §15 `pattern { function f }`: f at the point (and the normal, taken into the
+// pattern's space as normals are, when f reads it); clamped to [0, 1], 0 and
+// counted where it is not finite.
+inline double function_value(const ir::FunctionPattern& f, const PatternFrame& frame, ir::Vec3 q,
+                             const TexturePoint& tp) {
+  ir::Vec3 n{tp.n_out.x, tp.n_out.y, tp.n_out.z};
+  if (f.program.reads_normal && !frame.identity) {
+    const ir::Mat4& m = frame.space_from_world.inv;  // world_from_space: transposed for normals
+    n = ir::normalize(ir::Vec3{m(0, 0) * n.x + m(1, 0) * n.y + m(2, 0) * n.z,
+                               m(0, 1) * n.x + m(1, 1) * n.y + m(2, 1) * n.z,
+                               m(0, 2) * n.x + m(1, 2) * n.y + m(2, 2) * n.z});
+  }
+  bool finite = true;
+  double v = pattern::run_program(f.program, q, n, finite);
+  if (!finite && tp.nonfinite) ++*tp.nonfinite;
+  return pattern::pattern_value(v, finite);
+}
+inline Color pattern_color(const ir::FunctionPattern& f, const ir::Texture& t,
+                           const TexturePoint& tp) {
+  PatternFrame frame = pattern_frame(t, tp);
+  ir::Vec3 w = inward_point(tp, 1, 1e4, frame.unit);
+  ir::Vec3 q = turbulent(t, frame.identity ? w : frame.space_from_world.point(w));
+  ir::Vec3 k = pattern::map_color(t.color_map, function_value(f, frame, q, tp));
+  return to_float(k.x, k.y, k.z);
+}
+
 // A pattern's value at a point of its own space (a checker's: 0 in even cells, 1 in
-// odd ones; a constant's: 0): what a bump differentiates.
-inline double value_at(const ir::Texture& t, ir::Vec3 q) {
+// odd ones; a constant's: 0): what a bump differentiates. `frame` and `tp` serve
+// shading functions (their normal and the --stats count).
+inline double value_at(const ir::Texture& t, ir::Vec3 q, const PatternFrame& frame,
+                       const TexturePoint& tp) {
   return std::visit(
       ir::Overloaded{
           [](const ir::Constant&) { return 0.0; },
+          [&](const ir::FunctionPattern& f) {
+            return function_value(f, frame, turbulent(t, q), tp);
+          },
           [&](const ir::Checker& c) {
             ir::Vec3 w = turbulent(t, q);
             double s = c.size;

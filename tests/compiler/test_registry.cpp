@@ -79,6 +79,11 @@ Value sample_value(const PropInfo& p) {
       return Value::vec3({1, 1, 1});
     case PropType::Bool:
       return Value::boolean(false);
+    case PropType::Function: {
+      auto f = std::make_shared<snell::compile::Closure>();
+      f->builtin = 0;
+      return Value::of_function(f);
+    }
     default:
       return Value::none();
   }
@@ -287,7 +292,8 @@ TEST_CASE("registry: every IR kind of kinds.def is a block of properties.def, bo
       // §15's properties common to every pattern are the Texture's, not the kind's
       // (lower_kinds.cpp common_pattern_props).
       bool hooked = (k.name == "mesh" && p->name == "file") ||
-                    (k.family == "material" && p->name == "bump") ||  // ir::Material::bump
+                    (k.family == "material" && p->name == "bump") ||   // ir::Material::bump
+                    (k.name == "pattern" && p->name == "function") ||  // compiled: ::program
                     (k.family == "pattern" && kCommonPatternProps.count(std::string(p->name)));
       bool field = std::count(fields[k.name].begin(), fields[k.name].end(), p->name) > 0;
       CHECK((field || hooked));
