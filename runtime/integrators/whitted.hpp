@@ -8,9 +8,10 @@
 // dielectric, absorption, interiors, highlights). Without area lights the
 // direct-light loop is a single shadow ray per point light; without dielectrics the
 // refraction path is not compiled in; without absorption no Beer factor is
-// computed; without highlights no Blinn–Phong term is evaluated per light sample. Every decision
-// draws the same sampler dimensions in every kernel, so a specialised kernel renders the general
-// kernel's picture. Instrumentation comes through a Probe (probe.hpp).
+// computed; without highlights no Blinn–Phong term is evaluated per light sample.
+// Every decision draws the same sampler dimensions in every kernel, so a
+// specialised kernel renders the general kernel's picture. Instrumentation comes
+// through a Probe (probe.hpp).
 #pragma once
 
 #include <cstdint>
