@@ -139,21 +139,33 @@ bool WhittedIntegrator::shadow_blocked(const Ray& ray, const Interior* in, Color
 
 template <class K>
 Color WhittedIntegrator::direct(Vec3f p, Vec3f o, Vec3f nf, float time, std::uint64_t key,
-                                const SampleContext& sc, RenderStats& stats,
-                                const Interior* in) const {
+                                const SampleContext& sc, RenderStats& stats, const Interior* in,
+                                [[maybe_unused]] LitOf<K> lit) const {
   Color e(0);
   LightSample ls;
+  // One unblocked light sample: its share of E, and with highlights its
+  // f_spec · value · g (the same G as the Lambertian sum: f · L_i · cosθ_i).
+  auto add = [&](Color tr) {
+    (void)tr;
+    if constexpr (K::interiors)
+      e += ls.value * ls.g * tr;
+    else
+      e += ls.value * ls.g;
+    if constexpr (K::finish) {
+      if (lit.highlight.on()) {
+        float f = lit.highlight.eval(lit.wo, nf, normalize(ls.to));
+        Color c = ls.value * (ls.g * f);
+        if constexpr (K::interiors) c = c * tr;
+        *lit.spec += c;
+      }
+    }
+  };
   for (const PointLightF& l : lights_.points) {
     if (!l.sample_li(p, o, nf, time, ls)) continue;
     ++stats.shadow_rays;
     Color tr(1);
     if (shadow_blocked<K>(ls.shadow, in, tr)) continue;
-    if (std::isfinite(ls.g)) {
-      if constexpr (K::interiors)
-        e += ls.value * ls.g * tr;
-      else
-        e += ls.value * ls.g;
-    }
+    if (std::isfinite(ls.g)) add(tr);
   }
   if constexpr (!K::area) return e;
   for (std::size_t li = 0; li < lights_.areas.size(); ++li) {
@@ -167,12 +179,7 @@ Color WhittedIntegrator::direct(Vec3f p, Vec3f o, Vec3f nf, float time, std::uin
         ++stats.shadow_rays;
         Color tr(1);
         if (shadow_blocked<K>(ls.shadow, in, tr)) continue;
-        if (std::isfinite(ls.g)) {
-          if constexpr (K::interiors)
-            e += ls.value * ls.g * tr;
-          else
-            e += ls.value * ls.g;
-        }
+        if (std::isfinite(ls.g)) add(tr);
       }
   }
   return e;
@@ -205,11 +212,12 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
     // Direct light is timed as shadow cost and taken out of the node's own time.
     const Interior* in_here = nullptr;  // the interior at the shading point (shadow rays)
     if constexpr (K::interiors) in_here = &node.interior;
-    auto direct_timed = [&](Vec3f p, Vec3f o, Vec3f nf) {
-      if constexpr (!P::on) return direct<K>(p, o, nf, node.ray.time, node.key, sc, stats, in_here);
-      if (!cost) return direct<K>(p, o, nf, node.ray.time, node.key, sc, stats, in_here);
+    auto direct_timed = [&](Vec3f p, Vec3f o, Vec3f nf, LitOf<K> lit) {
+      if constexpr (!P::on)
+        return direct<K>(p, o, nf, node.ray.time, node.key, sc, stats, in_here, lit);
+      if (!cost) return direct<K>(p, o, nf, node.ray.time, node.key, sc, stats, in_here, lit);
       double t0 = CostClock::now_ns();
-      Color e = direct<K>(p, o, nf, node.ray.time, node.key, sc, stats, in_here);
+      Color e = direct<K>(p, o, nf, node.ray.time, node.key, sc, stats, in_here, lit);
       double dt = cost->since(t0);
       cost->ns[kCostShadow] += dt;
       nested += dt + cost->overhead_ns;
@@ -338,7 +346,7 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
       // valid for this viewer (hard case #20, shading/shading_normal.hpp).
       Vec3f ns_out = hit.ns;
       bool bent = hit.smooth;
-      if constexpr (K::bumps)
+      if constexpr (K::finish)
         if (mat.bump.on()) {
           ns_out = bump_normal(mat.bump, tex, hit.smooth ? hit.ns : ng, ng);
           bent = true;
@@ -412,7 +420,16 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
             lifted.p = hit.ps;
             o_light = spawn_origin(lifted, nf, offset_scale_);
           }
-          contrib = s.lit->reflect(w, direct_timed(p, o_light, frame.ns));
+          if constexpr (K::finish) {
+            Color spec(0);
+            contrib =
+                s.lit->reflect(w, direct_timed(p, o_light, frame.ns, {s.highlight, -d, &spec}));
+            // §16: the highlight's radiance f_spec · L_i · cosθ_i, weighted like the
+            // diffuse light; never carried by a branch.
+            if (s.highlight.on()) contrib += w * spec;
+          } else {
+            contrib = s.lit->reflect(w, direct_timed(p, o_light, frame.ns, {}));
+          }
         }
         for (int i = 0; i < s.count; ++i) {
           const Branch& b = s.branches[i];

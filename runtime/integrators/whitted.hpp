@@ -5,11 +5,13 @@
 //
 // Specialisation (architecture: "simulate only the effects a scene calls for"):
 // `li` is a template on the render kernel's shading axes (render/kernel.hpp: area,
-// dielectric, absorption). Without area lights the direct-light loop is a single
-// shadow ray per point light; without dielectrics the refraction path is not
-// compiled in; without absorption no Beer factor is computed. Every decision draws
-// the same sampler dimensions in every kernel, so a specialised kernel renders the
-// general kernel's picture. Instrumentation comes through a Probe (probe.hpp).
+// dielectric, absorption, interiors, highlights). Without area lights the
+// direct-light loop is a single shadow ray per point light; without dielectrics the
+// refraction path is not compiled in; without absorption no Beer factor is
+// computed; without highlights no Blinn–Phong term is evaluated per light sample.
+// Every decision draws the same sampler dimensions in every kernel, so a
+// specialised kernel renders the general kernel's picture. Instrumentation comes
+// through a Probe (probe.hpp).
 #pragma once
 
 #include <cstdint>
@@ -95,16 +97,27 @@ class WhittedIntegrator final : public Integrator {
   // The kernel axes the ray tree reads; the others (lens, time) are the pixel loop's.
   static constexpr unsigned kShadeAxes = (1u << kAxis_area) | (1u << kAxis_dielectric) |
                                          (1u << kAxis_absorption) | (1u << kAxis_interiors) |
-                                         (1u << kAxis_bumps);
+                                         (1u << kAxis_finish);
   template <class K, class P>
   Color li(const Ray& camera_ray, const SampleContext& sc, Scratch& stack, P& probe) const;
 
  private:
+  // What the surface does with the light beyond the Lambertian sum: the §16
+  // highlight seen from `wo`, summed into *spec. Kernels without highlights pass
+  // the empty NoLit, so their direct() takes no extra argument at all.
+  struct Lit {
+    Highlight highlight;
+    Vec3f wo;
+    Color* spec;
+  };
+  struct NoLit {};
+  template <class K>
+  using LitOf = std::conditional_t<K::finish, Lit, NoLit>;
   template <class K>
   // `o`: the shadow rays' origin, p moved off the surface (spawn_origin); `in`: the
   // interior there (null without interiors).
   Color direct(Vec3f p, Vec3f o, Vec3f n_facing, float time, std::uint64_t key,
-               const SampleContext& sc, RenderStats& stats, const Interior* in) const;
+               const SampleContext& sc, RenderStats& stats, const Interior* in, LitOf<K> lit) const;
   // Whether a shadow ray is blocked; `tr` is multiplied by the Beer factor of the
   // medium it crosses when it is not (interiors only).
   template <class K>

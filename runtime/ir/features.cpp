@@ -8,7 +8,8 @@ namespace snell::ir {
 Features Features::all() {
   Features f;
   f.motion_blur = f.depth_of_field = f.point_lights = f.area_lights = f.mirror = f.glossy =
-      f.dielectric = f.absorption = f.interiors = f.glazed = f.textures = f.bumps = true;
+      f.dielectric = f.absorption = f.interiors = f.glazed = f.highlights = f.textures = f.bumps =
+          f.finish = true;
   f.reasons.push_back({"all", "--features=all forces the general kernel"});
   return f;
 }
@@ -71,6 +72,12 @@ Features analyze_features(const Scene& scene) {
         why(effect, std::move(reason));
       }
     };
+    auto highlight = [&](double specular, double shininess) {
+      if (specular > 0)
+        once(f.highlights, "highlights",
+             "specular " + num(specular) + " shininess " + num(shininess) + " at " + where +
+                 ": a Blinn-Phong term per light sample");
+    };
     auto textured = [&](const Texture& t) {
       if (!t.is_constant())
         once(f.textures, "textures", "a " + to_string(t.kind()) + " pattern at " + where);
@@ -81,7 +88,10 @@ Features analyze_features(const Scene& scene) {
                " at " + where);
     std::visit(
         Overloaded{
-            [&](const Diffuse& d) { textured(d.color); },
+            [&](const Diffuse& d) {
+              textured(d.color);
+              highlight(d.specular, d.shininess);
+            },
             [&](const Mirror& k) {
               textured(k.color);
               once(f.mirror, "mirror", "a mirror material at " + where);
@@ -107,10 +117,12 @@ Features analyze_features(const Scene& scene) {
             [&](const Glazed& g) {
               textured(g.color);
               once(f.glazed, "glazed", "a glazed material at " + where);
+              highlight(g.specular, g.shininess);
             },
         },
         m.model);
   }
+  f.finish = f.highlights || f.bumps;
   return f;
 }
 

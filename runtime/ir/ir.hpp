@@ -117,8 +117,10 @@ struct Features {
   bool absorption = false;  // some dielectric absorbs (absorb > 0)
   bool interiors = false;   // some dielectric has a priority (§14): rays track media
   bool glazed = false;
-  bool textures = false;  // some colour is a pattern
-  bool bumps = false;     // some material has a bump (§16): shading normals from patterns
+  bool highlights = false;  // some diffuse or glazed has specular > 0 (§16)
+  bool textures = false;    // some colour is a pattern
+  bool bumps = false;       // some material has a bump (§16): shading normals from patterns
+  bool finish = false;      // highlights or bumps: §16's kernel axis
   std::vector<std::pair<std::string, std::string>> reasons;  // (effect, why)
 
   static Features all();  // every effect on: the general kernel

@@ -128,10 +128,18 @@ struct Texture {
   }
 };
 
+// §16: `specular` S >= 0 and `shininess` E > 0 of diffuse and glazed: a
+// Blinn–Phong highlight S·(E + 8)/(8π)·max(0, n·h)^E in the direct light only
+// (runtime/shading/bsdf.hpp Highlight). S = 0 is none.
 struct Diffuse {
   Texture color{Vec3(0.8)};
+  double specular = 0;
+  double shininess = 50;
   bool operator==(const Diffuse&) const = default;
-  static constexpr auto fields() { return std::tuple{field("color", &Diffuse::color)}; }
+  static constexpr auto fields() {
+    return std::tuple{field("color", &Diffuse::color), field("specular", &Diffuse::specular),
+                      field("shininess", &Diffuse::shininess)};
+  }
 };
 struct Mirror {
   Texture color{Vec3(1)};
@@ -160,12 +168,16 @@ struct Dielectric {
   }
 };
 // The black glazed coating: a clear coat of index `ior` over a diffuse base.
+// §16: its highlight is on the coated surface, not under the coat (no Fresnel).
 struct Glazed {
   Texture color{Vec3(0)};
   double ior = 1.5;
+  double specular = 0;
+  double shininess = 50;
   bool operator==(const Glazed&) const = default;
   static constexpr auto fields() {
-    return std::tuple{field("color", &Glazed::color), field("ior", &Glazed::ior)};
+    return std::tuple{field("color", &Glazed::color), field("ior", &Glazed::ior),
+                      field("specular", &Glazed::specular), field("shininess", &Glazed::shininess)};
   }
 };
 

@@ -138,8 +138,14 @@ void check_texture(const Texture& t, Bad&& bad) {
   if (t.octaves < 1 || t.octaves > 32) bad("octaves must be in 1..32");
 }
 template <class Bad>
+void check_highlight(double specular, double shininess, Bad&& bad) {
+  if (!(specular >= 0)) bad("specular must be >= 0");
+  if (!(shininess > 0)) bad("shininess must be > 0");
+}
+template <class Bad>
 void check_kind(const Diffuse& m, Bad&& bad) {
   check_texture(m.color, bad);
+  check_highlight(m.specular, m.shininess, bad);
 }
 template <class Bad>
 void check_kind(const Mirror& m, Bad&& bad) {
@@ -159,6 +165,7 @@ template <class Bad>
 void check_kind(const Glazed& m, Bad&& bad) {
   check_texture(m.color, bad);
   if (!(m.ior > 0) || !std::isfinite(m.ior)) bad("ior must be finite and > 0");
+  check_highlight(m.specular, m.shininess, bad);
 }
 // §14: whether a shape bounds a volume a ray can be inside, as a prioritised
 // dielectric needs: not a triangle, a disc or an open tube. A mesh is taken to be

@@ -7,7 +7,7 @@
 //     axis     the flag's name (Kernel<B>::axis)
 //     feature  the ir::Features member that turns it on
 //     needs    an axis that must be on too (or `none`): absorption and interiors
-//              need dielectric
+//              need dielectric; highlights (§16) needs nothing
 //     on, off  how --stats names the kernel's choice
 #pragma once
 
@@ -25,7 +25,7 @@
   X(dielectric, dielectric, none, "clear dielectrics", "no dielectrics")     \
   X(absorption, absorption, dielectric, "dielectrics with absorption", "")   \
   X(interiors, interiors, dielectric, "nested dielectrics (priorities)", "") \
-  X(bumps, bumps, none, "bumped normals", "")
+  X(finish, finish, none, "finish (highlights, bumps)", "")
 
 namespace snell::rt {
 
@@ -67,11 +67,12 @@ struct KernelChoice {
 };
 KernelChoice choose_kernel(const ir::Scene& scene, bool general);
 
-// {F<Kernel<0>>, F<Kernel<1>>, ...}: one entry per bit pattern (equal ones for bit
-// patterns with the same canonical kernel). `Make<K>::value` is the entry.
+// {F<Kernel<0>>, F<Kernel<1>>, ...}: one entry per bit pattern, bit patterns with
+// the same canonical kernel sharing one instantiation (Kernel<canonical>), so only
+// the distinct kernels are compiled. `Make<K>::value` is the entry.
 template <template <class> class Make, unsigned... B>
 constexpr auto kernel_table(std::integer_sequence<unsigned, B...>) {
-  return std::array{Make<Kernel<B>>::value...};
+  return std::array{Make<Kernel<canonical_kernel(B)>>::value...};
 }
 template <template <class> class Make>
 constexpr auto kernel_table() {

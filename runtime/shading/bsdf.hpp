@@ -208,6 +208,43 @@ inline std::string to_string(const DiffuseLobe& l) {
 }
 
 // ---------------------------------------------------------------------------------
+// §16 Blinn–Phong highlight of diffuse and glazed surfaces:
+//   f = S · (E + 8)/(8π) · max(0, n·h)^E,  h = normalize(wo + wi)
+// a BRDF value (no cosine) that only the direct-light sum evaluates, per light
+// sample, beside the Lambertian lobe: it is no lobe of the ray tree (no sample, no
+// pdf), so mirror, glossy and refracted rays never see it and a point light never
+// shows up in a mirror through it. (E + 8)/(8π) is the usual approximate
+// normalisation: seen along n, the lobe reflects S times 1.00–1.08 of the light for
+// every E (1 as E grows; integrated numerically), less at grazing views. Computed
+// in float: an absurd S·E (beyond ~1e37) can overflow to inf right at the peak,
+// which the film then drops as a non-finite sample.
+struct Highlight {
+  static constexpr float kInv8Pi = 0.0397887357729738339422f;  // 1/(8π)
+  float specular = 0;                                          // S; 0 is no highlight
+  float shininess = 50;                                        // E
+
+  bool on() const { return specular > 0; }
+  // wo towards the viewer, wi towards the light, both unit; n the shading normal on
+  // wo's side. One-sided like DiffuseLobe: 0 unless both are strictly above n.
+  float eval(Vec3f wo, Vec3f n, Vec3f wi) const {
+    if (!(dot(wo, n) > 0) || !(dot(wi, n) > 0)) return 0;
+    Vec3f h = wo + wi;
+    float len = length(h);
+    if (!(len > 0)) return 0;
+    float c = dot(n, h) / len;
+    if (!(c > 0)) return 0;
+    float p = std::pow(std::fmin(c, 1.0f), shininess);
+    if (!(p > 0)) return 0;  // underflow: no 0 · inf for a huge shininess
+    return specular * ((shininess + 8) * kInv8Pi) * p;
+  }
+};
+
+inline std::string to_string(const Highlight& h) {
+  return "highlight { specular " + bsdf_detail::num(h.specular) + " shininess " +
+         bsdf_detail::num(h.shininess) + " }";
+}
+
+// ---------------------------------------------------------------------------------
 // Perfect mirror: one delta along li's normalize(d + nf·(2·cos_i)), weight `color`
 // (li's mirror: texture(m.color); a Fresnel-weighted reflection is Color(float(R))).
 struct DeltaReflection {

@@ -26,6 +26,9 @@ struct LightSample {
   Ray shadow;
   Color value;  // intensity (point light) or radiance (area light)
   float g = 0;
+  // From the shading point to the light sample, not normalised: the direction a
+  // highlight needs (the shadow ray's leaves the offset origin for an offset target).
+  Vec3f to;
 };
 
 struct PointLightF {
@@ -47,6 +50,7 @@ struct PointLightF {
     // (robustness #27). It changes nothing for a light clearly above the surface.
     if (!(dot(nf, pos - o) > 0)) return false;
     s.shadow = Ray{o, pos - o, 1.0f, time};
+    s.to = to;
     float d = std::sqrt(d2);
     s.g = cos_s / (d * d2);
     s.value = intensity;
@@ -84,6 +88,7 @@ struct AreaLightF {
     Vec3f side = cos_l > 0 ? n : -n;  // the light's face towards p
     Vec3f target = offset_ray_origin(q, side, scale);
     s.shadow = Ray{o, target - o, 1.0f, time};
+    s.to = to;
     float inv_n = 1.0f / float(nu * nv);
     s.g = cos_s * std::fabs(cos_l) / (d2 * d2) * area * inv_n;
     s.value = radiance;

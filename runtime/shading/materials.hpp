@@ -36,6 +36,7 @@ struct Branch {
 
 struct Scatter {
   std::optional<DiffuseLobe> lit;  // reflects the direct light (DiffuseLobe::reflect)
+  Highlight highlight;             // §16: with lit, evaluated per light sample (off: S = 0)
   Branch branches[2];
   int count = 0;
   bool tir = false;  // a total internal reflection happened (--stats)
@@ -60,6 +61,7 @@ template <class C>
 Scatter scatter(const ir::Diffuse& m, const C& c) {
   Scatter s;
   s.lit = DiffuseLobe{texture_color(m.color, c.tex)};
+  s.highlight = {float(m.specular), float(m.shininess)};
   return s;
 }
 
@@ -132,6 +134,9 @@ Scatter scatter(const ir::Glazed& m, const C& c) {
   GlazedCoat::Split g =
       GlazedCoat{texture_color(m.color, c.tex), m.ior, c.fresnel}.split(c.wo, c.nf);
   s.lit = g.base;
+  // §16: on the coat's surface, unscaled by its Fresnel factors (the spec's f has
+  // none): the highlight stands for the light the coat itself reflects.
+  s.highlight = {float(m.specular), float(m.shininess)};
   s.add({RayKind::Reflection, g.coat.wi, g.coat.weight, 1, Branch::From::Outside});
   return s;
 }

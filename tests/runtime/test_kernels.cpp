@@ -33,6 +33,15 @@ void add_glass(ir::Scene& s, ir::Vec3 absorb) {
 void add_glossy(ir::Scene& s) {
   s.shapes.push_back(sphere({0, 0.4, 1.5}, 0.4, add_material(s, glossy({0.9, 0.8, 0.6}, 0.3))));
 }
+// §16: a shiny sphere and the glazed sphere's highlight.
+void add_highlights(ir::Scene& s) {
+  ir::Diffuse d{ir::Vec3{0.2, 0.5, 0.2}};
+  d.specular = 0.8;
+  d.shininess = 40;
+  s.shapes.push_back(sphere({-1.6, 0.35, -1}, 0.35, add_material(s, d)));
+  for (ir::Material& m : s.materials)
+    if (auto* g = std::get_if<ir::Glazed>(&m.model)) g->specular = 0.5;
+}
 void add_lens(ir::Scene& s) {
   s.camera.aperture = 0.15;
   s.camera.focal_distance = 4;
@@ -50,6 +59,7 @@ ir::Scene every_effect(ir::SamplerKind kind) {
   add_glossy(s);
   add_lens(s);
   add_motion(s);
+  add_highlights(s);
   return s;
 }
 }  // namespace
@@ -75,6 +85,14 @@ TEST_CASE("specialised kernels render the general kernel's picture bit for bit",
       ir::Scene s = base_effects(kind);
       add_lens(s);
       scenes.push_back({"depth of field", s});
+    }
+    {
+      ir::Scene s = base_effects(kind);
+      add_highlights(s);
+      scenes.push_back({"highlights, point light", s});
+      add_area(s);
+      add_glass(s, {});
+      scenes.push_back({"highlights, area light and glass", s});
     }
     {
       ir::Scene s = base_effects(kind);
