@@ -42,6 +42,20 @@ void add_highlights(ir::Scene& s) {
   for (ir::Material& m : s.materials)
     if (auto* g = std::get_if<ir::Glazed>(&m.model)) g->specular = 0.5;
 }
+// §15-§16: a marble sphere with turbulence and a colour map, and a bumped mirror.
+void add_patterns_and_bumps(ir::Scene& s) {
+  ir::Texture marble;
+  marble.pattern = ir::Marble{};
+  marble.turbulence = 0.7;
+  marble.color_map = {{0, {0.9, 0.9, 0.85}}, {1, {0.2, 0.2, 0.3}}};
+  s.shapes.push_back(sphere({1.4, 0.4, 0.6}, 0.4, add_material(s, ir::Diffuse{marble})));
+  ir::Texture waves;
+  waves.pattern = ir::Waves{};
+  waves.world_from_pattern = ir::Transform::scale(ir::Vec3(0.3));
+  ir::Material m(ir::Mirror{ir::Vec3(0.8)});
+  m.bump = {waves, 0.05};
+  s.shapes.push_back(sphere({0.2, 0.3, -1.2}, 0.3, add_material(s, m)));
+}
 void add_lens(ir::Scene& s) {
   s.camera.aperture = 0.15;
   s.camera.focal_distance = 4;
@@ -60,6 +74,7 @@ ir::Scene every_effect(ir::SamplerKind kind) {
   add_lens(s);
   add_motion(s);
   add_highlights(s);
+  add_patterns_and_bumps(s);
   return s;
 }
 }  // namespace
@@ -93,6 +108,11 @@ TEST_CASE("specialised kernels render the general kernel's picture bit for bit",
       add_area(s);
       add_glass(s, {});
       scenes.push_back({"highlights, area light and glass", s});
+    }
+    {
+      ir::Scene s = base_effects(kind);
+      add_patterns_and_bumps(s);
+      scenes.push_back({"patterns and bumps", s});
     }
     {
       ir::Scene s = base_effects(kind);
