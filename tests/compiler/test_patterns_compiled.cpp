@@ -36,16 +36,18 @@ TEST_CASE("a shading function equal to the built-in pattern it mimics", "[compil
       {"noise { }", "fn f(p) = noise(p);"},
       {"fbm { octaves 4 }", "fn f(p) = fbm(p, 4);"},
       {"cells { }", "fn f(p) = min(cells(p), 1);"},
-      {"leopard { }", "fn f(p) = pow((sin(p.x * 57.29577951308232) + sin(p.y * 57.29577951308232) + "
-                      "sin(p.z * 57.29577951308232)) / 3, 2);"},
+      {"leopard { }",
+       "fn f(p) = pow((sin(p.x * 57.29577951308232) + sin(p.y * 57.29577951308232) + "
+       "sin(p.z * 57.29577951308232)) / 3, 2);"},
   };
   for (const Case& k : cases) {
-    std::string src = std::string(k.fn) +
-                      "\n"
-                      "sphere { material diffuse { color " +
-                      k.builtin +
-                      " } }\n"
-                      "sphere { center <3, 0, 0> material diffuse { color pattern { function f } } }\n";
+    std::string src =
+        std::string(k.fn) +
+        "\n"
+        "sphere { material diffuse { color " +
+        k.builtin +
+        " } }\n"
+        "sphere { center <3, 0, 0> material diffuse { color pattern { function f } } }\n";
     auto c = run(src);
     INFO(k.builtin << " vs " << k.fn);
     REQUIRE(c->status == compile::CompileStatus::Ok);
@@ -68,12 +70,12 @@ TEST_CASE("a shading function equal to the built-in pattern it mimics", "[compil
 }
 
 TEST_CASE("noise builtins at scene-build time are the patterns' values", "[compiler][patterns]") {
-  auto c = run(
-      "let p = <0.37, 1.21, -2.5>;\n"
-      "sphere { radius 1 + noise(p) + fbm(p, 5) + turbulence(p, 3) + cells(p) }\n");
+  auto c =
+      run("let p = <0.37, 1.21, -2.5>;\n"
+          "sphere { radius 1 + noise(p) + fbm(p, 5) + turbulence(p, 3) + cells(p) }\n");
   REQUIRE(c->status == compile::CompileStatus::Ok);
   ir::Vec3 p{0.37, 1.21, -2.5};
-  double want = 1 + pattern::noise(p) + pattern::fbm(p, 5) + pattern::turbulence(p, 3) +
-                pattern::cells(p);
+  double want =
+      1 + pattern::noise(p) + pattern::fbm(p, 5) + pattern::turbulence(p, 3) + pattern::cells(p);
   CHECK(std::get<ir::Sphere>(c->scene.shapes[0].geom).radius == want);
 }
