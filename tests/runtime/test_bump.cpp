@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "runtime/shading/bump.hpp"
+#include "tests/runtime/effects_util.hpp"
 
 using namespace snell;
 using Catch::Matchers::WithinAbs;
@@ -75,4 +76,31 @@ TEST_CASE("bump: noise bumps tilt, and are continuous", "[bump]") {
   }
   // |∇noise| ~ 1 per pattern unit, 10 per world unit: tilts of ~0.1 rad.
   CHECK(max_tilt > 0.05);
+}
+
+TEST_CASE("bump: a strongly bumped mirror sphere has no dark rims (hard case #20)",
+          "[bump][hardcase]") {
+  // A convex mirror of colour 0.5 under a uniform white sky: a reflection that
+  // leaves above the real surface escapes at once (0.5); one that starts into the
+  // surface (a shading normal facing away, uncorrected) meets the sphere again
+  // (0.25 or less) or dies at max_depth (0). Tilts up to ~60° here.
+  ir::Scene s = test::base_scene(96, 96, 1);
+  test::look(s, {0, 0, -4}, {0, 0, 0}, 40);
+  s.background = ir::Vec3(1);
+  ir::Material m = test::mirror(ir::Vec3(0.5));
+  ir::Texture t;
+  t.pattern = ir::Noise{};
+  t.world_from_pattern = ir::Transform::scale(ir::Vec3(0.05));
+  m.bump = {t, 0.1};
+  s.shapes.push_back(test::sphere({0, 0, 0}, 1, test::add_material(s, m)));
+  rt::RenderResult r = test::render_with(s);
+  int sphere = 0, dark = 0;
+  for (std::size_t i = 0; i < r.image.rgb.size(); i += 3) {
+    float v = r.image.rgb[i];
+    if (v == 1.0f) continue;  // the sky
+    ++sphere;
+    if (!(std::fabs(v - 0.5f) < 1e-6f)) ++dark;
+  }
+  CHECK(sphere > 2000);  // the sphere covers a good part of the image
+  CHECK(dark == 0);
 }
