@@ -86,6 +86,8 @@ RenderResult render(const ir::Scene& scene, const RenderOptions& options) {
   img.height = st.height;
   img.rgb.assign(std::size_t(img.width) * img.height * 3, 0.0f);
   KernelChoice kernel = choose_kernel(scene, options.general_kernel);
+  if (!kernel.general && options.extra_axes)
+    kernel.bits = canonical_kernel(kernel.bits | options.extra_axes);
   result.stats.kernel = kernel.name();
   result.stats.cost_stride = options.measure_cost ? kCostStride : 0;
   if (img.width == 0 || img.height == 0) return result;

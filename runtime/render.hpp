@@ -27,6 +27,10 @@ struct Image {
 struct RenderOptions {
   int threads = 0;              // 0: every core
   bool general_kernel = false;  // --features=all: ignore ir::Features
+  // Kernel axes compiled in although the scene does not use them (bit i: axis i of
+  // SNELL_KERNEL_AXES): for measuring what one effect costs a scene without it
+  // (bench_kernels --with AXIS). The picture must not change.
+  unsigned extra_axes = 0;
   // Called from the render loop with the fraction done (0..1); may be empty.
   std::function<void(double)> progress;
   // --pixel X,Y: print that pixel's ray tree to `trace_out` (stderr in the CLI).

@@ -3,8 +3,11 @@
 // measured in one run (interleaved, median of repeats, 1 thread), and whether the
 // two pictures are bit-identical.
 //
-//   bench_kernels [--scale S] [--repeats N] [SCENE.scn ...]
+//   bench_kernels [--scale S] [--repeats N] [--with AXIS] [SCENE.scn ...]
 // Default: every examples/*.scn at 1/2 resolution (S = 0.5), 3 repeats.
+// --with AXIS (an axis of SNELL_KERNEL_AXES, e.g. finish): instead of the general
+// kernel, the specialised one with that axis compiled in as well, so the "general"
+// column is what the effect's code costs a scene that does not use it.
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -14,6 +17,7 @@
 
 #include "compiler/compile.hpp"
 #include "runtime/render.hpp"
+#include "runtime/render/kernel.hpp"
 
 using namespace snell;
 
@@ -27,6 +31,7 @@ double median(std::vector<double> v) {
 int main(int argc, char** argv) {
   double scale = 0.5;
   int repeats = 3;
+  unsigned with = 0;
   std::vector<std::string> scenes;
   for (int i = 1; i < argc; ++i) {
     std::string a = argv[i];
@@ -34,7 +39,17 @@ int main(int argc, char** argv) {
       scale = std::atof(argv[++i]);
     else if (a == "--repeats" && i + 1 < argc)
       repeats = std::max(1, std::atoi(argv[++i]));
-    else
+    else if (a == "--with" && i + 1 < argc) {
+      std::string axis = argv[++i];
+#define SNELL_AXIS_BIT(name, feature, needs, on, off) \
+  if (axis == #name) with |= 1u << rt::kAxis_##name;
+      SNELL_KERNEL_AXES(SNELL_AXIS_BIT)
+#undef SNELL_AXIS_BIT
+      if (!with) {
+        std::fprintf(stderr, "bench_kernels: no kernel axis '%s'\n", axis.c_str());
+        return 2;
+      }
+    } else
       scenes.push_back(a);
   }
   if (scenes.empty()) {
@@ -42,8 +57,8 @@ int main(int argc, char** argv) {
       if (e.path().extension() == ".scn") scenes.push_back(e.path().string());
     std::sort(scenes.begin(), scenes.end());
   }
-  std::printf("%-20s %-9s %10s %10s %8s  %-9s %s\n", "scene", "size", "general s", "special s",
-              "ratio", "identical", "kernel");
+  std::printf("%-20s %-9s %10s %10s %8s  %-9s %s\n", "scene", "size",
+              with ? "+axis s" : "general s", "special s", "ratio", "identical", "kernel");
   for (const std::string& path : scenes) {
     std::unique_ptr<compile::Compilation> c;
     compile::run_with_large_stack([&] { c = compile::compile_file(path, {}); });
@@ -61,7 +76,10 @@ int main(int argc, char** argv) {
       rt::RenderOptions o;
       o.threads = 1;
       rt::RenderResult spec = rt::render(s, o);
-      o.general_kernel = true;
+      if (with)
+        o.extra_axes = with;
+      else
+        o.general_kernel = true;
       rt::RenderResult gen = rt::render(s, o);
       ts.push_back(spec.stats.render_seconds);
       tg.push_back(gen.stats.render_seconds);
