@@ -7,24 +7,15 @@
 #include "compiler/compile.hpp"
 #include "compiler/properties.hpp"
 #include "runtime/ir/dump.hpp"
+#include "tests/compiler/compile_util.hpp"
 
 using namespace snell;
 
 namespace {
 
-std::unique_ptr<compile::Compilation> run(const std::string& src) {
-  compile::CompileOptions opts;
-  opts.stdlib_dir = std::string(SNELL_SOURCE_DIR) + "/stdlib";
-  return compile::compile_source("test.scn", src, opts);
-}
+const auto run = test::compile_text;
 
-// Every message of the compilation, one a line.
-std::string messages(const compile::Compilation& c) {
-  std::string s;
-  for (const auto& d : c.diags.diagnostics())
-    s += std::string(lang::diag_name(d.kind)) + ": " + d.message + "\n";
-  return s;
-}
+using test::messages;
 
 }  // namespace
 

@@ -8,16 +8,13 @@
 
 #include "compiler/compile.hpp"
 #include "runtime/shading/textures.hpp"
+#include "tests/compiler/compile_util.hpp"
 
 using namespace snell;
 
 namespace {
 
-std::unique_ptr<compile::Compilation> run(const std::string& src) {
-  compile::CompileOptions opts;
-  opts.stdlib_dir = std::string(SNELL_SOURCE_DIR) + "/stdlib";
-  return compile::compile_source("test.scn", src, opts);
-}
+const auto run = test::compile_text;
 
 const ir::Texture& color_of(const ir::Scene& s, std::size_t shape) {
   return std::get<ir::Diffuse>(s.materials[s.shapes[shape].material].model).color;

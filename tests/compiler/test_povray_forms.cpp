@@ -7,16 +7,13 @@
 #include "compiler/compile.hpp"
 #include "compiler/povray_forms.hpp"
 #include "compiler/properties.hpp"
+#include "tests/compiler/compile_util.hpp"
 
 using namespace snell;
 
 namespace {
 
-std::unique_ptr<compile::Compilation> run(const std::string& src) {
-  compile::CompileOptions opts;
-  opts.stdlib_dir = std::string(SNELL_SOURCE_DIR) + "/stdlib";
-  return compile::compile_source("test.scn", src, opts);
-}
+const auto run = test::compile_text;
 
 // "Kind@line:col message | note" for each diagnostic.
 std::string diags(const std::string& src) {
