@@ -181,6 +181,11 @@ int run_render(const cli::CliArgs& o) {
     std::cerr << "snell: error: cannot write images: " << err << "\n";
     return kExitIo;
   }
+  // §17: every image opens through the texture system before the render (exit 3).
+  if (std::string err = rt::check_images(scene); !err.empty()) {
+    std::cerr << "snell: error: " << err << "\n";
+    return kExitIo;
+  }
   cli::Progress progress(!o.quiet, isatty(STDERR_FILENO));
   ropts.progress = [&](double f) { progress.update(f); };
   rt::RenderResult result = rt::render(scene, ropts);
@@ -202,7 +207,7 @@ int run_render(const cli::CliArgs& o) {
       std::cerr << "wrote " << out << "\n";
     }
   }
-  if (o.stats) std::cerr << result.stats.to_string();
+  if (o.stats) std::cerr << result.stats.to_string() << result.texture_stats;
   if (result.stats.nonfinite_samples > 0)
     std::cerr << "snell: warning: " << result.stats.nonfinite_samples
               << " non-finite sample(s) were dropped\n";

@@ -140,7 +140,8 @@ Evaluator::Flow Evaluator::exec(const Stmt& s, const std::shared_ptr<Env>& env, 
       if (inside_group_error("background", s.span)) return Flow::Normal;
       Value v = eval(*s.exprs[0], env);
       if (v.is_error()) return Flow::Normal;
-      PropInfo color{"background", "background", PropType::Color, Check::NonNegative, 0, {}};
+      PropInfo color{
+          "background", "background", PropType::ColorOrPattern, Check::NonNegative, 0, {}};
       std::string msg = check_value(color, v);
       if (!msg.empty()) {
         error(DiagKind::InvalidValue, s.exprs[0]->span, msg);

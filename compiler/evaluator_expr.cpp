@@ -467,6 +467,17 @@ Value Evaluator::eval_constructor(const Expr& e, const std::shared_ptr<Env>& env
           return Value::error();
         return Value::of_pattern(std::move(t));
       }
+  // §17 `image`: its file checked and numbered by the scene builder (exit 3 when it
+  // does not exist), as a mesh's is.
+  if (made.type == Type::Pattern && std::holds_alternative<ir::ImageTexture>(made.pat().pattern))
+    for (const EvaluatedProp& p : props)
+      if (p.info->name == "file") {
+        ir::Texture t = made.pat();
+        if (!builder_.add_image(p.value.str(), p.value_span,
+                                std::get<ir::ImageTexture>(t.pattern).image))
+          return Value::error();
+        return Value::of_pattern(std::move(t));
+      }
   return made;
 }
 

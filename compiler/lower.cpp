@@ -110,6 +110,9 @@ struct Hasher {
     mix(x);
   }
   void operator()(ir::Vec3 v) { (*this)(v.x), (*this)(v.y), (*this)(v.z); }
+  template <class E>
+  requires std::is_enum_v<E>
+  void operator()(E e) { mix(std::uint64_t(e)); }
   void operator()(const ir::Texture& t) {
     mix(t.pattern.index() << 7);
     std::visit([&](const auto& p) { fields(p); }, t.pattern);
@@ -215,7 +218,7 @@ void SceneBuilder::expect_objects(std::size_t n) {
 
 void SceneBuilder::set_background(const Value& color, Span span) {
   if (!first_of_kind("background", span)) return;
-  scene_.background = color.v;
+  assign(scene_.background, color);
 }
 
 void SceneBuilder::add_item(const BlockInfo& block, Span kw,

@@ -65,6 +65,9 @@ class SceneBuilder {
   void add_item(const BlockInfo& block, lang::Span keyword_span,
                 const std::vector<EvaluatedProp>& props);
   void set_background(const Value& color, lang::Span span);
+  // §17: the image file an `image` pattern names, relative to the file naming it;
+  // false (an error reported at span, exit 3) when it is not a readable file.
+  bool add_image(const std::string& file, lang::Span span, std::uint32_t& index);
   // §12-§13 (lower_objects.cpp): places an object value's tree in the scene: a CSG
   // block, an instance, or any object made where a CSG block was being evaluated.
   void add_object_tree(const std::shared_ptr<const ObjectNode>& node);
@@ -147,6 +150,7 @@ class SceneBuilder {
   std::size_t material_count_ = 0;
   static std::uint64_t material_hash(const ir::Material& m);
   std::unordered_map<std::string, std::uint32_t> mesh_ids_;
+  std::unordered_map<std::string, std::uint32_t> image_ids_;  // §17, by normalised path
   std::int64_t default_material_ = -1;
   // Prefaulting of the reserved room of the two big vectors (see prefault()).
   struct Prefault {

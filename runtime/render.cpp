@@ -94,7 +94,16 @@ RenderResult render(const ir::Scene& scene, const RenderOptions& options) {
 
   auto t0 = Clock::now();
   EmbreeScene embree(scene, scene.camera.location);
-  std::unique_ptr<Integrator> integrator = make_integrator(scene, embree);
+  // §17: the texture system is set up once per render and shared by its threads;
+  // an image that cannot be opened (the CLI checks them first, check_images) is
+  // black and said so in the statistics.
+  std::unique_ptr<ImageTextures> images;
+  if (!scene.images.empty()) {
+    std::string err;
+    images = ImageTextures::open(scene, err);
+    if (!images) result.texture_stats = "images: " + err + "\n";
+  }
+  std::unique_ptr<Integrator> integrator = make_integrator(scene, embree, images.get());
   Camera camera(scene.camera, img.width, img.height);
   auto t1 = Clock::now();
 
@@ -155,6 +164,7 @@ RenderResult render(const ir::Scene& scene, const RenderOptions& options) {
   rs.time_seconds = ns[kCostTime] * scale;
   rs.build_seconds = std::chrono::duration<double>(t1 - t0).count();
   rs.render_seconds = std::chrono::duration<double>(Clock::now() - t1).count();
+  if (images) result.texture_stats = images->stats();
   return result;
 }
 

@@ -74,7 +74,8 @@ struct RenderStats {
 struct RenderResult {
   Image image;
   RenderStats stats;
-  std::string trace;  // the --pixel ray tree, when asked for
+  std::string trace;          // the --pixel ray tree, when asked for
+  std::string texture_stats;  // §17: OIIO's texture statistics when the scene has images
 };
 
 RenderResult render(const ir::Scene& scene, const RenderOptions& options);
@@ -100,6 +101,11 @@ std::string write_image(const std::string& path, const Image& image, const Outpu
 // CLI calls it before the render, so a writer that cannot load fails early).
 // Returns an error message, or empty when the module is ready. Thread-safe.
 std::string preload_image_writer();
+
+// §17: opens every image of the scene through the texture system (the CLI calls it
+// before the render, so an unreadable image fails with exit 3 before the work).
+// Returns an error message, or empty. Defined in shading/image_texture.cpp.
+std::string check_images(const ir::Scene& scene);
 
 // One-line descriptions for logs and test failures.
 std::string to_string(const Image& image);

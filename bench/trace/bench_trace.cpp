@@ -53,7 +53,7 @@ ir::Scene base(std::uint32_t w, std::uint32_t h, std::uint32_t spp) {
   s.files.push_back("bench");
   s.settings.width = w, s.settings.height = h, s.settings.samples = spp;
   s.settings.sampler = ir::SamplerKind::Independent;
-  s.background = {0.3, 0.4, 0.5};
+  s.background = ir::Vec3{0.3, 0.4, 0.5};
   s.materials.push_back(ir::Material{});
   s.camera.location = {0, 6, -12};
   s.camera.look_at = {0, 0, 0};

@@ -11,6 +11,7 @@
 
 #include "runtime/embree_scene.hpp"
 #include "runtime/ir/ir.hpp"
+#include "runtime/shading/image_texture.hpp"
 
 namespace snell::rt {
 
@@ -26,6 +27,8 @@ class Integrator {
   virtual std::string to_string() const = 0;
 };
 
-std::unique_ptr<Integrator> make_integrator(const ir::Scene& scene, const EmbreeScene& embree);
+// `images`: the render's §17 texture system (null when the scene has no images).
+std::unique_ptr<Integrator> make_integrator(const ir::Scene& scene, const EmbreeScene& embree,
+                                            const ImageTextures* images = nullptr);
 
 }  // namespace snell::rt

@@ -85,15 +85,33 @@ float offset_scale(const ir::Scene& scene, ir::Vec3 o) {
   return float(std::fmin(1.0, std::fmax(extent, 1e-30)));
 }
 
-WhittedIntegrator::WhittedIntegrator(const ir::Scene& scene, const EmbreeScene& embree)
-    : scene_(scene), embree_(embree), lights_(scene, embree.origin()), interiors_(scene) {
+WhittedIntegrator::WhittedIntegrator(const ir::Scene& scene, const EmbreeScene& embree,
+                                     const ImageTextures* images)
+    : scene_(scene),
+      embree_(embree),
+      lights_(scene, embree.origin()),
+      interiors_(scene),
+      images_(images) {
+  // The angle a pixel spans at the image's centre (fov is horizontal).
+  double half = scene.camera.fov * kImagePi / 360;
+  pixel_angle_ = float(2 * std::tan(half) / double(std::max(1u, scene.settings.width)));
   offset_scale_ = offset_scale(scene, embree.origin());
-  background_ = to_color(scene.background);
+  if (scene.background.is_constant())
+    background_ = to_color(std::get<ir::Constant>(scene.background.pattern).color);
+  else
+    background_pattern_ = &scene.background;
   max_depth_ = scene.settings.max_depth;
   min_weight_ = float(scene.settings.min_weight);
   fresnel_ = scene.settings.fresnel;
   stochastic_branching_ = scene.settings.branching == ir::Branching::Stochastic;
   roulette_ = scene.settings.termination == ir::Termination::Roulette;
+}
+
+Color WhittedIntegrator::sky(Vec3f dir, float time, RenderStats& stats) const {
+  Vec3f u = normalize(dir);
+  TexturePoint tp{u,       Vec3f(0.0f), ir::Vec3{0, 0, 0}, nullptr, time, &stats.function_nonfinite,
+                  images_, u,           pixel_angle_};
+  return texture_color(*background_pattern_, tp);
 }
 
 // Irradiance-like sum E so that a Lambertian surface of albedo ρ reflects ρ/π · E:
@@ -318,7 +336,7 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
     if (K::interiors && lost) {
       if (trace) desc = fmt::format("lost: passed through {} surfaces", passes - 1);
     } else if (!found) {
-      contrib = node.weight * background_;
+      contrib = node.weight * (background_pattern_ ? sky(d, node.ray.time, stats) : background_);
       if constexpr (K::interiors && K::absorption)
         if (!node.interior.empty()) contrib = contrib * medium_beer(INFINITY);
       if (trace) desc = "escapes: background";
@@ -340,8 +358,18 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
       Vec3f ng = hit.ng;               // outward
       bool entering = dot(d, ng) < 0;  // §8: against the outward normal
       Vec3f nf = entering ? ng : -ng;  // the normal on the ray's side
-      const TexturePoint tex{
-          p, ng, embree_.origin(), &shape, node.ray.time, &stats.function_nonfinite};
+      // §17: the footprint is the pixel's width at the hit's distance from the
+      // camera (for mirrored and refracted rays too: an estimate, not their own
+      // differentials).
+      const TexturePoint tex{p,
+                             ng,
+                             embree_.origin(),
+                             &shape,
+                             node.ray.time,
+                             &stats.function_nonfinite,
+                             images_,
+                             normalize(d),
+                             pixel_angle_ * length(p)};
       // The lobes' normal: nf, or a smooth mesh's or a bump's (§16) shading normal made
       // valid for this viewer (hard case #20, shading/shading_normal.hpp).
       Vec3f ns_out = hit.ns;

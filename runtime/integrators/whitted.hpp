@@ -62,7 +62,7 @@ float offset_scale(const ir::Scene& scene, ir::Vec3 origin);
 
 class WhittedIntegrator final : public Integrator {
  public:
-  WhittedIntegrator(const ir::Scene& scene, const EmbreeScene& embree);
+  WhittedIntegrator(const ir::Scene& scene, const EmbreeScene& embree, const ImageTextures* images);
 
   // The ray tree's stack: scratch owned by each thread.
   struct Scratch {
@@ -127,7 +127,13 @@ class WhittedIntegrator final : public Integrator {
   const EmbreeScene& embree_;
   Lights lights_;
   Interiors interiors_;  // §14; empty unless the scene uses priorities
-  Color background_;
+  // §17: the escaping ray's colour, the pattern's at its unit direction (the
+  // direction is the pattern point, in world space, not moved inward).
+  Color sky(Vec3f dir, float time, RenderStats& stats) const;
+  Color background_;                                 // a constant background
+  const ir::Texture* background_pattern_ = nullptr;  // or a pattern one
+  const ImageTextures* images_;                      // §17; null without images
+  float pixel_angle_ = 0;  // radians per pixel: the footprint's width at distance 1
   std::uint32_t max_depth_;
   float min_weight_;
   ir::FresnelMode fresnel_;

@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <filesystem>
 #include <type_traits>
 #include <variant>
 
@@ -65,6 +66,10 @@ std::string field_text(std::uint64_t count) {  // a plain integer (a dielectric'
 }
 std::string field_text(bool b) {
   return b ? "true" : "false";
+}
+template <class E>
+requires std::is_enum_v<E> std::string field_text(E e) {  // as the language spells it
+  return "\"" + std::string(spelling(e)) + "\"";
 }
 template <class T>
 std::string fields_text(const T& kind) {
@@ -156,6 +161,11 @@ std::string to_string(const MeshData& m) {
   return s + (m.open_reason.empty() ? " open" : " open (" + m.open_reason + ")");
 }
 
+// The file's name only: the folder depends on where the scene was checked out.
+std::string to_string(const ImageFile& f) {
+  return "image_file { \"" + std::filesystem::path(f.path).filename().string() + "\" }";
+}
+
 std::string to_string(const PointLight& l) {
   return "point_light { position " + to_string(l.position) + " intensity " +
          to_string(l.intensity) + " }";
@@ -215,6 +225,8 @@ std::string to_string(const Scene& scene) {
     s += "material #" + std::to_string(i) + " " + to_string(scene.materials[i]) + "\n";
   for (std::size_t i = 0; i < scene.meshes.size(); ++i)
     s += "mesh #" + std::to_string(i) + " " + to_string(scene.meshes[i]) + "\n";
+  for (std::size_t i = 0; i < scene.images.size(); ++i)
+    s += "image #" + std::to_string(i) + " " + to_string(scene.images[i]) + "\n";
   for (std::size_t i = 0; i < scene.shapes.size(); ++i)
     s += "shape #" + std::to_string(i) + " " + to_string(scene.shapes[i]) + "\n";
   for (std::size_t i = 0; i < scene.parts.size(); ++i)

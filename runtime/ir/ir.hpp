@@ -87,11 +87,20 @@ struct Settings {
   }
 };
 
+// §17: an image file a scene's `image` patterns read (the compiler has checked it
+// exists; the runtime's texture system opens it, runtime/shading/image_texture.hpp).
+struct ImageFile {
+  std::string path;
+  SourceRef src;  // the `file` property that named it first
+};
+
 struct Scene {
   std::vector<std::string> files;  // SourceRef::file indexes this
   Settings settings;
   Camera camera;
-  Vec3 background{0, 0, 0};
+  // §17: a colour or a pattern (an image) evaluated at the escaping ray's unit
+  // direction; never lights diffuse surfaces.
+  Texture background{Vec3{0, 0, 0}};
   std::vector<Material> materials;
   std::vector<Shape> shapes;
   // §12-§13: what CSG objects and instances are made of. A part's world_from_object
@@ -100,6 +109,7 @@ struct Scene {
   std::vector<CsgNode> csg_nodes;
   std::vector<Prototype> prototypes;
   std::vector<MeshData> meshes;
+  std::vector<ImageFile> images;  // §17, indexed by ImageTexture::image
   std::vector<PointLight> point_lights;
   std::vector<AreaLight> area_lights;
 };
@@ -153,6 +163,7 @@ std::string to_string(const Texture& t);
 std::string to_string(const Material& m);
 std::string to_string(const Shape& s);
 std::string to_string(const MeshData& m);
+std::string to_string(const ImageFile& f);
 std::string to_string(const CsgNode& n);
 std::string to_string(const Prototype& p);
 std::string to_string(const PointLight& l);

@@ -86,6 +86,20 @@ struct FunctionPattern {
   static constexpr auto fields() { return std::tuple{}; }
 };
 
+// §17 `image`: Scene::images[image] looked up at (u, v) of the mapping; with
+// repeat the image tiles the plane, without it is black outside [0, 1]².
+struct ImageTexture {
+  std::uint32_t image = 0;
+  ImageMapping mapping = ImageMapping::Planar;
+  bool repeat = true;
+  bool operator==(const ImageTexture&) const = default;
+  static constexpr auto fields() {
+    return std::tuple{field("image", &ImageTexture::image),
+                      field("mapping", &ImageTexture::mapping),
+                      field("repeat", &ImageTexture::repeat)};
+  }
+};
+
 // A stop of a colour map (§15): the colour at value `at`.
 struct ColorStop {
   double at = 0;

@@ -28,6 +28,9 @@ void each_number(Vec3 v, auto&& f) {
 void each_number(std::uint32_t, auto&&) {}  // indices are checked per kind
 void each_number(std::uint64_t, auto&&) {}  // integers (a priority) are finite
 void each_number(bool, auto&&) {}
+template <class E>
+requires std::is_enum_v<E>
+void each_number(E, auto&&) {}  // spellings (an image's mapping)
 void each_number(const Texture& t, auto&& f) {
   std::visit(
       [&](const auto& p) {
@@ -47,6 +50,21 @@ bool all_finite(const T& kind) {
   });
   return ok;
 }
+// Whether some colour of a texture is past the radiometric limit.
+template <class TooBright>
+bool too_bright_texture(const Texture& t, TooBright too_bright) {
+  bool bright = false;
+  std::visit(
+      [&](const auto& p) {
+        for_each_field(p, [&](const char*, const auto& c) {
+          if constexpr (std::is_same_v<std::decay_t<decltype(c)>, Vec3>)
+            bright = bright || too_bright(c);
+        });
+      },
+      t.pattern);
+  return bright;
+}
+
 // Whether some colour of a material's textures is past the radiometric limit.
 template <class TooBright>
 bool too_bright_colours(const Material& m, TooBright too_bright) {
@@ -55,14 +73,7 @@ bool too_bright_colours(const Material& m, TooBright too_bright) {
       [&](const auto& k) {
         for_each_field(k, [&](const char*, const auto& v) {
           if constexpr (std::is_same_v<std::decay_t<decltype(v)>, Texture>)
-            std::visit(
-                [&](const auto& p) {
-                  for_each_field(p, [&](const char*, const auto& c) {
-                    if constexpr (std::is_same_v<std::decay_t<decltype(c)>, Vec3>)
-                      bright = bright || too_bright(c);
-                  });
-                },
-                v.pattern);
+            bright = bright || too_bright_texture(v, too_bright);
         });
       },
       m.model);
@@ -197,7 +208,8 @@ void check_ranges(const Scene& scene, Bad&& bad) {
   if (c.aperture / 2 > kFar) bad(c.src, far_message("the lens (aperture / 2)", c.aperture / 2));
   if (c.focal_distance > kFar) bad(c.src, far_message("the focal plane", c.focal_distance));
   auto too_bright = [](Vec3 v) { return largest(v) > kMaxRadiometric; };
-  if (too_bright(scene.background)) bad({}, "background radiance must be at most 1e30");
+  if (too_bright_texture(scene.background, too_bright))
+    bad({}, "background radiance must be at most 1e30");
   for (const Material& m : scene.materials)
     if (too_bright_colours(m, too_bright)) bad(m.src, "material colours must be at most 1e30");
   for (const Shape& s : scene.shapes) {
@@ -240,7 +252,8 @@ std::vector<Problem> validate(const Scene& scene) {
   if (!(c.aperture >= 0)) bad(c.src, "aperture must be >= 0");
   if (!(c.focal_distance > 0)) bad(c.src, "focal_distance must be > 0");
   if (!(c.shutter_open <= c.shutter_close)) bad(c.src, "shutter open must be <= close");
-  if (!is_finite(scene.background)) bad({}, "background must be finite");
+  if (const Constant* bg = std::get_if<Constant>(&scene.background.pattern))
+    if (!is_finite(bg->color)) bad({}, "background must be finite");
   auto finite_transform = [](const Transform& t) {
     for (double v : t.m.m)
       if (!std::isfinite(v)) return false;

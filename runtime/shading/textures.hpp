@@ -11,6 +11,7 @@
 #include "runtime/ir/ir.hpp"
 #include "runtime/pattern/patterns.hpp"
 #include "runtime/pattern/program_eval.hpp"
+#include "runtime/shading/image_texture.hpp"
 #include "runtime/vec.hpp"
 
 namespace snell::rt {
@@ -34,6 +35,13 @@ struct TexturePoint {
   const ir::Shape* shape = nullptr;
   float time = 0;
   std::uint64_t* nonfinite = nullptr;  // counts shading functions' non-finite values
+  // §17 images: the render's texture system (null: images are black), the unit
+  // direction of the ray that hit, and the width in world units of the pixel's
+  // footprint across that ray at p (0: a point lookup). A background's point is
+  // the direction itself, with n_out = 0 and the footprint the pixel's angle.
+  const ImageTextures* images = nullptr;
+  Vec3f dir{};
+  float footprint = 0;
 };
 
 // The length in world units of one unit of the space a pattern is evaluated in
@@ -151,6 +159,43 @@ inline Color pattern_color(const ir::FunctionPattern& f, const ir::Texture& t,
   return to_float(k.x, k.y, k.z);
 }
 
+// §17 image: the colour at (u, v) of the mapping at the pattern point (the colour
+// map is not used). The filter's footprint: two vectors of the footprint's width
+// across the ray, carried onto the surface along the ray (the pixel's ray
+// differentials at the hit, for a pinhole camera; the carried length is capped at
+// 50 widths at grazing angles, where OIIO's anisotropy limit of 32 blurs anyway),
+// taken into the pattern's space and through the mapping by differences.
+inline Color pattern_color(const ir::ImageTexture& im, const ir::Texture& t,
+                           const TexturePoint& tp) {
+  if (!tp.images) return Color(0.0f);
+  PatternFrame f = pattern_frame(t, tp);
+  auto to_space = [&](ir::Vec3 x) { return f.identity ? x : f.space_from_world.point(x); };
+  ir::Vec3 w = inward_point(tp, 1, 1e4, f.unit);
+  ImageUV uv = image_uv(im.mapping, turbulent(t, to_space(w)));
+  float d[4] = {0, 0, 0, 0};
+  if (tp.footprint > 0) {
+    ir::Vec3 dir{tp.dir.x, tp.dir.y, tp.dir.z};
+    ir::Vec3 n{tp.n_out.x, tp.n_out.y, tp.n_out.z};
+    ir::Vec3 a = ir::normalize(std::fabs(dir.x) < 0.9 ? ir::cross(dir, ir::Vec3{1, 0, 0})
+                                                      : ir::cross(dir, ir::Vec3{0, 1, 0}));
+    ir::Vec3 b = ir::cross(dir, a);
+    double cos = ir::dot(dir, n);
+    for (int k = 0; k < 2; ++k) {
+      ir::Vec3 dw = (k == 0 ? a : b) * double(tp.footprint);
+      if (cos != 0) {  // along the ray onto the tangent plane
+        double c = std::fabs(cos) < 0.02 ? std::copysign(0.02, cos) : cos;
+        dw = dw - dir * (ir::dot(dw, n) / c);
+      }
+      ImageUV uv2 = image_uv(im.mapping, turbulent(t, to_space(w + dw)));
+      double du = uv2.u - uv.u;
+      if (wraps_around(im.mapping)) du -= std::round(du);
+      d[2 * k] = float(du);
+      d[2 * k + 1] = float(uv2.v - uv.v);
+    }
+  }
+  return tp.images->lookup(im.image, uv.u, uv.v, d[0], d[1], d[2], d[3], im.repeat);
+}
+
 // A pattern's value at a point of its own space (a checker's: 0 in even cells, 1 in
 // odd ones; a constant's: 0): what a bump differentiates. `frame` and `tp` serve
 // shading functions (their normal and the --stats count).
@@ -161,6 +206,12 @@ inline double value_at(const ir::Texture& t, ir::Vec3 q, const PatternFrame& fra
           [](const ir::Constant&) { return 0.0; },
           [&](const ir::FunctionPattern& f) {
             return function_value(f, frame, turbulent(t, q), tp);
+          },
+          [&](const ir::ImageTexture& im) {  // a bump by an image: its luminance
+            if (!tp.images) return 0.0;
+            ImageUV uv = image_uv(im.mapping, turbulent(t, q));
+            Color c = tp.images->lookup(im.image, uv.u, uv.v, 0, 0, 0, 0, im.repeat);
+            return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
           },
           [&](const ir::Checker& c) {
             ir::Vec3 w = turbulent(t, q);

@@ -79,6 +79,8 @@ Value sample_value(const PropInfo& p) {
       return Value::vec3({1, 1, 1});
     case PropType::Bool:
       return Value::boolean(false);
+    case PropType::String:  // a file's name (make_constructor_value does not read it)
+      return Value::string("file");
     case PropType::Function: {
       auto f = std::make_shared<snell::compile::Closure>();
       f->builtin = 0;
@@ -294,6 +296,7 @@ TEST_CASE("registry: every IR kind of kinds.def is a block of properties.def, bo
       bool hooked = (k.name == "mesh" && p->name == "file") ||
                     (k.family == "material" && p->name == "bump") ||   // ir::Material::bump
                     (k.name == "pattern" && p->name == "function") ||  // compiled: ::program
+                    (k.name == "image" && p->name == "file") ||        // numbered: ::image
                     (k.family == "pattern" && kCommonPatternProps.count(std::string(p->name)));
       bool field = std::count(fields[k.name].begin(), fields[k.name].end(), p->name) > 0;
       CHECK((field || hooked));

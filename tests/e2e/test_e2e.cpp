@@ -190,6 +190,18 @@ TEST_CASE("exit codes follow spec §10", "[e2e]") {
   CHECK(!fs::exists(tmp / "m.png"));
   CHECK(run("check " + (tmp / "noimport.scn")) == 3);
   CHECK(run("check " + (tmp / "both.scn")) == 1);
+  // §17: a missing image is exit 3 at compile time; one that exists but is not an
+  // image is found by the texture system before the render (exit 3, no output).
+  std::ofstream(tmp / "noimage.scn")
+      << "sphere { material diffuse { color image { file \"nowhere.png\" } } }\n";
+  CHECK(run("check " + (tmp / "noimage.scn")) == 3);
+  CHECK(run("render " + (tmp / "noimage.scn") + " --quiet -o " + (tmp / "i.png")) == 3);
+  std::ofstream(tmp / "text.png") << "not an image\n";
+  std::ofstream(tmp / "badimage.scn")
+      << "settings { resolution <8, 8> }\nbackground image { file \"text.png\" mapping "
+         "\"latlong\" }\n";
+  CHECK(run("render " + (tmp / "badimage.scn") + " --quiet -o " + (tmp / "b.png")) == 3);
+  CHECK(!fs::exists(tmp / "b.png"));
 }
 
 TEST_CASE("every subcommand's usage errors exit 2, its --help 0", "[e2e]") {

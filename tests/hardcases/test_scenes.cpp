@@ -17,7 +17,7 @@ namespace {
 ir::Scene area_scene(double s, ir::Vec3 off) {
   auto P = [&](ir::Vec3 p) { return off + p * s; };
   ir::Scene sc = base_scene(48, 36, 2);
-  sc.background = {0.1, 0.12, 0.15};
+  sc.background = ir::Vec3{0.1, 0.12, 0.15};
   sc.shapes.push_back(plane({0, 1, 0}, off.y, add_material(sc, diffuse({0.7, 0.7, 0.7}))));
   sc.shapes.push_back(
       sphere(P({-0.8, 0.7, 0}), 0.7 * s, add_material(sc, diffuse({0.8, 0.2, 0.1}))));
@@ -38,7 +38,7 @@ ir::Scene area_scene(double s, ir::Vec3 off) {
 
 ir::Scene sphere_in_white(ir::Material m, std::uint32_t size = 41) {
   ir::Scene s = base_scene(size, size, 1);
-  s.background = {1, 1, 1};
+  s.background = ir::Vec3{1, 1, 1};
   s.settings.min_weight = 0;
   s.settings.max_depth = 60;
   s.shapes.push_back(sphere({0, 0, 0}, 1, add_material(s, m)));
@@ -120,7 +120,7 @@ TEST_CASE("hc08 degenerate triangles and mesh faces leave the image bit-identica
   // shadow and camera rays pass).
   auto make = [](bool junk) {
     ir::Scene s = base_scene(40, 30, 2);
-    s.background = {0.2, 0.2, 0.3};
+    s.background = ir::Vec3{0.2, 0.2, 0.3};
     s.shapes.push_back(plane({0, 1, 0}, 0, 0));
     s.shapes.push_back(sphere({0, 1, 0}, 1, add_material(s, glazed({0.5, 0.1, 0.1}, 1.5))));
     s.point_lights.push_back({{2, 4, -3}, {40, 40, 40}, {}});
@@ -195,7 +195,7 @@ TEST_CASE("hc12 under TIR the reflection weight is exactly 1 and no refracted ra
   // hit sees the same angle (b/r = 0.9 > 1/1.5), so TIR at every bounce, forever.
   // min_weight 0.999 would prune any weight below 1: none is pruned by weight.
   ir::Scene s = base_scene(5, 5, 1);
-  s.background = {1, 1, 1};
+  s.background = ir::Vec3{1, 1, 1};
   s.settings.max_depth = 50;
   s.settings.min_weight = 0.999;
   s.shapes.push_back(sphere({0, 0, 0}, 1, add_material(s, dielectric(1.5))));
@@ -218,7 +218,7 @@ TEST_CASE("hc14 an index-matched (ior 1) sphere renders bit-identical to the emp
   // faces meet at edges) each stand in front; both branching modes.
   auto make = [](int with, bool stochastic) {
     ir::Scene s = base_scene(40, 30, 2);
-    s.background = {0.3, 0.4, 0.5};
+    s.background = ir::Vec3{0.3, 0.4, 0.5};
     if (stochastic) s.settings.branching = ir::Branching::Stochastic;
     s.shapes.push_back(box({-2, -1, 2}, {2, 2, 3}, add_material(s, diffuse({0.7, 0.5, 0.3}))));
     s.point_lights.push_back({{0, 0.5, 1.0}, {10, 10, 10}, {}});
@@ -304,7 +304,7 @@ TEST_CASE("hc15 hc19 a glass mesh with reversed winding is the 1/eta bubble",
   // mesh wound inward with ior 1.5 is exactly a mesh wound outward with ior 1/1.5.
   auto make = [](bool flip, double ior) {
     ir::Scene s = base_scene(41, 41, 1);
-    s.background = {1, 1, 1};
+    s.background = ir::Vec3{1, 1, 1};
     s.settings.min_weight = 0;
     s.settings.max_depth = 12;
     s.shapes.push_back(plane({0, 1, 0}, -1.2, add_material(s, diffuse({0.5, 0.5, 0.5}))));
@@ -332,7 +332,7 @@ TEST_CASE("hc19 an opaque mesh renders the same with either winding",
   for (int kind = 0; kind < 2; ++kind) {
     auto make = [&](bool flip) {
       ir::Scene s = base_scene(40, 30, 2);
-      s.background = {0.2, 0.2, 0.3};
+      s.background = ir::Vec3{0.2, 0.2, 0.3};
       s.shapes.push_back(plane({0, 1, 0}, -1, 0));
       s.point_lights.push_back({{2, 4, -3}, {40, 40, 40}, {}});
       ir::Material m = kind ? glazed({0.5, 0.2, 0.1}, 1.5) : diffuse({0.5, 0.2, 0.1});
@@ -374,7 +374,7 @@ TEST_CASE("hc18 a thin slab: T and R of the full ray tree, independent of thickn
     for (double d : {1e-1, 1e-3, 1e-5})
       for (bool measure_r : {false, true}) {
         ir::Scene s = base_scene(11, 11, 1);
-        s.background = {1, 1, 1};
+        s.background = ir::Vec3{1, 1, 1};
         s.settings.min_weight = 0;
         s.settings.max_depth = 60;
         double sigma = -std::log(A) / d;
@@ -401,7 +401,7 @@ TEST_CASE("hc21 Beer under instance scaling: unit sphere scaled by 2 equals radi
   // values ≤ 1, float rounding of the hit points).
   auto make = [](bool scaled) {
     ir::Scene s = base_scene(41, 41, 1);
-    s.background = {1, 1, 1};
+    s.background = ir::Vec3{1, 1, 1};
     s.settings.min_weight = 0;
     s.settings.max_depth = 30;
     ir::Shape sh =
@@ -460,7 +460,7 @@ TEST_CASE("hc23 a small absorbing bead far away: the same L = R + T^2 A / (1 - R
   // chords are off by ~1 % and L by up to 0.009 (measured); margin 0.02.
   for (auto [radius, distance] : {std::pair{1e-3, 50.0}, std::pair{1e-2, 400.0}}) {
     ir::Scene s = base_scene(21, 21, 1);
-    s.background = {1, 1, 1};
+    s.background = ir::Vec3{1, 1, 1};
     s.settings.min_weight = 0;
     s.settings.max_depth = 60;
     ir::Vec3 c(0.3, -0.2, distance);
@@ -486,7 +486,7 @@ TEST_CASE("hc24 glossy rays never go below the surface, even at grazing incidenc
   // max_depth 1: a glossy ray that stays above the floor escapes (pixel 1); one that
   // went below would hit the floor again and be cut by max_depth (pixel < 1).
   ir::Scene s = base_scene(32, 24, 16);
-  s.background = {1, 1, 1};
+  s.background = ir::Vec3{1, 1, 1};
   s.settings.max_depth = 1;
   s.settings.min_weight = 0;
   ir::Material g = ir::Glossy{ir::Vec3(1), 1.5};
@@ -500,7 +500,7 @@ TEST_CASE("hc24 glossy rays never go below the surface, even at grazing incidenc
   SECTION("blur 0 is the mirror, bit for bit") {
     auto make = [](bool glossy) {
       ir::Scene t = base_scene(40, 30, 2);
-      t.background = {0.3, 0.4, 0.5};
+      t.background = ir::Vec3{0.3, 0.4, 0.5};
       t.shapes.push_back(plane({0, 1, 0}, 0, 0));
       t.point_lights.push_back({{2, 4, -3}, {40, 40, 40}, {}});
       ir::Material m = mirror({0.9, 0.8, 0.7});

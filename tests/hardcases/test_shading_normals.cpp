@@ -177,7 +177,7 @@ ir::Scene lit_scene(std::uint32_t mat_kind) {
   l.position = {-3, 4, -5};
   l.intensity = {60, 60, 60};
   s.point_lights.push_back(l);
-  s.background = {0.2, 0.3, 0.4};
+  s.background = ir::Vec3{0.2, 0.3, 0.4};
   if (mat_kind == 1) s.materials[0] = hc::mirror({0.9, 0.9, 0.9});
   if (mat_kind == 2) s.materials[0] = hc::dielectric(1.5);
   s.shapes.push_back(hc::plane(

@@ -410,7 +410,7 @@ namespace {
 ir::Scene shapes_scene(double s, ir::Vec3 off) {
   auto P = [&](ir::Vec3 p) { return off + p * s; };
   ir::Scene sc = base_scene(48, 36, 2);
-  sc.background = {0.1, 0.12, 0.15};
+  sc.background = ir::Vec3{0.1, 0.12, 0.15};
   sc.shapes.push_back(plane({0, 1, 0}, off.y, add_material(sc, diffuse({0.7, 0.7, 0.7}))));
   ir::Shape t = shape_of(ir::Torus{0.5, 0.2}, add_material(sc, glazed({0.1, 0.3, 0.6}, 1.5)));
   t.world_from_object = ir::Transform::translate(P({-0.9, 0.7, 0})) *

@@ -21,7 +21,7 @@ double mean(const rt::Image& img) {
 // every pixel's value is a sum over a deep tree of Fresnel-weighted paths.
 ir::Scene glass_scene(std::uint32_t spp) {
   ir::Scene s = test::base_scene(24, 24, spp);
-  s.background = {1, 1, 1};
+  s.background = ir::Vec3{1, 1, 1};
   s.settings.max_depth = 24;
   s.settings.min_weight = 0;
   s.settings.sampler = ir::SamplerKind::Sobol;
@@ -61,7 +61,7 @@ TEST_CASE("under total internal reflection both branchings agree exactly", "[run
   // A ray entering a slab at a grazing angle inside meets TIR: R = 1, so the
   // stochastic choice is forced and no sample is drawn for it.
   ir::Scene s = test::base_scene(16, 16, 4);
-  s.background = {0.7, 0.8, 0.9};
+  s.background = ir::Vec3{0.7, 0.8, 0.9};
   std::uint32_t glass = test::add_material(s, test::dielectric(1.8));
   ir::Shape slab = test::box({-1, -0.2, -1}, {1, 0.2, 1}, glass);
   slab.world_from_object = ir::Transform::rotate_x(60);
@@ -81,7 +81,7 @@ TEST_CASE("Russian roulette is unbiased where the cutoff darkens", "[runtime][te
   // drops every path after 4 bounces.
   auto corridor = [](double min_weight, ir::Termination t, std::uint32_t spp) {
     ir::Scene s = test::base_scene(16, 16, spp);
-    s.background = {1, 1, 1};
+    s.background = ir::Vec3{1, 1, 1};
     s.settings.max_depth = 64;
     s.settings.min_weight = min_weight;
     s.settings.termination = t;

@@ -39,7 +39,7 @@ double furnace(double b, double eta, int n, ir::FresnelMode mode) {
 
 ir::Scene sphere_in_white(ir::Material m) {
   ir::Scene s = base_scene(41, 41, 1);
-  s.background = {1, 1, 1};
+  s.background = ir::Vec3{1, 1, 1};
   s.settings.min_weight = 0;
   s.shapes.push_back(sphere({0, 0, 0}, 1, add_material(s, m)));
   look(s, {0, 0, -4}, {0, 0, 0}, 32);
@@ -105,7 +105,7 @@ TEST_CASE("glass sphere truncation matches the §3.5 table at the centre", "[sce
   const double table[] = {0.96160000, 0.99846400, 0.99993856};
   for (int n = 0; n < 3; ++n) {
     ir::Scene s = base_scene(1, 1, 1);
-    s.background = {1, 1, 1};
+    s.background = ir::Vec3{1, 1, 1};
     s.settings.min_weight = 0;
     s.settings.max_depth = std::uint32_t(n + 2);
     s.shapes.push_back(sphere({0, 0, 0}, 1, add_material(s, dielectric(1.5))));
@@ -121,7 +121,7 @@ TEST_CASE("glass slab at normal incidence: T = (1-R)^2 A / (1 - R^2 A^2)", "[sce
       {1.0, 0.92307692}, {0.9, 0.83051635}, {0.5, 0.46098439}};
   for (auto [A, T] : cases) {
     ir::Scene s = base_scene(11, 11, 1);
-    s.background = {1, 1, 1};
+    s.background = ir::Vec3{1, 1, 1};
     s.settings.min_weight = 0;
     s.settings.max_depth = 60;
     double sigma = -std::log(A);
@@ -139,7 +139,7 @@ TEST_CASE("1000 facing mirrors neither overflow the stack nor loop", "[scene][de
   ir::Scene s = base_scene(3, 3, 1);
   s.settings.max_depth = 1000;
   s.settings.min_weight = 0;
-  s.background = {1, 1, 1};
+  s.background = ir::Vec3{1, 1, 1};
   auto m = add_material(s, mirror({1, 1, 1}));
   s.shapes.push_back(plane({0, 0, 1}, 0, m));
   s.shapes.push_back(plane({0, 0, -1}, -1, m));
@@ -170,7 +170,7 @@ TEST_CASE("min_weight prunes a dim mirror chain", "[scene][depth]") {
 TEST_CASE("a scene far from the origin renders like the original", "[scene][robust]") {
   auto make = [](ir::Vec3 off) {
     ir::Scene s = base_scene(48, 36, 2);
-    s.background = {0.2, 0.3, 0.4};
+    s.background = ir::Vec3{0.2, 0.3, 0.4};
     s.shapes.push_back(plane({0, 1, 0}, off.y, 0));
     ir::Shape g = sphere({-0.8, 0.7, 0}, 0.7, add_material(s, dielectric(1.5, {0.2, 0.1, 0})));
     g.world_from_object = ir::Transform::translate(off);

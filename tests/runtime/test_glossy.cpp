@@ -21,7 +21,7 @@ double onb_error(rt::Vec3f n) {
 
 ir::Scene sphere_on_checker(ir::Material m) {
   ir::Scene s = base_scene(48, 36, 4);
-  s.background = {0.3, 0.4, 0.6};
+  s.background = ir::Vec3{0.3, 0.4, 0.6};
   ir::Material check = checker({0.9, 0.9, 0.9}, {0.1, 0.1, 0.1}, 0.5);
   s.shapes.push_back(plane({0, 1, 0}, 0, add_material(s, check)));
   s.shapes.push_back(sphere({0, 1, 0}, 1, add_material(s, m)));
@@ -96,7 +96,7 @@ TEST_CASE("glossy converges to the mirror as blur goes to 0", "[glossy][scene]")
 TEST_CASE("glossy sphere in a white furnace conserves energy", "[glossy][scene]") {
   for (double c : {1.0, 0.6}) {
     ir::Scene s = base_scene(33, 33, 8);
-    s.background = {1, 1, 1};
+    s.background = ir::Vec3{1, 1, 1};
     s.settings.min_weight = 0;
     s.shapes.push_back(sphere({0, 0, 0}, 1, add_material(s, glossy({c, c, c}, 0.7))));
     look(s, {0, 0, -4}, {0, 0, 0}, 40);

@@ -150,7 +150,7 @@ TEST_CASE("a surface inside a solid of higher priority is not there", "[runtime]
   // pixel bit for bit the same, though the rays pass through the inner surfaces.
   auto scene = [](bool inner) {
     ir::Scene s = base_scene(48, 36, 2);
-    s.background = {0.6, 0.7, 0.9};
+    s.background = ir::Vec3{0.6, 0.7, 0.9};
     s.settings.min_weight = 0;
     s.shapes.push_back(
         plane({0, 1, 0}, 0, add_material(s, checker({0.9, 0.9, 0.9}, {0.1, 0.2, 0.5}, 0.5))));
@@ -225,7 +225,7 @@ TEST_CASE("an air bubble of higher priority in water is the core's bubble",
   // against 1.33, so the images agree to float rounding.
   auto scene = [](bool nested) {
     ir::Scene s = base_scene(40, 30, 1);
-    s.background = {0.6, 0.7, 0.9};
+    s.background = ir::Vec3{0.6, 0.7, 0.9};
     s.settings.min_weight = 0;
     look(s, {0, 1.2, -4}, {0, 0.6, 0}, 50);
     s.point_lights.push_back({{-2, 4, -3}, {40, 40, 40}, {}});
@@ -257,7 +257,7 @@ TEST_CASE("a camera inside a prioritised solid starts in its medium", "[runtime]
   // T(1.33→1); every other path needs a fourth interaction. Starting in air
   // instead would make the first interface 1 -> 1.5 and drop the first 2 of water.
   ir::Scene s = base_scene(1, 1, 1);
-  s.background = {1, 1, 1};
+  s.background = ir::Vec3{1, 1, 1};
   s.settings.min_weight = 0;
   s.settings.max_depth = 3;
   look(s, {0, 0, 0}, {0, 0, 1}, 1e-3);
@@ -322,7 +322,7 @@ TEST_CASE("a scene without priorities renders bit for bit as without interiors",
   // priority in the scene it must change nothing: the specialised kernel (which
   // does not have it) and the general one agree on every bit.
   ir::Scene s = base_scene(40, 30, 2);
-  s.background = {0.6, 0.7, 0.9};
+  s.background = ir::Vec3{0.6, 0.7, 0.9};
   look(s, {0, 1.5, -4}, {0, 1, 0}, 45);
   s.point_lights.push_back({{-2, 5, -3}, {40, 40, 40}, {}});
   s.shapes.push_back(plane({0, 1, 0}, 0, add_material(s, diffuse({0.6, 0.6, 0.6}))));

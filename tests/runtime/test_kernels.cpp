@@ -16,7 +16,7 @@ ir::Scene base_effects(ir::SamplerKind kind) {
   ir::Scene s = base_scene(40, 30, 4);
   s.settings.sampler = kind;
   s.settings.seed = 9;
-  s.background = {0.2, 0.3, 0.4};
+  s.background = ir::Vec3{0.2, 0.3, 0.4};
   ir::Material check = checker({0.9, 0.9, 0.9}, {0.1, 0.1, 0.1}, 0.5);
   s.shapes.push_back(plane({0, 1, 0}, 0, add_material(s, check)));
   s.shapes.push_back(sphere({0.8, 0.5, 0.5}, 0.5, add_material(s, glazed({0.8, 0.1, 0.1}, 1.5))));

@@ -80,7 +80,7 @@ namespace {
 ir::Scene edge_scene(double z, std::uint32_t spp) {
   ir::Scene s = base_scene(201, 1, spp);
   s.settings.sampler = ir::SamplerKind::Sobol;
-  s.background = {1, 1, 1};
+  s.background = ir::Vec3{1, 1, 1};
   // The image right is cross(forward, up) = -x: world x > 0 is the image left.
   s.shapes.push_back(box({0, -10, z}, {10, 10, z + 0.001}, add_material(s, diffuse({0, 0, 0}))));
   look(s, {0, 0, 0}, {0, 0, 5}, 2 * std::atan(0.1 / 5) * 180 / 3.14159265358979323846);

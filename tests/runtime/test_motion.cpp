@@ -18,7 +18,7 @@ constexpr double kPi = 3.14159265358979323846;
 ir::Scene streak_scene(ir::Shape s) {
   ir::Scene sc = base_scene(61, 1, 256);
   sc.settings.sampler = ir::SamplerKind::Sobol;
-  sc.background = {1, 1, 1};
+  sc.background = ir::Vec3{1, 1, 1};
   s.material = add_material(sc, diffuse({0, 0, 0}));
   sc.shapes.push_back(s);
   look(sc, {0, 0, 0}, {0, 0, 1}, 2 * std::atan(0.2) * 180 / kPi);

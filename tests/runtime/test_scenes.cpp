@@ -45,7 +45,7 @@ TEST_CASE("diffuse plane under a point light: albedo/pi * I * cos / d^2", "[scen
 
 TEST_CASE("point light shadowed by a sphere and background for escaping rays", "[scene]") {
   ir::Scene s = base_scene(32, 32, 1);
-  s.background = {0.1, 0.2, 0.3};
+  s.background = ir::Vec3{0.1, 0.2, 0.3};
   s.shapes.push_back(plane({0, 1, 0}, 0, 0));
   s.shapes.push_back(sphere({0, 1, 0}, 0.5, 0));
   s.point_lights.push_back({{0, 4, 0}, {50, 50, 50}, {}});
@@ -92,7 +92,7 @@ TEST_CASE("same image bit for bit with 1 and 2 threads", "[scene][determinism]")
     ir::Scene s = base_scene(40, 30, 4);
     s.settings.sampler = kind;
     s.settings.seed = 42;
-    s.background = {0.2, 0.3, 0.4};
+    s.background = ir::Vec3{0.2, 0.3, 0.4};
     ir::Material check = checker({0.9, 0.9, 0.9}, {0.1, 0.1, 0.1}, 0.5);
     s.shapes.push_back(plane({0, 1, 0}, 0, add_material(s, check)));
     s.shapes.push_back(
@@ -115,7 +115,7 @@ TEST_CASE("same image bit for bit with 1 and 2 threads", "[scene][determinism]")
 TEST_CASE("demo picture", "[.][demo]") {
   ir::Scene s = base_scene(320, 240, 16);
   s.settings.sampler = ir::SamplerKind::Sobol;
-  s.background = {0.1, 0.1, 0.15};
+  s.background = ir::Vec3{0.1, 0.1, 0.15};
   ir::Material check = checker({0.9, 0.9, 0.9}, {0.2, 0.2, 0.2}, 1);
   s.shapes.push_back(plane({0, 1, 0}, 0, add_material(s, check)));
   s.shapes.push_back(sphere({-1.2, 1, 0}, 1, add_material(s, dielectric(1.5, {0.3, 0.1, 0.05}))));
@@ -141,7 +141,7 @@ TEST_CASE("demo picture", "[.][demo]") {
 
 TEST_CASE("progress reaches 1 and the traced pixel gives a readable ray tree", "[scene][stats]") {
   ir::Scene s = base_scene(40, 20, 1);
-  s.background = {1, 1, 1};
+  s.background = ir::Vec3{1, 1, 1};
   s.shapes.push_back(sphere({0, 0, 0}, 1, add_material(s, dielectric(1.5))));
   look(s, {0, 0, -4}, {0, 0, 0}, 40);
   std::atomic<int> calls{0};

@@ -1,0 +1,71 @@
+#include "runtime/shading/image_texture.hpp"
+
+#include <fmt/format.h>
+
+#include "runtime/image_module.hpp"
+#include "runtime/render.hpp"
+
+namespace snell::rt {
+
+namespace {
+
+const ImageTextures::Api& api() {
+  static const ImageTextures::Api a = [] {
+    ImageTextures::Api r;
+    auto sym = [&](auto& f, const char* name) {
+      if (r.error.empty())
+        f = reinterpret_cast<std::remove_reference_t<decltype(f)>>(
+            image_module_symbol(name, r.error));
+    };
+    sym(r.create, "snell_texture_create_v1");
+    sym(r.destroy, "snell_texture_destroy_v1");
+    sym(r.open, "snell_texture_open_v1");
+    sym(r.lookup, "snell_texture_lookup_v1");
+    sym(r.stats, "snell_texture_stats_v1");
+    return r;
+  }();
+  return a;
+}
+
+}  // namespace
+
+std::unique_ptr<ImageTextures> ImageTextures::open(const ir::Scene& scene, std::string& error) {
+  const Api& a = api();
+  if (!a.error.empty()) {
+    error = "cannot read images: " + a.error;
+    return nullptr;
+  }
+  std::unique_ptr<ImageTextures> t(new ImageTextures);
+  t->api_ = &a;
+  t->ts_ = a.create(kTextureCacheMB);
+  for (const ir::ImageFile& f : scene.images) {
+    std::string why;
+    void* h = a.open(t->ts_, f.path, why);
+    if (!h) {
+      std::string where = f.src.line > 0 ? ir::to_string(f.src, scene) + ": " : "";
+      error = fmt::format("{}cannot read image '{}': {}", where, f.path, why);
+      return nullptr;
+    }
+    t->handles_.push_back(h);
+  }
+  return t;
+}
+
+ImageTextures::~ImageTextures() {
+  if (api_ && ts_) api_->destroy(ts_);
+}
+
+std::string ImageTextures::stats() const {
+  std::string s;
+  api_->stats(ts_, s);
+  return s;
+}
+
+std::string check_images(const ir::Scene& scene) {
+  if (scene.images.empty()) return {};
+  std::string error;
+  ImageTextures::open(scene, error);
+  return error;
+}
+
+}  // namespace snell::rt
