@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Makes the images examples/textured_room.scn reads (§17), with oiiotool: no
+# Makes the images examples/textures/textured_room.scn reads (§17), with oiiotool: no
 # downloaded files. Usage: bash scripts/make_textures.sh [OUT_DIR]
 # (default examples/textures). Outputs:
 #   floor.png  8-bit sRGB wooden-looking tiles (a two-tone checker, 8 tiles across)
