@@ -368,8 +368,8 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
                              node.ray.time,
                              &stats.function_nonfinite,
                              images_,
-                             normalize(d),
-                             pixel_angle_ * length(p)};
+                             images_ ? normalize(d) : Vec3f{},  // only images read these
+                             images_ ? pixel_angle_ * length(p) : 0.0f};
       // The lobes' normal: nf, or a smooth mesh's or a bump's (§16) shading normal made
       // valid for this viewer (hard case #20, shading/shading_normal.hpp).
       Vec3f ns_out = hit.ns;

@@ -109,27 +109,20 @@ inline Color pattern_color(const ir::Constant& c, const ir::Texture&, const Text
   return to_float(c.color.x, c.color.y, c.color.z);
 }
 
+// A checker's cell parity at a point of its space: 0 where i + j + k is even.
+inline int checker_parity(const ir::Checker& c, ir::Vec3 w) {
+  double s = c.size;
+  // i + j + k is even exactly when the three parities cancel.
+  return floor_parity(w.x / s) ^ floor_parity(w.y / s) ^ floor_parity(w.z / s);
+}
+
 // §8 checker: p (world space) moved inward by S/100 along the outward normal, cell
 // floor(p / S), even i + j + k takes color1 (or the colour map's colour at 0).
 inline Color pattern_color(const ir::Checker& c, const ir::Texture& t, const TexturePoint& tp) {
-  double s = c.size;
-  ir::Vec3 w = turbulent(t, pattern_point(t, tp, s, 100));
-  // i + j + k is even exactly when the three parities cancel.
-  int odd = floor_parity(w.x / s) ^ floor_parity(w.y / s) ^ floor_parity(w.z / s);
+  int odd = checker_parity(c, turbulent(t, pattern_point(t, tp, c.size, 100)));
   const ir::Vec3 k = !t.color_map.empty() ? pattern::map_color(t.color_map, odd)
                      : odd == 0           ? c.color1
                                           : c.color2;
-  return to_float(k.x, k.y, k.z);
-}
-
-// §15's value patterns: the value at the point, through the colour map.
-template <class K>
-double pattern_value(const K& kind, const ir::Texture& t, const TexturePoint& tp) {
-  return pattern::value(kind, turbulent(t, pattern_point(t, tp, 1, 1e4)), int(t.octaves));
-}
-template <class K>
-Color pattern_color(const K& kind, const ir::Texture& t, const TexturePoint& tp) {
-  ir::Vec3 k = pattern::map_color(t.color_map, pattern_value(kind, t, tp));
   return to_float(k.x, k.y, k.z);
 }
 
@@ -150,12 +143,53 @@ inline double function_value(const ir::FunctionPattern& f, const PatternFrame& f
   if (!finite && tp.nonfinite) ++*tp.nonfinite;
   return pattern::pattern_value(v, finite);
 }
-inline Color pattern_color(const ir::FunctionPattern& f, const ir::Texture& t,
-                           const TexturePoint& tp) {
-  PatternFrame frame = pattern_frame(t, tp);
-  ir::Vec3 w = inward_point(tp, 1, 1e4, frame.unit);
-  ir::Vec3 q = turbulent(t, frame.identity ? w : frame.space_from_world.point(w));
-  ir::Vec3 k = pattern::map_color(t.color_map, function_value(f, frame, q, tp));
+
+// A pattern's value at a point q of its own space (before turbulence), one overload
+// per kind: what a colour map colours and a bump differentiates. A checker's is 0
+// in even cells and 1 in odd ones, a constant's 0, an image's its luminance.
+// `frame` and `tp` serve shading functions (their normal, the --stats count) and
+// images (the texture system).
+inline double kind_value(const ir::Constant&, const ir::Texture&, ir::Vec3, const PatternFrame&,
+                         const TexturePoint&) {
+  return 0.0;
+}
+inline double kind_value(const ir::Checker& c, const ir::Texture& t, ir::Vec3 q,
+                         const PatternFrame&, const TexturePoint&) {
+  return double(checker_parity(c, turbulent(t, q)));
+}
+inline double kind_value(const ir::FunctionPattern& f, const ir::Texture& t, ir::Vec3 q,
+                         const PatternFrame& frame, const TexturePoint& tp) {
+  return function_value(f, frame, turbulent(t, q), tp);
+}
+inline double kind_value(const ir::ImageTexture& im, const ir::Texture& t, ir::Vec3 q,
+                         const PatternFrame&, const TexturePoint& tp) {
+  if (!tp.images) return 0.0;
+  ImageUV uv = image_uv(im.mapping, turbulent(t, q));
+  Color c = tp.images->lookup(im.image, uv.u, uv.v, 0, 0, 0, 0, im.repeat);
+  return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
+}
+template <class K>
+double kind_value(const K& kind, const ir::Texture& t, ir::Vec3 q, const PatternFrame&,
+                  const TexturePoint&) {
+  return pattern::value(kind, turbulent(t, q), int(t.octaves));
+}
+
+inline double value_at(const ir::Texture& t, ir::Vec3 q, const PatternFrame& frame,
+                       const TexturePoint& tp) {
+  return std::visit([&](const auto& kind) { return kind_value(kind, t, q, frame, tp); }, t.pattern);
+}
+
+// §15's value patterns and shading functions: the value at the hit's pattern
+// point, through the colour map.
+template <class K>
+double pattern_value(const K& kind, const ir::Texture& t, const TexturePoint& tp) {
+  PatternFrame f = pattern_frame(t, tp);
+  ir::Vec3 w = inward_point(tp, 1, 1e4, f.unit);
+  return kind_value(kind, t, f.identity ? w : f.space_from_world.point(w), f, tp);
+}
+template <class K>
+Color pattern_color(const K& kind, const ir::Texture& t, const TexturePoint& tp) {
+  ir::Vec3 k = pattern::map_color(t.color_map, pattern_value(kind, t, tp));
   return to_float(k.x, k.y, k.z);
 }
 
@@ -194,32 +228,6 @@ inline Color pattern_color(const ir::ImageTexture& im, const ir::Texture& t,
     }
   }
   return tp.images->lookup(im.image, uv.u, uv.v, d[0], d[1], d[2], d[3], im.repeat);
-}
-
-// A pattern's value at a point of its own space (a checker's: 0 in even cells, 1 in
-// odd ones; a constant's: 0): what a bump differentiates. `frame` and `tp` serve
-// shading functions (their normal and the --stats count).
-inline double value_at(const ir::Texture& t, ir::Vec3 q, const PatternFrame& frame,
-                       const TexturePoint& tp) {
-  return std::visit(
-      ir::Overloaded{
-          [](const ir::Constant&) { return 0.0; },
-          [&](const ir::FunctionPattern& f) {
-            return function_value(f, frame, turbulent(t, q), tp);
-          },
-          [&](const ir::ImageTexture& im) {  // a bump by an image: its luminance
-            if (!tp.images) return 0.0;
-            ImageUV uv = image_uv(im.mapping, turbulent(t, q));
-            Color c = tp.images->lookup(im.image, uv.u, uv.v, 0, 0, 0, 0, im.repeat);
-            return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
-          },
-          [&](const ir::Checker& c) {
-            ir::Vec3 w = turbulent(t, q);
-            double s = c.size;
-            return double(floor_parity(w.x / s) ^ floor_parity(w.y / s) ^ floor_parity(w.z / s));
-          },
-          [&](const auto& kind) { return pattern::value(kind, turbulent(t, q), int(t.octaves)); }},
-      t.pattern);
 }
 
 inline Color texture_color(const ir::Texture& t, const TexturePoint& tp) {
