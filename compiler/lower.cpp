@@ -58,6 +58,11 @@ ir::Motion object_motion(const EvaluatedProp* motion) {
   ir::Motion m;
   if (!motion) return m;
   for (const EvaluatedProp& op : motion->nested) {
+    if (op.info->type == PropType::Vec3) {  // §19 pivot, wherever it is written
+      m.has_pivot = true;
+      m.pivot = op.value.v;
+      continue;
+    }
     ir::TransformOp t;
     t.kind = op.info->type == PropType::Translate ? ir::TransformOp::Kind::Translate
              : op.info->type == PropType::Rotate  ? ir::TransformOp::Kind::Rotate

@@ -39,7 +39,12 @@ bool read_obj(const std::string& path, ir::MeshData& mesh, ObjReport& report) {
     normal_id[i / 3] = static_cast<std::uint32_t>(mesh.normals.size());
     mesh.normals.push_back(n / len);
   }
+  const auto& vt = attrib.texcoords;
+  for (std::size_t i = 0; i + 1 < vt.size(); i += 2)
+    mesh.texcoords.push_back({vt[i], vt[i + 1], 0});
   std::vector<std::uint32_t> corner_normals;  // three per kept triangle
+  std::vector<std::uint32_t> corner_uvs;
+  bool all_uv = !mesh.texcoords.empty();
   bool any_smooth = false;
   for (const tinyobj::shape_t& sh : reader.GetShapes()) {
     const auto& idx = sh.mesh.indices;
@@ -68,12 +73,23 @@ bool read_obj(const std::string& path, ir::MeshData& mesh, ObjReport& report) {
         n[k] = named ? normal_id[ni] : ir::MeshData::kNoNormal;
         usable &= n[k] != ir::MeshData::kNoNormal;
       }
+      for (int k = 0; k < 3; ++k) {
+        int ti = idx[i + k].texcoord_index;
+        bool ok = ti >= 0 && static_cast<std::size_t>(ti) < mesh.texcoords.size() &&
+                  ir::is_finite(mesh.texcoords[std::size_t(ti)]);
+        all_uv &= ok;
+        corner_uvs.push_back(ok ? std::uint32_t(ti) : 0);
+      }
       if (named && !usable) ++report.bad_normals;
       if (!usable) n[0] = n[1] = n[2] = ir::MeshData::kNoNormal;
       any_smooth |= usable;
       corner_normals.insert(corner_normals.end(), {n[0], n[1], n[2]});
     }
   }
+  if (all_uv)
+    mesh.texcoord_indices = std::move(corner_uvs);
+  else
+    mesh.texcoords.clear();
   // A mesh without one smooth face keeps no normals: it is the flat mesh, exactly.
   if (any_smooth)
     mesh.normal_indices = std::move(corner_normals);

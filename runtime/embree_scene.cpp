@@ -11,6 +11,7 @@
 #include <limits>
 #include <stdexcept>
 #include <type_traits>
+#include <unordered_map>
 #include <variant>
 
 #include "runtime/geometry/motion.hpp"
@@ -133,6 +134,9 @@ struct Layer {
   const float* tri_vb = nullptr;
   const unsigned* tri_ib = nullptr;
   SmoothNormals smooth;  // the static triangles' shading normals (smooth meshes only)
+  // The first static triangle of each triangle shape (by shape index): a hit's
+  // primitive less it is the triangle of the shape's own list (§17 "uv").
+  std::unordered_map<std::uint32_t, std::uint32_t> tri_first;
   std::size_t triangle_count = 0;
   Box3 box;  // of a prototype, in its space (a moving instance's time steps)
 
@@ -275,14 +279,16 @@ struct EmbreeScene::Impl {
     hit.kind = Hit::Kind::Shape;
     hit.index = l.tri_owner[prim];
     hit.material = l.material_of(hit.index);
+    hit.prim = prim, hit.tri_layer = &l;
     triangle_point(l.tri_vb, l.tri_ib, prim, u, v, hit.p);
     hit.offset = l.tri_offset[prim];
     if (!l.smooth.empty()) hit.smooth = l.smooth.shade(prim, u, v, r.dir, l.tri_vb, l.tri_ib, hit);
   }
   // Moving triangles: o + t·d and the Wächter–Binder offset.
-  static void resolve_plain(const GeomEntry& e, unsigned, float, float, const Ray& r, float t,
+  static void resolve_plain(const GeomEntry& e, unsigned prim, float, float, const Ray& r, float t,
                             Hit& hit) {
     hit.kind = Hit::Kind::Shape;
+    hit.prim = prim, hit.tri_layer = nullptr;
     hit.index = e.shape;
     hit.material = e.layer->material_of(hit.index);
     hit.p = r.org + r.dir * t, hit.offset = 0;
@@ -333,6 +339,7 @@ struct ShapeAdder {
       std::vector<Vec3> normals;
       if (object_normals(g, sc, flip, normals))
         layer.smooth.add(layer.tri_owner.size(), normals, xf);
+      layer.tri_first.emplace(si, std::uint32_t(layer.tri_owner.size()));
       for (std::size_t i = 0; i < soup.verts.size(); ++i) {
         tv.push_back(xf.point(soup.verts[i]) - origin);
         ti.push_back(std::uint32_t(tv.size() - 1));
@@ -508,6 +515,7 @@ void resolve_instance(const InstanceEntry& ie, const RTCRayHit& rh, const Ray& r
   const GeomEntry& e = ie.proto->geoms[rh.hit.geomID];
   e.resolve(e, rh.hit.primID, rh.hit.u, rh.hit.v, ro, hit.t, hit);
   if (hit.material == ir::kInheritMaterial) hit.material = ie.shape_ir->material;
+  (hit.part == ir::kNoPart ? hit.part : hit.outer) = hit.index;  // a CSG part's leaf: kept
   hit.index = ie.shape;
   Vec3 n = ir::normalize(
       xform_normal_by_inverse(obj_from_rel, Vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z)));
@@ -543,6 +551,7 @@ bool EmbreeScene::intersect(const Ray& r, Hit& hit) const {
   rtcIntersect1(im.world.scene, &ctx, &rh);
   bool found = false;
   hit.smooth = false;
+  hit.part = hit.outer = ir::kNoPart;
   // Embree's float test overflows on triangles ~1e13 across (t = inf, Ng = 0); the
   // compiler keeps scenes within 1e12 of the camera, and such a hit is a miss here.
   if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID && rh.ray.tfar < INFINITY &&
@@ -570,8 +579,9 @@ bool EmbreeScene::intersect(const Ray& r, Hit& hit) const {
   bool plane = false;
   std::apply(
       [&](const auto&... set) {
-        ((set.intersect(r, tmax, tie, hit) ? (found = plane = true, tie = 0, hit.smooth = false)
-                                           : 0),
+        ((set.intersect(r, tmax, tie, hit)
+              ? (found = plane = true, tie = 0, hit.smooth = false, hit.part = ir::kNoPart)
+              : 0),
          ...);
       },
       im.unbounded);
@@ -588,6 +598,13 @@ bool EmbreeScene::occluded(const Ray& r) const {
   RTCRay ray = make_rayhit(r).ray;
   rtcOccluded1(im.world.scene, &ctx, &ray);
   return ray.tfar < 0;
+}
+
+std::uint32_t EmbreeScene::triangle_of(const Hit& hit) const {
+  if (!hit.tri_layer) return hit.prim;
+  const Layer& l = *static_cast<const Layer*>(hit.tri_layer);
+  auto it = l.tri_first.find(l.tri_owner[hit.prim]);
+  return it == l.tri_first.end() ? 0 : hit.prim - it->second;
 }
 
 void EmbreeScene::intersect(std::span<const Ray> rays, std::span<Hit> hits,

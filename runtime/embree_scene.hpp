@@ -59,6 +59,9 @@ class EmbreeScene {
   void occluded(std::span<const Ray> rays, std::span<std::uint8_t> blocked) const;
 
   ir::Vec3 origin() const { return origin_; }
+  // The triangle a hit on a box, triangle or mesh is, in that shape's own list
+  // (ir::MeshData::indices / 3 for a mesh).
+  std::uint32_t triangle_of(const Hit& hit) const;
   // True when some object moves during the open shutter (ray times matter).
   bool has_motion() const;
   std::string to_string() const;

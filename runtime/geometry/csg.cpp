@@ -270,6 +270,7 @@ template <bool kMoving>
 void CsgSetT<kMoving>::refine(unsigned prim, const Ray& r, float t, Hit& hit, unsigned sub) const {
   const Prim& p = prims_[prim];
   hit.material = p.program.material(sub);
+  hit.part = p.program.part(sub);
   if constexpr (kMoving) {
     hit.p = r.org + r.dir * t, hit.offset = 0;
   } else {

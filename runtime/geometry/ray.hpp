@@ -42,6 +42,14 @@ struct Hit {
   bool smooth = false;
   Vec3f ns, ps;
   std::uint32_t index = 0;  // into ir::Scene::shapes or ::area_lights
+  // The surface's own parameters (§17 mapping "uv") are found from these at shading
+  // time, not here, so hits pay only the stores: `part` is the leaf hit (into
+  // ir::Scene::parts: a CSG leaf, or an instance's part), `outer` the instance's
+  // part holding a CSG leaf; kNoPart (~0u) when none. `prim` is Embree's primitive
+  // and `tri_layer` the static-triangle table it indexes (EmbreeScene::
+  // triangle_of), null for a moving triangle shape, whose prim is its own.
+  std::uint32_t part = ~0u, outer = ~0u, prim = 0;
+  const void* tri_layer = nullptr;
   // Into ir::Scene::materials: the surface's, which for a CSG object is the leaf's
   // and for an instance the part's (or the instance's, where the part has none).
   std::uint32_t material = 0;

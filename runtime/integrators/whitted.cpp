@@ -361,6 +361,12 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
       // §17: the footprint is the pixel's width at the hit's distance from the
       // camera (for mirrored and refracted rays too: an estimate, not their own
       // differentials).
+      // §17 "uv": the surface hit, found only when the scene has images.
+      SurfaceFrame surface;
+      if (images_) {
+        surface = surface_frame(scene_, shape, hit.part, hit.outer, 0, double(node.ray.time));
+        if (surface.leaf->kind() == ir::ShapeKind::Mesh) surface.tri = embree_.triangle_of(hit);
+      }
       const TexturePoint tex{p,
                              ng,
                              embree_.origin(),
@@ -369,7 +375,8 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
                              &stats.function_nonfinite,
                              images_,
                              images_ ? normalize(d) : Vec3f{},  // only images read these
-                             images_ ? pixel_angle_ * length(p) : 0.0f};
+                             images_ ? pixel_angle_ * length(p) : 0.0f,
+                             images_ ? &surface : nullptr};
       // The lobes' normal: nf, or a smooth mesh's or a bump's (§16) shading normal made
       // valid for this viewer (hard case #20, shading/shading_normal.hpp).
       Vec3f ns_out = hit.ns;

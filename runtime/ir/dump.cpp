@@ -142,6 +142,7 @@ std::string to_string(const Shape& sh) {
                                                               : " scale ";
       s += k + to_string(op.value);
     }
+    if (sh.motion.has_pivot) s += " pivot " + to_string(sh.motion.pivot);
     s += " }";
   }
   return s + " }";
@@ -157,6 +158,7 @@ std::string to_string(const MeshData& m) {
     s += " " + std::to_string(m.normals.size()) + " normals " + std::to_string(smooth) +
          " smooth triangles";
   }
+  if (!m.texcoord_indices.empty()) s += " " + std::to_string(m.texcoords.size()) + " texcoords";
   if (m.closed) return s + " closed";
   return s + (m.open_reason.empty() ? " open" : " open (" + m.open_reason + ")");
 }

@@ -18,6 +18,9 @@ bool Motion::moves() const {
 }
 
 Transform Motion::at(double u) const {
+  auto about_pivot = [&](const Transform& step) {
+    return has_pivot ? Transform::translate(pivot) * step * Transform::translate(-pivot) : step;
+  };
   Transform t;
   for (const TransformOp& op : ops) {
     switch (op.kind) {
@@ -25,10 +28,10 @@ Transform Motion::at(double u) const {
         t = Transform::translate(op.value * u) * t;
         break;
       case TransformOp::Kind::Rotate:
-        t = Transform::rotate_xyz(op.value * u) * t;
+        t = about_pivot(Transform::rotate_xyz(op.value * u)) * t;
         break;
       case TransformOp::Kind::Scale:
-        t = Transform::scale(Vec3{1, 1, 1} * (1 - u) + op.value * u) * t;
+        t = about_pivot(Transform::scale(Vec3{1, 1, 1} * (1 - u) + op.value * u)) * t;
         break;
     }
   }

@@ -193,10 +193,13 @@ struct TransformOp {
 
 // How an object moves during the shutter interval. At time fraction u in [0, 1]
 // (0 = shutter open, 1 = shutter close) each op is applied partially: translate
-// u·V, rotate u·R (degrees, x then y then z), scale (1-u) + u·S. The object's
-// transform at u is motion_at(u) * world_from_object.
+// u·V, rotate u·R (degrees, x then y then z), scale (1-u) + u·S; with a pivot P
+// (§19) a rotation or scale step is translate -P, the step, translate P. The
+// object's transform at u is at(u) * world_from_object.
 struct Motion {
   std::vector<TransformOp> ops;
+  bool has_pivot = false;  // false: about the origin (§8), no translations at all
+  Vec3 pivot{0, 0, 0};
   bool moves() const;
   Transform at(double u) const;
 };
@@ -259,6 +262,12 @@ struct MeshData {
   // says why in words an error can quote ("has 14 boundary edges, e.g. (v3, v7)").
   bool closed = false;
   std::string open_reason;
+  // Texture coordinates (OBJ `vt`, §17 mapping "uv"): (u, v, 0) and, parallel to
+  // `indices`, the one each corner takes. Both empty unless every kept face names
+  // a usable vt at each corner (a mesh partly mapped has none: "uv" then falls
+  // back to the triangles' barycentrics, as for a mesh without vt).
+  std::vector<Vec3> texcoords;
+  std::vector<std::uint32_t> texcoord_indices;
   bool smooth() const { return !normal_indices.empty(); }
 };
 

@@ -283,6 +283,8 @@ std::vector<Problem> validate(const Scene& scene) {
       bad(s.src, to_string(s.kind()) + " has a non-finite position, size or transform");
     for (const TransformOp& op : s.motion.ops)
       if (!is_finite(op.value)) bad(s.src, "motion has a non-finite value");
+    if (s.motion.has_pivot && !is_finite(s.motion.pivot))
+      bad(s.src, "motion has a non-finite pivot");
     if (s.material >= scene.materials.size()) {
       if (!(part && s.material == kInheritMaterial)) bad(s.src, "material index out of range");
     } else if (const Dielectric* d = scene.materials[s.material].as<Dielectric>();

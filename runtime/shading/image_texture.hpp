@@ -31,6 +31,7 @@ inline ImageUV image_uv(ir::ImageMapping m, ir::Vec3 q) {
     case ir::ImageMapping::Cylindrical:
       return {around_y(q), q.y};
     case ir::ImageMapping::Spherical:
+    case ir::ImageMapping::Uv:  // without a surface (a background): the direction's
     case ir::ImageMapping::Latlong: {
       double r = std::sqrt(q.x * q.x + q.y * q.y + q.z * q.z);
       double s = r > 0 ? std::fmax(-1.0, std::fmin(1.0, q.y / r)) : 0;
@@ -39,7 +40,8 @@ inline ImageUV image_uv(ir::ImageMapping m, ir::Vec3 q) {
   }
   return {};
 }
-// Whether u goes around y (it jumps from 1 to 0 behind the pattern's -z axis).
+// Whether u goes around y (it jumps from 1 to 0 behind the pattern's -z axis; "uv"
+// around the axis of the shapes that have one).
 inline bool wraps_around(ir::ImageMapping m) {
   return m != ir::ImageMapping::Planar;
 }

@@ -12,6 +12,7 @@
 #include "runtime/pattern/patterns.hpp"
 #include "runtime/pattern/program_eval.hpp"
 #include "runtime/shading/image_texture.hpp"
+#include "runtime/shading/surface_uv.hpp"
 #include "runtime/vec.hpp"
 
 namespace snell::rt {
@@ -42,6 +43,8 @@ struct TexturePoint {
   const ImageTextures* images = nullptr;
   Vec3f dir{};
   float footprint = 0;
+  // §17 mapping "uv": the hit's surface (null: a background, or no image maps "uv").
+  const SurfaceFrame* surface = nullptr;
 };
 
 // The length in world units of one unit of the space a pattern is evaluated in
@@ -161,10 +164,28 @@ inline double kind_value(const ir::FunctionPattern& f, const ir::Texture& t, ir:
                          const PatternFrame& frame, const TexturePoint& tp) {
   return function_value(f, frame, turbulent(t, q), tp);
 }
+// §17 "uv": the surface's (u, v) at world point w, as the point (u, v, 0) through
+// the pattern's transforms and turbulence.
+inline ImageUV surface_coords(const ir::Texture& t, const SurfaceFrame& s, ir::Vec3 w) {
+  ImageUV uv = surface_uv(s, w);
+  ir::Vec3 q{uv.u, uv.v, 0};
+  if (!t.world_from_pattern.is_identity()) q = t.world_from_pattern.inverse().point(q);
+  q = turbulent(t, q);
+  return {q.x, q.y};
+}
+inline bool maps_surface(const ir::ImageTexture& im, const TexturePoint& tp) {
+  return im.mapping == ir::ImageMapping::Uv && tp.surface;
+}
+
 inline double kind_value(const ir::ImageTexture& im, const ir::Texture& t, ir::Vec3 q,
-                         const PatternFrame&, const TexturePoint& tp) {
+                         const PatternFrame& frame, const TexturePoint& tp) {
   if (!tp.images) return 0.0;
-  ImageUV uv = image_uv(im.mapping, turbulent(t, q));
+  ImageUV uv;
+  if (!maps_surface(im, tp))
+    uv = image_uv(im.mapping, turbulent(t, q));
+  else  // q back to the world: "uv" takes the pattern's transforms in (u, v)
+    uv = surface_coords(t, *tp.surface,
+                        frame.identity ? q : frame.space_from_world.inverse().point(q));
   Color c = tp.images->lookup(im.image, uv.u, uv.v, 0, 0, 0, 0, im.repeat);
   return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
 }
@@ -205,7 +226,11 @@ inline Color pattern_color(const ir::ImageTexture& im, const ir::Texture& t,
   PatternFrame f = pattern_frame(t, tp);
   auto to_space = [&](ir::Vec3 x) { return f.identity ? x : f.space_from_world.point(x); };
   ir::Vec3 w = inward_point(tp, 1, 1e4, f.unit);
-  ImageUV uv = image_uv(im.mapping, turbulent(t, to_space(w)));
+  auto coords = [&](ir::Vec3 x) {
+    return maps_surface(im, tp) ? surface_coords(t, *tp.surface, x)
+                                : image_uv(im.mapping, turbulent(t, to_space(x)));
+  };
+  ImageUV uv = coords(w);
   float d[4] = {0, 0, 0, 0};
   if (tp.footprint > 0) {
     ir::Vec3 dir{tp.dir.x, tp.dir.y, tp.dir.z};
@@ -220,7 +245,7 @@ inline Color pattern_color(const ir::ImageTexture& im, const ir::Texture& t,
         double c = std::fabs(cos) < 0.02 ? std::copysign(0.02, cos) : cos;
         dw = dw - dir * (ir::dot(dw, n) / c);
       }
-      ImageUV uv2 = image_uv(im.mapping, turbulent(t, to_space(w + dw)));
+      ImageUV uv2 = coords(w + dw);
       double du = uv2.u - uv.u;
       if (wraps_around(im.mapping)) du -= std::round(du);
       d[2 * k] = float(du);

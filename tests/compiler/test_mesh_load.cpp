@@ -148,3 +148,26 @@ TEST_CASE("a zero or non-finite vn is a warning that names the file", "[compiler
   CHECK(d.message.find("name a zero or non-finite normal (vn) and shade flat") !=
         std::string::npos);
 }
+
+TEST_CASE("OBJ vt: every corner's texture coordinate kept, or none", "[compiler][mesh]") {
+  compile::ObjReport r;
+  const std::string quad = "v 0 0 0\nv 2 0 0\nv 2 1 0\nv 0 1 0\nvt 1 0\nvt 0 0\nvt 0 1\nvt 1 1\n";
+  ir::MeshData m = load("vt.obj", quad + "f 1/1 2/2 3/3 4/4\n", r);
+  REQUIRE(m.indices.size() == 6);
+  REQUIRE(m.texcoords.size() == 4);
+  REQUIRE(m.texcoord_indices.size() == 6);
+  for (std::size_t k = 0; k < 6; ++k) {
+    INFO("corner " << k);
+    CHECK(m.texcoord_indices[k] == m.indices[k]);  // vt i belongs to v i in this file
+  }
+  CHECK(m.texcoords[2].x == 0);
+  CHECK(m.texcoords[2].y == 1);
+  // One face without vt: the mesh keeps none (it maps as triangles, not partly).
+  ir::MeshData partial = load("vt-partial.obj", quad + "f 1/1 2/2 3/3\nf 1 3 4\n", r);
+  CHECK(partial.indices.size() == 6);
+  CHECK(partial.texcoords.empty());
+  CHECK(partial.texcoord_indices.empty());
+  ir::MeshData none = load("no-vt.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", r);
+  CHECK(none.texcoords.empty());
+  CHECK(none.texcoord_indices.empty());
+}

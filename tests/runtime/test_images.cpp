@@ -192,3 +192,98 @@ TEST_CASE("an unreadable image is an error naming it", "[images]") {
   CHECK(err.find("not-an-image.png") != std::string::npos);
   CHECK(rt::check_images(scene_with(im)).empty());
 }
+
+namespace {
+
+// One pixel of a diffuse surface textured by image `image` with mapping "uv", seen
+// straight on from `eye` (1e-3° wide) and lit from the eye by a point light of
+// intensity π d²: the pixel is the albedo, the texel at the point's (u, v).
+Color lit_texel(const Images& im, std::uint32_t image, ir::Shape shape, ir::Vec3 eye,
+                ir::Vec3 target, std::vector<ir::MeshData> meshes = {}) {
+  ir::Scene s = scene_with(im);
+  s.meshes = std::move(meshes);
+  ir::Material m = ir::Diffuse{image_texture(image, ir::ImageMapping::Uv)};
+  shape.material = add_material(s, m);
+  s.shapes.push_back(shape);
+  double d = ir::length(target - eye);
+  s.point_lights.push_back(ir::PointLight{eye, ir::Vec3(rt::kImagePi * d * d), {}});
+  ir::Vec3 dir = ir::normalize(target - eye);
+  look(s, eye, target, 1e-3, std::fabs(dir.y) > 0.9 ? ir::Vec3{1, 0, 0} : ir::Vec3{0, 1, 0});
+  rt::RenderResult r = rt::render(s, {});
+  const float* px = r.image.at(0, 0);
+  return {px[0], px[1], px[2]};
+}
+
+}  // namespace
+
+// The margin: cos θ of a ray 1e-5 rad off the axis and the light's 1/d² are 1 to
+// ~1e-10; the texel margin is check_texel's.
+TEST_CASE("uv mapping: mesh vt, the sphere and the cylinder at texel centres", "[images]") {
+  Images im;
+  // A 2 x 1 quad whose vt runs u the other way: u = 1 - x / 2, v = y.
+  ir::MeshData quad;
+  quad.path = "quad";
+  quad.positions = {{0, 0, 0}, {2, 0, 0}, {2, 1, 0}, {0, 1, 0}};
+  quad.indices = {0, 1, 2, 0, 2, 3};
+  quad.texcoords = {{1, 0, 0}, {0, 0, 0}, {0, 1, 0}, {1, 1, 0}};
+  quad.texcoord_indices = quad.indices;
+  for (std::uint32_t image = 0; image < 2; ++image)
+    for (int row = 0; row < kH; ++row)
+      for (int i = 0; i < kW; ++i) {
+        double u = u_of(i), v = v_of(row);
+        INFO("texel " << i << "," << row);
+        ir::Vec3 q{2 * (1 - u), v, 0};
+        check_texel(
+            lit_texel(im, image, shape_of(ir::Mesh{0}, 0), q + ir::Vec3{0, 0, -5}, q, {quad}),
+            image, i, row);
+        // The sphere: the spherical mapping about its centre.
+        ir::Vec3 n = direction(u, v);
+        check_texel(lit_texel(im, image, sphere({1, 2, 3}, 1, 0), ir::Vec3{1, 2, 3} + n * 5,
+                              ir::Vec3{1, 2, 3} + n),
+                    image, i, row);
+        // The cylinder's side: u around the axis in its frame (x, -z for the y
+        // axis), v up the axis from base to cap.
+        double phi = (u - 0.5) * 2 * rt::kImagePi;
+        ir::Vec3 out{std::cos(phi), 0, -std::sin(phi)};
+        ir::Vec3 p = out + ir::Vec3{0, 2 * v, 0};
+        check_texel(lit_texel(im, image, shape_of(ir::Cylinder{{0, 0, 0}, {0, 2, 0}, 1}, 0),
+                              p + out * 4, p),
+                    image, i, row);
+      }
+}
+
+TEST_CASE("uv mapping: each kind's parameters at known points", "[images]") {
+  ir::Scene s = base_scene(1, 1, 1);
+  auto uv = [&](ir::Shape shape, ir::Vec3 w, std::uint32_t tri = 0) {
+    s.shapes = {shape};
+    rt::SurfaceFrame f = rt::surface_frame(s, s.shapes[0], ir::kNoPart, ir::kNoPart, tri, 0);
+    return rt::surface_uv(f, w);
+  };
+  auto near = [](rt::ImageUV a, double u, double v) {
+    INFO("(" << a.u << ", " << a.v << ") want (" << u << ", " << v << ")");
+    CHECK(a.u == Approx(u).margin(1e-12));
+    CHECK(a.v == Approx(v).margin(1e-12));
+  };
+  // Box faces: the face's two other coordinates as fractions of the box.
+  ir::Shape b = box({0, 0, 0}, {2, 4, 8}, 0);
+  near(uv(b, {2, 1, 2}), 0.25, 0.25);    // +x face: (z, y)
+  near(uv(b, {0.5, 0, 6}), 0.25, 0.75);  // -y face: (x, z)
+  near(uv(b, {1.5, 3, 8}), 0.75, 0.75);  // +z face: (x, y)
+  // Disc and cone caps: the square around them, in the axis frame (x, -z for y).
+  near(uv(shape_of(ir::Disc{{0, 0, 0}, {0, 1, 0}, 2, 0}, 0), {1, 0, 0}), 0.75, 0.5);
+  near(uv(shape_of(ir::Disc{{0, 0, 0}, {0, 1, 0}, 2, 0}, 0), {0, 0, -1}), 0.5, 0.75);
+  near(uv(shape_of(ir::Cone{{0, 0, 0}, 2, {0, 4, 0}, 0}, 0), {-1, 0, 0}), 0.25, 0.5);
+  // The cone's side: halfway up, radius 1.
+  near(uv(shape_of(ir::Cone{{0, 0, 0}, 2, {0, 4, 0}, 0}, 0), {1, 2, 0}), 0.5, 0.5);
+  // Torus: u as the spherical formula's, v around the tube from its inner equator.
+  ir::Shape t = shape_of(ir::Torus{2, 0.5}, 0);
+  near(uv(t, {0, 0, 2.5}), 0.5, 0.5);    // outer equator, +z
+  near(uv(t, {2, 0.5, 0}), 0.75, 0.75);  // top of the tube, +x
+  // Plane: its two axes; triangle: the barycentrics of b and c.
+  near(uv(plane({0, 1, 0}, 0, 0), {3, 0, -5}), 3, 5);
+  near(uv(triangle({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 0), {0.25, 0.5, 0}), 0.25, 0.5);
+  // Transforms: the leaf's object space (a sphere moved and turned keeps its map).
+  ir::Shape sp = sphere({0, 0, 0}, 1, 0);
+  sp.world_from_object = ir::Transform::translate({5, 0, 0}) * ir::Transform::rotate_y(90);
+  near(uv(sp, {5, 0, 1} /* object -x */), 0.25, 0.5);
+}
