@@ -30,8 +30,9 @@ ir::CsgOp op_of(const ObjectNode& n) {
   return static_cast<ir::CsgOp>(n.block->csg_op);
 }
 
-// Why a CSG child has no inside (§12), or "" when it is a solid.
-std::string no_inside(const ir::ShapeGeom& g) {
+// Why a CSG child has no inside (§12), or "" when it is a solid (a mesh is one when
+// its file's triangles are closed: MeshData::closed, checked at load).
+std::string no_inside(const ir::ShapeGeom& g, const ir::Scene& scene) {
   return std::visit(
       ir::Overloaded{[](const ir::Cylinder& c) -> std::string {
                        return c.open ? "an open cylinder has no inside" : "";
@@ -41,9 +42,12 @@ std::string no_inside(const ir::ShapeGeom& g) {
                      },
                      [](const ir::Disc&) -> std::string { return "a disc has no inside"; },
                      [](const ir::Triangle&) -> std::string { return "a triangle has no inside"; },
-                     [](const ir::Mesh&) -> std::string {
-                       return "a mesh cannot be part of a CSG object yet (closed meshes are not "
-                              "yet solids here)";
+                     [&](const ir::Mesh& m) -> std::string {
+                       if (m.mesh >= scene.meshes.size()) return "the mesh has no data";
+                       const ir::MeshData& d = scene.meshes[m.mesh];
+                       if (d.closed) return "";
+                       return "mesh '" + d.path + "' is not closed" +
+                              (d.open_reason.empty() ? std::string() : ": it " + d.open_reason);
                      },
                      [](const auto&) -> std::string { return ""; }},
       g);
@@ -162,14 +166,15 @@ std::int64_t SceneBuilder::csg_node(const ObjectNode& c, const ir::Transform& cs
   ir::ShapeGeom geom;
   LowerContext cx{*this, c.keyword, c.props, diags_};
   if (!lower_shape(*c.block, cx, geom)) return -1;
-  if (std::string why = no_inside(geom); !why.empty()) {
+  if (std::string why = no_inside(geom, scene_); !why.empty()) {
     diags_
         .report(DiagKind::NotASolid, c.keyword,
                 "this " + std::string(c.block->name) + " cannot be part of the '" +
                     std::string(csg_name) + "': " + why)
-        .note(csg.keyword, "the '" + std::string(csg_name) +
-                               "' is here; its objects must be solids: sphere, box, cylinder, "
-                               "cone, torus, plane or CSG of them ('union' takes any object)");
+        .note(csg.keyword,
+              "the '" + std::string(csg_name) +
+                  "' is here; its objects must be solids: sphere, box, cylinder, "
+                  "cone, torus, plane, closed mesh or CSG of them ('union' takes any object)");
     return -1;
   }
   ir::Shape& s = scene_.parts.emplace_back();

@@ -90,6 +90,8 @@ Box3 CsgProgram::compile(const ir::Scene& scene, std::uint32_t index) {
     l.material = part.material;
     l.part = node.part;
     l.bounded = !ir::unbounded(part);
+    if (const ir::Mesh* m = part.as<ir::Mesh>(); m && m->mesh < scene.meshes.size())
+      l.mesh = MeshSolid::of(scene.meshes[m->mesh]);
     if (l.bounded)
       ir::world_hull_points(part, scene, [&](Vec3 p) { l.box.grow(p); });
     else
@@ -153,6 +155,20 @@ bool CsgProgram::intersect(Vec3 o, Vec3 d, double tnear, double tfar, double& t_
     const Leaf& l = leaves_[i];
     if (l.bounded && !ray_box(l.box, o, d, tnear, tfar)) continue;
     Vec3 ol = xform_point(l.leaf_from_csg, o), dl = xform_vector(l.leaf_from_csg, d);
+    if (l.mesh) {
+      thread_local std::vector<MeshSolid::Crossing> cross;
+      bool in = false;
+      l.mesh->crossings(ol, dl, tnear, cross, in);
+      if (in) flags[i] = 1;
+      for (const MeshSolid::Crossing& c : cross) {
+        if (!(c.t < tfar)) break;
+        if (c.t > tnear)
+          events.push_back({c.t, i, c.enter, xform_normal_by_inverse(l.leaf_from_csg, c.n)});
+        else
+          flags[i] = c.enter;
+      }
+      continue;
+    }
     Spans sp = leaf_spans(l.geom, ol, dl, tnear, tfar);
     for (int k = 0; k < sp.count; ++k) {
       const Span& s = sp.span[k];
@@ -193,11 +209,23 @@ bool CsgProgram::intersect(Vec3 o, Vec3 d, double tnear, double tfar, double& t_
   return false;
 }
 
-double CsgProgram::leaf_crossing(std::uint32_t leaf, Vec3 o, Vec3 d, double t) const {
+double CsgProgram::leaf_crossing(std::uint32_t leaf, Vec3 o, Vec3 d, double t,
+                                 std::uint32_t* tri) const {
   const Leaf& l = leaves_[leaf];
   Vec3 ol = xform_point(l.leaf_from_csg, o), dl = xform_vector(l.leaf_from_csg, d);
-  Spans sp = leaf_spans(l.geom, ol, dl, -INFINITY, INFINITY);
   double best = t, dist = INFINITY;
+  if (l.mesh) {
+    thread_local std::vector<MeshSolid::Crossing> cross;
+    bool in = false;
+    l.mesh->crossings(ol, dl, 0, cross, in);
+    for (const MeshSolid::Crossing& c : cross)
+      if (std::fabs(c.t - t) < dist) {
+        best = c.t, dist = std::fabs(c.t - t);
+        if (tri) *tri = c.tri;
+      }
+    return best;
+  }
+  Spans sp = leaf_spans(l.geom, ol, dl, -INFINITY, INFINITY);
   for (int k = 0; k < sp.count; ++k)
     for (double c : {sp.span[k].t_in, sp.span[k].t_out})
       if (std::isfinite(c) && std::fabs(c - t) < dist) best = c, dist = std::fabs(c - t);
@@ -271,6 +299,7 @@ void CsgSetT<kMoving>::refine(unsigned prim, const Ray& r, float t, Hit& hit, un
   const Prim& p = prims_[prim];
   hit.material = p.program.material(sub);
   hit.part = p.program.part(sub);
+  hit.prim = 0, hit.tri_layer = nullptr;  // a mesh leaf's triangle, when refined below
   if constexpr (kMoving) {
     hit.p = r.org + r.dir * t, hit.offset = 0;
   } else {
@@ -278,7 +307,7 @@ void CsgSetT<kMoving>::refine(unsigned prim, const Ray& r, float t, Hit& hit, un
     // the leaf's surface to the rounding of p to float (LocalSet::refine's bound).
     Vec3 o = xform_point(p.csg_from_rel, Vec3(r.org.x, r.org.y, r.org.z));
     Vec3 d = xform_vector(p.csg_from_rel, Vec3(r.dir.x, r.dir.y, r.dir.z));
-    double tc = p.program.leaf_crossing(sub, o, d, double(t));
+    double tc = p.program.leaf_crossing(sub, o, d, double(t), &hit.prim);
     Vec3 q = xform_point(p.rel_from_csg, o + d * tc);
     if (!ir::is_finite(q) || std::fabs(tc - double(t)) > 1e-3 * std::fabs(double(t)) + 1e-30) {
       hit.p = r.org + r.dir * t, hit.offset = 0;

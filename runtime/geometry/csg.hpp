@@ -14,14 +14,17 @@
 // group the leaf written first owns the surface (its material, its normal).
 //
 // Cost: every leaf whose box the ray meets is intersected (a CSG object is not a
-// BVH of its children): fine for the tens of children POV-Ray scenes use. No
-// Embree types.
+// BVH of its children): fine for the tens of children POV-Ray scenes use. A closed
+// mesh leaf is a MeshSolid (its own BVH; every crossing along the ray). No Embree
+// types.
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "runtime/geometry/mesh_solid.hpp"
 #include "runtime/geometry/motion.hpp"
 #include "runtime/geometry/ray.hpp"
 #include "runtime/geometry/xform.hpp"
@@ -39,8 +42,10 @@ class CsgProgram {
   // its t, the outward normal of the result there (any length), and the leaf.
   bool intersect(Vec3 o, Vec3 d, double tnear, double tfar, double& t, Vec3& n,
                  std::uint32_t& leaf) const;
-  // The crossing of leaf `leaf`'s surface nearest `t` (for refining a float t).
-  double leaf_crossing(std::uint32_t leaf, Vec3 o, Vec3 d, double t) const;
+  // The crossing of leaf `leaf`'s surface nearest `t` (for refining a float t);
+  // `tri`: a mesh leaf's triangle there.
+  double leaf_crossing(std::uint32_t leaf, Vec3 o, Vec3 d, double t,
+                       std::uint32_t* tri = nullptr) const;
   std::uint32_t material(std::uint32_t leaf) const { return leaves_[leaf].material; }
   std::uint32_t part(std::uint32_t leaf) const { return leaves_[leaf].part; }
   // The corners of a box holding the result (an unbounded one clamped to `clamp`
@@ -64,6 +69,7 @@ class CsgProgram {
     Box3 box;  // in CSG space; infinite for a plane
     bool bounded = true;
     std::uint32_t material = 0, part = 0;
+    std::shared_ptr<const MeshSolid> mesh;  // a closed mesh's crossings
   };
   // Postfix code of the tree: a leaf pushes its inside flag, an operation pops
   // `count` flags and pushes the result.

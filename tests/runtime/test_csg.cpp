@@ -14,6 +14,7 @@
 
 #include "runtime/embree_scene.hpp"
 #include "runtime/geometry/csg.hpp"
+#include "runtime/ir/mesh_topology.hpp"
 #include "tests/runtime/effects_util.hpp"
 
 using namespace snell;
@@ -331,4 +332,69 @@ TEST_CASE("instances: one prototype shared by every instance, placed by each", "
     CHECK(double(h.p.x) == Approx(top.x).margin(ulps4));
     CHECK(double(h.p.y) == Approx(top.y).margin(ulps4));
   }
+}
+
+namespace {
+// The cube [-1, 1]³ as a closed OBJ-like mesh: 8 shared corners, 12 triangles
+// wound outward.
+ir::MeshData cube_mesh() {
+  ir::MeshData m;
+  m.path = "cube";
+  for (int i = 0; i < 8; ++i)
+    m.positions.push_back({i & 1 ? 1.0 : -1.0, i & 2 ? 1.0 : -1.0, i & 4 ? 1.0 : -1.0});
+  const int quads[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
+                           {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+  for (const auto& q : quads)
+    for (int k : {q[0], q[1], q[2], q[0], q[2], q[3]}) m.indices.push_back(std::uint32_t(k));
+  ir::MeshClosure c = ir::mesh_closure(m);
+  m.closed = c.closed;
+  return m;
+}
+}  // namespace
+
+TEST_CASE("csg: a closed mesh is a solid, answering as the box it bounds", "[csg]") {
+  // The same difference twice — a cube minus a sphere at its corner — with the
+  // cube as a box and as a mesh, turned and mirrored alike: every ray finds the
+  // same t (2e-6), normal (1e-6) and number of crossings, corners and edges
+  // included (a ray through a shared edge crosses once, not twice).
+  ir::Transform xf = ir::Transform::rotate_y(30) * ir::Transform::scale({-1, 1, 1});
+  Query qb, qm;
+  Csg cb{qb.scene}, cm{qm.scene};
+  cb.place(cb.op(ir::CsgOp::Difference,
+                 {cb.leaf(box({-1, -1, -1}, {1, 1, 1}), xf), cb.leaf(sphere({1, 1, -1}, 0.8))}));
+  qm.scene.meshes.push_back(cube_mesh());
+  REQUIRE(qm.scene.meshes[0].closed);
+  cm.place(
+      cm.op(ir::CsgOp::Difference, {cm.leaf(ir::Mesh{0}, xf), cm.leaf(sphere({1, 1, -1}, 0.8))}));
+  qb.build();
+  qm.build();
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1.5, 1.5);
+  int hits = 0;
+  std::vector<std::pair<Vec3, Vec3>> rays;
+  for (int i = 0; i < 400; ++i) rays.push_back({Vec3{u(rng), u(rng), -6}, Vec3{0, 0, 1}});
+  for (int i = 0; i < 100; ++i)
+    rays.push_back({Vec3{u(rng), 6, u(rng)}, ir::normalize(Vec3{u(rng) * 0.3, -1, u(rng) * 0.3})});
+  // Through corners and along an edge's line of the turned cube.
+  for (int i = 0; i < 8; ++i) {
+    Vec3 corner = xf.point({i & 1 ? 1.0 : -1.0, i & 2 ? 1.0 : -1.0, i & 4 ? 1.0 : -1.0});
+    rays.push_back({corner * 4, ir::normalize(corner * -1)});
+  }
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    const auto& [o, d] = rays[i];
+    bool corner = i >= 500;  // three faces meet: either may own the normal
+    rt::Hit hb, hm;
+    bool fb = qb.cast(o, d, hb), fm = qm.cast(o, d, hm);
+    INFO("ray from " << o.x << "," << o.y << "," << o.z);
+    REQUIRE(fb == fm);
+    CHECK(qb.crossings(o, d) == qm.crossings(o, d));
+    if (!fb) continue;
+    ++hits;
+    CHECK(double(hm.t) == Approx(double(hb.t)).epsilon(2e-6));
+    if (corner) continue;
+    CHECK(double(hm.ng.x) == Approx(double(hb.ng.x)).margin(1e-6));
+    CHECK(double(hm.ng.y) == Approx(double(hb.ng.y)).margin(1e-6));
+    CHECK(double(hm.ng.z) == Approx(double(hb.ng.z)).margin(1e-6));
+  }
+  CHECK(hits > 200);
 }
