@@ -1,0 +1,200 @@
+// bench_csg: what §12's CSG and §13's instances cost.
+//
+// CSG: each pair is one picture area covered two ways — by a CSG object and by
+// the plain shape it most resembles (a lens against a sphere, a box with a bite
+// against the box, a mesh cube with a bite against the box with one) — rendered
+// in one run, interleaved, 1 thread, median of repeats; ns per camera sample and
+// the ratio.
+//
+// Instances: N objects of one mesh value (`object { m ... }`, one prototype, Embree
+// instancing) against the same N written as separate meshes (each object's
+// triangles copied into the scene's BVH): the resident memory the built scene
+// adds and the time to build and render it; then many instances alone.
+//
+//   bench_csg [--res W] [--spp N] [--repeats N] [--tris N] [--copies N] [--instances N]
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "compiler/compile.hpp"
+#include "runtime/render.hpp"
+
+using namespace snell;
+namespace fs = std::filesystem;
+
+namespace {
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0 : v[v.size() / 2];
+}
+
+// Resident memory now, in MiB (Linux /proc/self/statm).
+double rss_mib() {
+  std::ifstream f("/proc/self/statm");
+  long pages = 0, resident = 0;
+  f >> pages >> resident;
+  return double(resident) * double(sysconf(_SC_PAGESIZE)) / (1024.0 * 1024.0);
+}
+
+// A closed unit sphere of about `tris` triangles (a latitude-longitude grid).
+std::string write_sphere_obj(const fs::path& dir, long tris) {
+  int n = std::max(4, int(std::sqrt(double(tris) / 2)));
+  std::string path = (dir / "sphere.obj").string();
+  std::ofstream f(path);
+  const double pi = 3.14159265358979323846;
+  f << "v 0 1 0\nv 0 -1 0\n";
+  for (int i = 1; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      double th = pi * i / n, ph = 2 * pi * j / n;
+      f << "v " << std::sin(th) * std::cos(ph) << " " << std::cos(th) << " "
+        << std::sin(th) * std::sin(ph) << "\n";
+    }
+  auto v = [&](int i, int j) { return 3 + (i - 1) * n + (j % n); };  // 1-based, rings 1..n-1
+  for (int j = 0; j < n; ++j) f << "f 1 " << v(1, j + 1) << " " << v(1, j) << "\n";
+  for (int i = 1; i + 1 < n; ++i)
+    for (int j = 0; j < n; ++j)
+      f << "f " << v(i, j) << " " << v(i, j + 1) << " " << v(i + 1, j + 1) << " " << v(i + 1, j)
+        << "\n";
+  for (int j = 0; j < n; ++j) f << "f 2 " << v(n - 1, j) << " " << v(n - 1, j + 1) << "\n";
+  return path;
+}
+
+const char* kCommon = R"(
+camera { location <0, 1.5, -5> look_at <0, 0.5, 0> fov 50 }
+background <0.6, 0.7, 0.9>
+point_light { position <-2, 5, -3> intensity 40 }
+plane { normal <0, 1, 0> distance -0.5 material diffuse 0.7 }
+)";
+
+ir::Scene compile_scene(const std::string& body, std::uint32_t res, std::uint32_t spp) {
+  std::unique_ptr<compile::Compilation> c;
+  compile::run_with_large_stack(
+      [&] { c = compile::compile_source("bench.scn", std::string(kCommon) + body, {}); });
+  if (!c || c->status != compile::CompileStatus::Ok) {
+    std::fprintf(stderr, "bench scene does not compile:\n%s\n", body.c_str());
+    if (c) c->diags.print(std::cerr, false);
+    std::exit(1);
+  }
+  ir::Scene s = c->scene;
+  s.settings.width = res;
+  s.settings.height = res * 3 / 4;
+  s.settings.samples = spp;
+  return s;
+}
+
+struct Pair {
+  const char* name;
+  std::string plain, csg;
+};
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::uint32_t res = 240, spp = 4;
+  int repeats = 5;
+  long tris = 200000, copies = 20, instances = 1000;
+  for (int i = 1; i + 1 < argc; i += 2) {
+    std::string a = argv[i];
+    if (a == "--res") res = std::uint32_t(std::max(8, std::atoi(argv[i + 1])));
+    if (a == "--spp") spp = std::uint32_t(std::max(1, std::atoi(argv[i + 1])));
+    if (a == "--repeats") repeats = std::max(1, std::atoi(argv[i + 1]));
+    if (a == "--tris") tris = std::max(100L, std::atol(argv[i + 1]));
+    if (a == "--copies") copies = std::max(1L, std::atol(argv[i + 1]));
+    if (a == "--instances") instances = std::max(1L, std::atol(argv[i + 1]));
+  }
+  fs::path dir = fs::temp_directory_path() / ("snell-bench-csg-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::string cube = (dir / "cube.obj").string();
+  {
+    std::ofstream f(cube);
+    for (int i = 0; i < 8; ++i)
+      f << "v " << (i & 1 ? 1 : -1) << " " << (i & 2 ? 1 : -1) << " " << (i & 4 ? 1 : -1) << "\n";
+    f << "f 1 5 7 3\nf 2 4 8 6\nf 1 2 6 5\nf 3 7 8 4\nf 1 3 4 2\nf 5 6 8 7\n";
+  }
+  const std::string grid = "for i in 0 .. 4 { for j in 0 .. 3 { ";
+  const std::string place = " translate <-1.8 + 1.2 * i, 0, 1.2 * j> } } }";
+  const std::vector<Pair> pairs = {
+      {"lens vs sphere", grid + "sphere { radius 0.5 material diffuse 0.8 " + place,
+       grid +
+           "intersection { sphere { center <0, 0, 0.3> radius 0.6 } sphere { center <0, 0, "
+           "-0.3> radius 0.6 } material diffuse 0.8 " +
+           place},
+      {"bite vs box",
+       grid + "box { min <-0.45, -0.45, -0.45> max <0.45, 0.45, 0.45> material diffuse 0.8 " +
+           place,
+       grid +
+           "difference { box { min <-0.45, -0.45, -0.45> max <0.45, 0.45, 0.45> } sphere { "
+           "center <0.45, 0.45, -0.45> radius 0.4 } material diffuse 0.8 " +
+           place},
+      {"mesh bite vs box",
+       grid + "box { min <-0.45, -0.45, -0.45> max <0.45, 0.45, 0.45> material diffuse 0.8 " +
+           place,
+       grid + "difference { mesh { file \"" + cube +
+           "\" scale 0.45 } sphere { center <0.45, 0.45, -0.45> radius 0.4 } material diffuse "
+           "0.8 " +
+           place},
+  };
+  std::printf("CSG: %ux%u, %u spp, 1 thread, median of %d\n", res, res * 3 / 4, spp, repeats);
+  std::printf("%-18s %14s %14s %8s\n", "pair", "plain ns/spl", "CSG ns/spl", "ratio");
+  for (const Pair& p : pairs) {
+    ir::Scene a = compile_scene(p.plain, res, spp), b = compile_scene(p.csg, res, spp);
+    rt::RenderOptions o;
+    o.threads = 1;
+    std::vector<double> ta, tb;
+    double samples = double(res) * (res * 3 / 4) * spp;
+    for (int r = 0; r < repeats; ++r) {
+      ta.push_back(rt::render(a, o).stats.render_seconds);
+      tb.push_back(rt::render(b, o).stats.render_seconds);
+    }
+    double x = median(ta) / samples * 1e9, y = median(tb) / samples * 1e9;
+    std::printf("%-18s %14.1f %14.1f %8.2f\n", p.name, x, y, y / x);
+    std::fflush(stdout);
+  }
+
+  std::string sphere = "\"" + write_sphere_obj(dir, tris) + "\"";
+  auto layout = [&](long n, const std::string& obj) {
+    return "for k in 0 .. " + std::to_string(n) + " { " + obj +
+           " scale 0.1 translate <-2 + 0.2 * (k % 20), 0.1 * floor(k / 400), 0.2 * floor((k % 400) "
+           "/ 20)> } }";
+  };
+  auto measure = [&](const char* name, const std::string& body) {
+    ir::Scene s = compile_scene(body, 160, 1);
+    double before = rss_mib(), peak = before;
+    auto t0 = std::chrono::steady_clock::now();
+    rt::RenderOptions o;
+    o.threads = 1;
+    // Sampled while the render runs, when the built scene is alive.
+    o.progress = [&](double) { peak = std::fmax(peak, rss_mib()); };
+    rt::render(s, o);
+    double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::printf("%-24s %8.0f MiB while rendering %8.2f s build+render\n", name, peak - before,
+                secs);
+    std::fflush(stdout);
+    return secs;
+  };
+  std::printf(
+      "\nInstances: a %ld-triangle mesh, 160x120, 1 spp (resident memory during the "
+      "render less before it)\n",
+      tris);
+  std::string n = std::to_string(copies);
+  double tc = measure(("copies x" + n).c_str(),
+                      layout(copies, "mesh { file " + sphere + " material diffuse 0.8"));
+  double ti = measure(("instances x" + n).c_str(), "let m = mesh { file " + sphere +
+                                                       " material diffuse 0.8 };\n" +
+                                                       layout(copies, "object { m"));
+  std::printf("%-24s %8.2f\n", "time, copies / instances", tc / ti);
+  measure(("instances x" + std::to_string(instances)).c_str(), "let m = mesh { file " + sphere +
+                                                                   " material diffuse 0.8 };\n" +
+                                                                   layout(instances, "object { m"));
+  std::error_code ec;
+  fs::remove_all(dir, ec);
+  return 0;
+}
