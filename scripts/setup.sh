@@ -19,6 +19,7 @@ packages=(
   catch2 libcli11-dev libfmt-dev nlohmann-json3-dev libtinyobjloader-dev
 )
 if [ "$mode" = test ]; then packages+=(clang libclang-rt-dev clang-format); fi   # the fuzz target (libFuzzer runtime); the format test
+if [ "$mode" = test ]; then packages+=(python3 python3-venv); fi   # the LSP tests' venv (pytest-lsp)
 
 missing=()
 for p in "${packages[@]}"; do
@@ -46,6 +47,15 @@ case "$mode" in
     echo "setup: rendered showcase.png and showcase.exr"
     ;;
   test)
+    # 0. The LSP tests' client (tests/lsp/pytest): pytest-lsp from PyPI in a venv,
+    #    made only when missing. Debian's python3, whatever else is on PATH.
+    venv="${SNELL_LSP_VENV:-$here/build/lsp-venv}"
+    if ! "$venv/bin/python" -c 'import pytest_lsp' 2>/dev/null; then
+      echo "setup: making $venv (pytest-lsp)"
+      rm -rf "$venv"
+      /usr/bin/python3 -m venv "$venv"
+      "$venv/bin/pip" install -q pytest-lsp==1.0.1
+    fi
     # 1. Every test on the release build.
     ctest --preset release -j "$jobs"
     # 2. The same code under AddressSanitizer + UBSan (build/asan-ubsan): the

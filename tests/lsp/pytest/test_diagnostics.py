@@ -1,0 +1,55 @@
+"""Diagnostics: exact ranges, severities, [Kind] codes, notes as related
+information, debounced updates on change, and imports from unsaved buffers."""
+from conftest import find, open_doc
+from lsprotocol import types
+
+
+async def test_unknown_property_range_code_and_note(client, tmp_path):
+    text = "camera { location <0, 1, -5> look_at <0, 1, 0> }\nsphere { radus 1 }\n"
+    uri = await open_doc(client, tmp_path / "a.scn", text)
+    diags = client.diagnostics[uri]
+    assert len(diags) >= 1
+    d = diags[0]
+    assert d.severity == types.DiagnosticSeverity.Error
+    assert d.code == "UnknownProperty"
+    assert d.source == "snell"
+    assert d.range.start == find(text, "radus")
+    assert d.range.end == find(text, "radus", delta=5)
+    notes = [r.message for r in d.related_information or []]
+    assert any("radius" in n for n in notes), notes
+
+
+async def test_syntax_error_and_warning_severity(client, tmp_path):
+    text = "let x = (1 + ;\n"
+    uri = await open_doc(client, tmp_path / "b.scn", text)
+    codes = [d.code for d in client.diagnostics[uri]]
+    assert "ExpectedExpression" in codes, codes
+    # A warning: a material that gives back more light than it gets.
+    text2 = "sphere { radius 1 material mirror 1.2 }\n"
+    uri2 = await open_doc(client, tmp_path / "c.scn", text2)
+    sev = {d.code: d.severity for d in client.diagnostics[uri2]}
+    assert sev.get("EnergyGain") == types.DiagnosticSeverity.Warning, sev
+
+
+async def test_change_updates_diagnostics(client, tmp_path):
+    text = "sphere { radius -1 }\n"
+    uri = await open_doc(client, tmp_path / "d.scn", text)
+    assert [d.code for d in client.diagnostics[uri]] == ["InvalidValue"]
+    client.text_document_did_change(
+        types.DidChangeTextDocumentParams(
+            text_document=types.VersionedTextDocumentIdentifier(uri=uri, version=2),
+            content_changes=[types.TextDocumentContentChangeWholeDocument(text="sphere { radius 1 }\n")],
+        )
+    )
+    await client.wait_for_notification(types.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
+    assert list(client.diagnostics[uri]) == []
+
+
+async def test_unsaved_import_wins_over_disk(client, tmp_path):
+    (tmp_path / "lib.scn").write_text("let size = 1;\n")
+    main = 'import "lib.scn";\nsphere { radius size }\n'
+    # The open, unsaved lib.scn says size is negative: the main scene sees that.
+    await open_doc(client, tmp_path / "lib.scn", "let size = -2;\n")
+    uri = await open_doc(client, tmp_path / "main.scn", main)
+    codes = [d.code for d in client.diagnostics[uri]]
+    assert codes == ["InvalidValue"], codes
