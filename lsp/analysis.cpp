@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <unordered_set>
 
 #include "compiler/value.hpp"
 #include "language/parser.hpp"
@@ -285,11 +286,9 @@ std::vector<const Definition*> Analysis::visible_at(std::uint32_t offset) const 
     return x->visible_begin > y->visible_begin;
   });
   std::vector<const Definition*> unique;
-  for (const Definition* d : out) {
-    bool seen = false;
-    for (const Definition* u : unique) seen = seen || u->name == d->name;
-    if (!seen) unique.push_back(d);
-  }
+  std::unordered_set<std::string_view> seen;
+  for (const Definition* d : out)
+    if (seen.insert(d->name).second) unique.push_back(d);
   return unique;
 }
 
