@@ -27,10 +27,10 @@ for p in "${packages[@]}"; do
     missing+=("$p")
   fi
 done
+sudo=""
+if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
 if [ ${#missing[@]} -gt 0 ]; then
   echo "setup: installing ${missing[*]}"
-  sudo=""
-  if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
   export DEBIAN_FRONTEND=noninteractive
   $sudo apt-get update -qq
   $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
@@ -56,6 +56,13 @@ case "$mode" in
       /usr/bin/python3 -m venv "$venv"
       "$venv/bin/pip" install -q pytest-lsp==1.0.1
     fi
+    # The VS Code extension's npm tools (grammar tests, vsce), only when missing.
+    # Debian's nodejs + npm unless a node is already there (nodesource's bundles npm).
+    if ! command -v npm >/dev/null; then
+      DEBIAN_FRONTEND=noninteractive $sudo apt-get update -qq
+      DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends nodejs npm
+    fi
+    bash scripts/package_vscode.sh test
     # 1. Every test on the release build.
     ctest --preset release -j "$jobs"
     # 2. The same code under AddressSanitizer + UBSan (build/asan-ubsan): the
