@@ -57,3 +57,15 @@ async def test_imports(client, tmp_path):
     assert "mine.scn" in got  # beside the file
     assert "colors.scn" in got and "materials.scn" in got  # the standard library
     assert "i.scn" not in got  # never itself
+
+
+async def test_nested_and_group_blocks(client, tmp_path):
+    text = "union {\n  sphere { radius 1 }\n  \n}\nbox { min <0,0,0> max <1,1,1> motion {  } }\n"
+    uri = await open_doc(client, tmp_path / "n.scn", text)
+    # In a CSG body: statements and the object properties.
+    got = await labels(client, uri, types.Position(line=2, character=2))
+    assert {"sphere", "let", "translate", "material"} <= got
+    # In motion { }: only motion's properties.
+    got = await labels(client, uri, find(text, "{  }", delta=2))
+    assert {"translate", "rotate", "scale"} <= got
+    assert "min" not in got and "material" not in got

@@ -53,3 +53,28 @@ async def test_unsaved_import_wins_over_disk(client, tmp_path):
     uri = await open_doc(client, tmp_path / "main.scn", main)
     codes = [d.code for d in client.diagnostics[uri]]
     assert codes == ["InvalidValue"], codes
+
+
+async def test_error_in_an_import_shows_at_the_import(client, tmp_path):
+    (tmp_path / "broken.scn").write_text("let a = ;\n")
+    text = 'import "broken.scn";\nsphere { radius 1 }\n'
+    uri = await open_doc(client, tmp_path / "m.scn", text)
+    diags = client.diagnostics[uri]
+    assert len(diags) == 1
+    d = diags[0]
+    assert d.code == "ExpectedExpression"
+    assert d.range.start == find(text, '"broken.scn"')
+    assert "broken.scn:1:9" in d.message
+    where = d.related_information[0].location
+    assert where.uri == (tmp_path / "broken.scn").as_uri()
+    assert where.range.start == types.Position(line=0, character=8)
+
+
+async def test_utf16_columns(client, tmp_path):
+    # é is one UTF-16 unit (two bytes), 𝛼 two units (four bytes).
+    text = 'let s = "é𝛼"; sphere { radus 1 }\n'
+    uri = await open_doc(client, tmp_path / "u.scn", text)
+    d = client.diagnostics[uri][0]
+    col = text.index("radus") + 1  # + 1: the astral letter counts twice
+    assert d.range.start == types.Position(line=0, character=col)
+    assert d.range.end == types.Position(line=0, character=col + 5)

@@ -96,3 +96,16 @@ async def test_document_symbols(client, tmp_path):
     pillar = next(s for s in syms if s.name == "pillar")
     assert [c.name for c in pillar.children] == ["box"]
     assert pillar.selection_range.start == find(SCENE, "pillar")
+
+
+async def test_hover_in_groups_and_constructors(client, tmp_path):
+    text = "union {\n  sphere { radius 1 }\n  translate <0, 1, 0>\n}\nlet g = dielectric { ior 1.5 };\n"
+    uri = await open_doc(client, tmp_path / "h.scn", text)
+    t = await hover_text(client, uri, find(text, "translate", delta=2))
+    assert "property of `object`" in t and "may repeat" in t
+    t = await hover_text(client, uri, find(text, "ior", delta=1))
+    assert "property of `dielectric`" in t
+    t = await hover_text(client, uri, find(text, "dielectric", delta=1))
+    assert "material constructor" in t
+    t = await hover_text(client, uri, find(text, "union", delta=1))
+    assert "CSG" in t
