@@ -6,8 +6,10 @@
 //   property name    the block's properties not yet given (repeatable ones always)
 //   value            names in scope, builtins, constructors, object blocks
 //   import "…"       .scn files where imports are searched (§9)
+//   NAME "…"         the spellings of an enum property (settings { sampler "…" })
 // Every block, property, builtin and constructor name comes from the compiler's tables.
 #include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <set>
 
@@ -54,11 +56,28 @@ struct Frame {
   std::set<std::string> given;
 };
 
+const compile::PropInfo* prop_of(const Frame& f, std::string_view name) {
+  if (f.kind == Frame::Statements || name.empty()) return nullptr;
+  const compile::BlockInfo* b = compile::find_block(f.kind == Frame::Instance ? "object" : f.block);
+  return b ? compile::find_prop(*b, name) : nullptr;
+}
+
 bool is_prop_of(const Frame& f, std::string_view name) {
-  if (f.kind == Frame::Statements) return false;
-  const compile::BlockInfo* b = compile::find_block(f.kind == Frame::Block ? f.block : "object");
-  if (f.kind == Frame::Group) b = compile::find_block(f.block);
-  return b && compile::find_prop(*b, name);
+  return prop_of(f, name) != nullptr;
+}
+
+// The spellings a settings enum property takes (runtime/ir/kinds.def).
+std::vector<std::string_view> enum_spellings(compile::PropType t) {
+  switch (t) {
+#define SNELL_ENUM(Type, VALUES)              \
+  case compile::PropType::Type: {             \
+    const auto s = ir::spellings<ir::Type>(); \
+    return {std::begin(s), std::end(s)};      \
+  }
+#include "runtime/ir/kinds.def"
+    default:
+      return {};
+  }
 }
 
 // True when a value may end with this token (so a property name or a new
@@ -194,23 +213,33 @@ json completion(const Locator& at, std::string_view text, std::uint32_t offset,
   json out = json::array();
   offset = std::min<std::uint32_t>(offset, static_cast<std::uint32_t>(text.size()));
   std::uint32_t open = 0;
-  if (in_string(text, offset, open)) {
+  bool string = in_string(text, offset, open);
+  // The word before an opening quote: `import "…"`, or a property `sampler "…"`.
+  std::string_view before_quote;
+  if (string) {
     std::uint32_t k = open;
     while (k > 0 && (text[k - 1] == ' ' || text[k - 1] == '\t')) --k;
-    if (k >= 6 && text.substr(k - 6, 6) == "import")
+    std::uint32_t w = k;
+    while (w > 0 && (std::isalnum(static_cast<unsigned char>(text[w - 1])) || text[w - 1] == '_'))
+      --w;
+    before_quote = text.substr(w, k - w);
+    if (before_quote == "import") {
       add_imports(a, text.substr(open + 1, offset - open - 1), options, out);
+      return out;
+    }
+  } else if (in_line_comment(text, offset)) {
     return out;
   }
-  if (in_line_comment(text, offset)) return out;
 
   lang::SourceManager sources;
   lang::DiagnosticEngine diags(sources);
   diags.set_max_errors(1);
+  std::uint32_t until = string ? open : offset;
   std::vector<lang::Token> tokens =
-      lang::lex(sources, sources.add("completion", std::string(text.substr(0, offset))), diags);
+      lang::lex(sources, sources.add("completion", std::string(text.substr(0, until))), diags);
   // The word being typed is not context.
   std::size_t n = tokens.size() - 1;  // without EndOfFile
-  if (n > 0 && tokens[n - 1].span.end == offset &&
+  if (!string && n > 0 && tokens[n - 1].span.end == offset &&
       (tokens[n - 1].kind == TokenKind::Identifier ||
        lang::keyword_kind(tokens[n - 1].text) != TokenKind::Identifier))
     --n;
@@ -237,6 +266,13 @@ json completion(const Locator& at, std::string_view text, std::uint32_t offset,
     } else if (t.kind == TokenKind::Identifier && is_prop_of(frames.back(), t.text)) {
       frames.back().given.insert(std::string(t.text));
     }
+  }
+  if (string) {
+    // An enum property's spellings (settings { sampler "…" }).
+    if (const compile::PropInfo* p = prop_of(frames.back(), before_quote))
+      for (std::string_view v : enum_spellings(p->type))
+        out.push_back(item(std::string(v), kValue, compile::describe(*p)));
+    return out;
   }
   const Frame& f = frames.back();
   const lang::Token* prev = n > 0 ? &tokens[n - 1] : nullptr;

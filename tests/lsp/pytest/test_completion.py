@@ -69,3 +69,10 @@ async def test_nested_and_group_blocks(client, tmp_path):
     got = await labels(client, uri, find(text, "{  }", delta=2))
     assert {"translate", "rotate", "scale"} <= got
     assert "min" not in got and "material" not in got
+
+
+async def test_enum_spellings_in_strings(client, tmp_path):
+    text = 'settings { sampler "" }\n'
+    uri = await open_doc(client, tmp_path / "e.scn", text)
+    got = await labels(client, uri, find(text, '""', delta=1))
+    assert "stratified" in got  # runtime/ir/kinds.def's SamplerKind
