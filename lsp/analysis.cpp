@@ -38,6 +38,11 @@ class Walker {
     std::uint32_t end = static_cast<std::uint32_t>(a_.main_file().text().size());
     walk(p->statements, end, true);
     resolve();
+    // The walk visits an if's conditions before its branches: put the names back
+    // in source order for reference_at's binary search.
+    std::stable_sort(a_.refs.begin(), a_.refs.end(), [](const Reference& x, const Reference& y) {
+      return x.span.begin < y.span.begin;
+    });
   }
 
  private:

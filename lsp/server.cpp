@@ -97,6 +97,15 @@ json Server::dispatch(const std::string& method, const json& params, bool& handl
     return nullptr;
   }
   if (method == "textDocument/didSave") return nullptr;
+  if (method == "workspace/didChangeWatchedFiles") {
+    // A .scn file changed on disk (an import edited elsewhere): analyse again.
+    auto due = Clock::now() + std::chrono::milliseconds(options_.debounce_ms);
+    for (auto& [u, d] : docs_) {
+      d.stale = true;
+      d.due = due;
+    }
+    return nullptr;
+  }
   if (method == "textDocument/hover" || method == "textDocument/definition" ||
       method == "textDocument/completion" || method == "textDocument/documentSymbol") {
     Document* doc = document(params);

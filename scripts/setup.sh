@@ -66,7 +66,7 @@ case "$mode" in
     # 1. Every test on the release build.
     ctest --preset release -j "$jobs"
     # 2. The same code under AddressSanitizer + UBSan (build/asan-ubsan): the
-    #    language, compiler, runtime and hard-case tests (e2e and conformance need
+    #    language, compiler, runtime, hard-case and in-memory LSP tests (e2e and conformance need
     #    the CLI's full renders and stay release-only, for time). UBSan aborts on the
     #    first report (-fno-sanitize-recover). The test preset sets the sanitizer
     #    options: leak suppressions (tests/fuzz/lsan.supp), and
@@ -75,9 +75,9 @@ case "$mode" in
     #    the 1-byte interface type (inside libOpenImageIO, not fixable here).
     cmake --preset asan-ubsan >/dev/null
     cmake --build --preset asan-ubsan -j "$jobs" \
-      --target test_language test_compiler test_runtime test_hardcases
+      --target test_language test_compiler test_runtime test_hardcases test_lsp
     # (-LE: conformance cases carry layer tags too, and need the CLI.)
-    ctest --preset asan-ubsan -j "$jobs" -L '^(language|compiler|runtime|hardcases)$' \
+    ctest --preset asan-ubsan -j "$jobs" -L '^(language|compiler|runtime|hardcases|lsp)$' \
       -LE '^(conformance|e2e|cli)$' --timeout 600
     # 3. A bounded fuzzing run of the front end and compiler (clang, libFuzzer).
     bash bench/fuzz.sh "${SNELL_FUZZ_SECONDS:-60}"

@@ -21,6 +21,8 @@ async function activate(context) {
       { scheme: "file", language: "snell" },
       { scheme: "untitled", language: "snell" },
     ],
+    // An imported file changed outside the editor: the server analyses again.
+    synchronize: { fileEvents: vscode.workspace.createFileSystemWatcher("**/*.scn") },
   });
   context.subscriptions.push(
     vscode.workspace.onDidChangeConfiguration(async (e) => {

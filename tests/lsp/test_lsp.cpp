@@ -146,7 +146,9 @@ TEST_CASE("server: a 1000-line scene is analysed well under 100 ms", "[lsp]") {
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   CHECK(h["result"]["contents"]["value"].get<std::string>().find("sphere") != std::string::npos);
   WARN("re-analysis and hover of a 1000-line scene: " << ms << " ms");
+#ifndef __SANITIZE_ADDRESS__  // the sanitizers' build is several times slower by design
   CHECK(ms < 100);
+#endif
 }
 
 TEST_CASE("server: random edits and bytes never crash it", "[lsp]") {

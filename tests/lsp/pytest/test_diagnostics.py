@@ -78,3 +78,18 @@ async def test_utf16_columns(client, tmp_path):
     col = text.index("radus") + 1  # + 1: the astral letter counts twice
     assert d.range.start == types.Position(line=0, character=col)
     assert d.range.end == types.Position(line=0, character=col + 5)
+
+
+async def test_an_import_changed_on_disk(client, tmp_path):
+    lib = tmp_path / "lib2.scn"
+    lib.write_text("let size = 1;\n")
+    uri = await open_doc(client, tmp_path / "w.scn", 'import "lib2.scn";\nsphere { radius size }\n')
+    assert list(client.diagnostics[uri]) == []
+    lib.write_text("let size = -1;\n")
+    client.workspace_did_change_watched_files(
+        types.DidChangeWatchedFilesParams(
+            changes=[types.FileEvent(uri=lib.as_uri(), type=types.FileChangeType.Changed)]
+        )
+    )
+    await client.wait_for_notification(types.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
+    assert [d.code for d in client.diagnostics[uri]] == ["InvalidValue"]

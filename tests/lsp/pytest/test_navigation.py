@@ -109,3 +109,16 @@ async def test_hover_in_groups_and_constructors(client, tmp_path):
     assert "material constructor" in t
     t = await hover_text(client, uri, find(text, "union", delta=1))
     assert "CSG" in t
+
+
+async def test_names_in_if_branches(client, tmp_path):
+    # The conditions of an if come before its branches in the tree's walk, not in the text.
+    text = "let a = 1;\nlet b = 2;\nif a > 0 { sphere { radius b } } else if b > 0 { sphere { radius a } }\n"
+    uri = await open_doc(client, tmp_path / "if.scn", text)
+    for needle, target in (("radius b", "b = 2"), ("radius a", "a = 1"), ("b > 0", "b = 2")):
+        delta = 7 if needle.startswith("radius") else 0
+        loc = await client.text_document_definition_async(
+            types.DefinitionParams(text_document=doc(uri), position=find(text, needle, delta=delta))
+        )
+        loc = loc[0] if isinstance(loc, list) else loc
+        assert loc.range.start == find(text, target), needle
