@@ -64,3 +64,20 @@ def test_exit_without_shutdown_is_status_1():
     p = subprocess.run([SNELL, "lsp"], input=b"Content-Length: %d\r\n\r\n%s" % (len(body), body),
                        capture_output=True, timeout=30)
     assert p.returncode == 1
+
+
+async def test_a_runaway_loop_is_stopped_by_the_step_budget(client, tmp_path):
+    import time
+
+    text = "for i in 0 .. 1e12 { sphere { center <i, 0, 0> radius 1 } }\n"
+    t0 = time.monotonic()
+    uri = await open_doc(client, tmp_path / "loop.scn", text)
+    assert "StepBudget" in [d.code for d in client.diagnostics[uri]]
+    h = await client.text_document_hover_async(
+        types.HoverParams(
+            text_document=types.TextDocumentIdentifier(uri=uri),
+            position=types.Position(line=0, character=23),
+        )
+    )
+    assert h is not None and "sphere" in h.contents.value
+    assert time.monotonic() - t0 < 5  # 5M steps: about 0.2 s here
