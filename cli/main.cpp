@@ -15,6 +15,7 @@
 #include "cli/sweep.hpp"
 #include "compiler/compile.hpp"
 #include "language/parser.hpp"
+#include "lsp/server.hpp"
 #include "runtime/render.hpp"
 
 namespace {
@@ -226,6 +227,14 @@ int dispatch(unsigned command, const cli::CliArgs& o) {
       return run_check(o);
     case cli::DumpAst:
       return dump_ast(o.scene);
+    case cli::Lsp: {
+      lsp::ServerOptions so;
+      so.include_dirs = o.include_dirs;
+      // The render default is far too much work per keystroke: the server's own
+      // budget applies unless --max-steps says otherwise.
+      if (o.max_steps != compile::kDefaultStepBudget) so.step_budget = o.max_steps;
+      return lsp::run_stdio(so);
+    }
     case cli::Sweep: {
       cli::SweepOptions so = o.sweep;
       so.scene = o.scene;

@@ -20,7 +20,7 @@ class App;
 namespace snell::cli {
 
 // A bit each, so a row can name several.
-enum Command : unsigned { Render = 1, Check = 2, Sweep = 4, DumpAst = 8 };
+enum Command : unsigned { Render = 1, Check = 2, Sweep = 4, DumpAst = 8, Lsp = 16 };
 
 struct CommandInfo {
   Command id;
@@ -35,6 +35,7 @@ inline constexpr CommandInfo kCommands[] = {
     {Sweep, "sweep",
      "render a scene across settings: time and error against a converged reference"},
     {DumpAst, "dump-ast", "print the syntax tree of a .scn file"},
+    {Lsp, "lsp", "serve the Language Server Protocol on stdin/stdout (for editors)"},
 };
 
 // What CLI11 checks beyond the value's type.

@@ -7,6 +7,7 @@ find_package(OpenImageIO 2.4 REQUIRED)   # needs openimageio-tools installed (De
 find_package(fmt REQUIRED)
 find_package(CLI11 REQUIRED)
 find_package(tinyobjloader REQUIRED)
+find_package(nlohmann_json 3.11 REQUIRED) # nlohmann_json::nlohmann_json (snell lsp)
 
 # Debian bug 2: the OIIO target lists /usr/include/opencv4, which does not exist
 # unless libopencv-dev is installed.

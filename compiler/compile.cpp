@@ -98,6 +98,42 @@ std::vector<std::string_view> setting_keys() {
   return keys;
 }
 
+std::string canonical_path(const std::string& path) {
+  std::error_code ec;
+  fs::path c = fs::weakly_canonical(path, ec);
+  return ec ? fs::path(path).lexically_normal().string() : c.string();
+}
+
+std::string find_import(const std::string& name, const std::string& from,
+                        const CompileOptions& options, std::vector<std::string>* searched,
+                        bool* skipped_self) {
+  std::vector<fs::path> dirs;
+  if (!from.empty()) dirs.push_back(fs::path(from).parent_path());
+  for (const std::string& d : options.include_dirs) dirs.push_back(d);
+  dirs.push_back(stdlib_dir(options));
+  if (searched)
+    for (const fs::path& d : dirs) searched->push_back(d.string());
+  // An open editor buffer counts as a file even before it is saved.
+  auto exists = [&](const fs::path& p) {
+    std::error_code ec;
+    return fs::is_regular_file(p, ec) || (options.overlay && options.overlay(canonical_path(p)));
+  };
+  if (fs::path(name).is_absolute()) return exists(name) ? name : "";
+  // A file never means to import itself: `materials.scn` in a user's folder
+  // that imports "materials.scn" gets the standard library's.
+  std::string self = from.empty() ? "" : canonical_path(from);
+  for (const fs::path& d : dirs) {
+    fs::path p = d / name;
+    if (!exists(p)) continue;
+    if (canonical_path(p) == self) {
+      if (skipped_self) *skipped_self = true;
+      continue;
+    }
+    return p.string();
+  }
+  return "";
+}
+
 namespace {
 
 class Driver {
@@ -111,32 +147,10 @@ class Driver {
   }
 
   const ImportedFile* load_import(const std::string& name, lang::Span span) {
-    std::vector<fs::path> dirs;
-    if (span.file < c_.sources.size())
-      dirs.push_back(fs::path(c_.sources.file(span.file).path()).parent_path());
-    for (const std::string& d : opts_.include_dirs) dirs.push_back(d);
-    dirs.push_back(stdlib_dir(opts_));
-    std::error_code ec;
-    fs::path found;
+    std::string from = span.file < c_.sources.size() ? c_.sources.file(span.file).path() : "";
+    std::vector<std::string> dirs;
     bool skipped_self = false;
-    if (fs::path(name).is_absolute()) {
-      if (fs::is_regular_file(name, ec)) found = name;
-    } else {
-      // A file never means to import itself: `materials.scn` in a user's folder
-      // that imports "materials.scn" gets the standard library's.
-      std::string self =
-          span.file < c_.sources.size() ? canonical(c_.sources.file(span.file).path()) : "";
-      for (const fs::path& d : dirs) {
-        fs::path p = d / name;
-        if (!fs::is_regular_file(p, ec)) continue;
-        if (canonical(p) == self) {
-          skipped_self = true;
-          continue;
-        }
-        found = p;
-        break;
-      }
-    }
+    fs::path found = find_import(name, from, opts_, &dirs, &skipped_self);
     if (found.empty() && skipped_self) {
       c_.diags.report(DiagKind::ImportCycle, span,
                       "'" + name + "' is this file: a file cannot import itself");
@@ -145,7 +159,7 @@ class Driver {
     if (found.empty()) {
       auto d = c_.diags.report(DiagKind::ImportNotFound, span, "cannot find '" + name + "'");
       std::string where;
-      for (const fs::path& dir : dirs) where += (where.empty() ? "" : ", ") + dir.string();
+      for (const std::string& dir : dirs) where += (where.empty() ? "" : ", ") + dir;
       d.note("searched: " + where);
       return nullptr;
     }
@@ -153,7 +167,10 @@ class Driver {
     if (auto it = cache_.find(key); it != cache_.end())
       return it->second.program ? &it->second : nullptr;
     std::string text, message;
-    if (!read_file(found.string(), text, message)) {
+    const std::string* open = opts_.overlay ? opts_.overlay(key) : nullptr;
+    if (open) {
+      text = *open;
+    } else if (!read_file(found.string(), text, message)) {
       c_.diags.report(DiagKind::FileUnreadable, span, message);
       cache_[key] = {0, nullptr};
       return nullptr;
@@ -166,11 +183,7 @@ class Driver {
     return ok ? &cache_[key] : nullptr;
   }
 
-  static std::string canonical(const fs::path& p) {
-    std::error_code ec;
-    fs::path c = fs::weakly_canonical(p, ec);
-    return ec ? p.lexically_normal().string() : c.string();
-  }
+  static std::string canonical(const fs::path& p) { return canonical_path(p.string()); }
 
   // The main file is in the import cache too, so importing it is a cycle, not a
   // second run.
@@ -284,6 +297,7 @@ std::unique_ptr<Compilation> compile_source(const std::string& path, std::string
         c->sources, c->diags, builder,
         [&](const std::string& name, lang::Span span) { return driver.load_import(name, span); },
         options.step_budget);
+    if (options.on_define) eval.set_define_observer(options.on_define);
     // The main file counts as imported: importing it again is a cycle.
     eval.run_file(*program);
     if (c->diags.has_errors()) return;

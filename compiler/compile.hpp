@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <utility>
@@ -23,7 +24,24 @@ struct CompileOptions {
   std::size_t max_errors = 20;
   std::uint64_t step_budget = kDefaultStepBudget;
   std::string stdlib_dir;  // empty: $SNELL_STDLIB, else the installed/build stdlib
+  // Editors (snell lsp): the text of a file the scene imports that is open and
+  // perhaps unsaved, by its canonical path, or null to read the disk. Such a
+  // file counts as existing even before it is first saved.
+  std::function<const std::string*(const std::string& canonical_path)> overlay;
+  // Editors: sees every value bound by let, fn and a call's parameters (for
+  // hovers that show a name's type). Null in the CLI.
+  DefineObserver on_define;
 };
+
+// Where `import "NAME";` written in the file `from` finds its file, searched as
+// the compiler does (§9: the importing file's folder, each -I folder, the standard
+// library; a file never imports itself); empty when nowhere. `searched` gets the
+// folders tried, `skipped_self` whether the only match was `from` itself.
+std::string find_import(const std::string& name, const std::string& from,
+                        const CompileOptions& options, std::vector<std::string>* searched = nullptr,
+                        bool* skipped_self = nullptr);
+// A path as the import cache keys it (weakly canonical).
+std::string canonical_path(const std::string& path);
 
 enum class CompileStatus {
   Ok,

@@ -56,6 +56,7 @@ bool Evaluator::step_exhausted(Span at) {
 
 void Evaluator::define(const std::shared_ptr<Env>& env, std::int32_t symbol, Value v, Span span) {
   symbol_bound_[symbol] = 1;
+  if (on_define_) on_define_(span, v);
   if (Binding* old = env->find_local(symbol)) {
     // An imported name is a library default: the file's own definition replaces it
     // (`import "materials.scn"; let glass = ...;` is the core's own example).

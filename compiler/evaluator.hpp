@@ -56,6 +56,8 @@ struct ImportedFile {
   const lang::Program* program;
 };
 using ImportLoader = std::function<const ImportedFile*(const std::string& path, lang::Span span)>;
+// Sees each binding as it is made (the name's span and its value); editors use it.
+using DefineObserver = std::function<void(lang::Span name, const Value& value)>;
 
 class Evaluator {
  public:
@@ -75,6 +77,7 @@ class Evaluator {
   Value eval_standalone(const lang::Expr& expr);
 
   std::uint64_t steps() const { return steps_; }
+  void set_define_observer(DefineObserver observer) { on_define_ = std::move(observer); }
 
  private:
   // §15: compiles user functions to shading programs with the evaluator's names,
@@ -221,6 +224,7 @@ class Evaluator {
   SceneBuilder& builder_;
   ImportLoader loader_;
   std::uint64_t step_budget_;
+  DefineObserver on_define_;
   std::uint64_t steps_ = 0;
   int depth_ = 0;
   bool aborted_ = false;  // recursion limit or step budget: stop everything

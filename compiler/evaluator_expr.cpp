@@ -360,6 +360,8 @@ Value Evaluator::call_user(const Closure& fn, std::vector<Value>& args, const Ex
   scope->parent = fn.env;
   scope->vars.reserve(args.size());
   for (std::size_t i = 0; i < args.size(); ++i) {
+    if (on_define_) [[unlikely]]
+      on_define_(def.param_spans[i], args[i]);
     scope->vars.push_back({fn.params[i], std::move(args[i]), def.param_spans[i], false});
   }
   ++depth_;

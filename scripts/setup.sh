@@ -19,6 +19,7 @@ packages=(
   catch2 libcli11-dev libfmt-dev nlohmann-json3-dev libtinyobjloader-dev
 )
 if [ "$mode" = test ]; then packages+=(clang libclang-rt-dev clang-format); fi   # the fuzz target (libFuzzer runtime); the format test
+if [ "$mode" = test ]; then packages+=(python3 python3-venv); fi   # the LSP tests' venv (pytest-lsp)
 
 missing=()
 for p in "${packages[@]}"; do
@@ -26,10 +27,10 @@ for p in "${packages[@]}"; do
     missing+=("$p")
   fi
 done
+sudo=""
+if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
 if [ ${#missing[@]} -gt 0 ]; then
   echo "setup: installing ${missing[*]}"
-  sudo=""
-  if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
   export DEBIAN_FRONTEND=noninteractive
   $sudo apt-get update -qq
   $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
@@ -46,10 +47,26 @@ case "$mode" in
     echo "setup: rendered showcase.png and showcase.exr"
     ;;
   test)
+    # 0. The LSP tests' client (tests/lsp/pytest): pytest-lsp from PyPI in a venv,
+    #    made only when missing. Debian's python3, whatever else is on PATH.
+    venv="${SNELL_LSP_VENV:-$here/build/lsp-venv}"
+    if ! "$venv/bin/python" -c 'import pytest_lsp' 2>/dev/null; then
+      echo "setup: making $venv (pytest-lsp)"
+      rm -rf "$venv"
+      /usr/bin/python3 -m venv "$venv"
+      "$venv/bin/pip" install -q pytest-lsp==1.0.1
+    fi
+    # The VS Code extension's npm tools (grammar tests, vsce), only when missing.
+    # Debian's nodejs + npm unless a node is already there (nodesource's bundles npm).
+    if ! command -v npm >/dev/null; then
+      DEBIAN_FRONTEND=noninteractive $sudo apt-get update -qq
+      DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends nodejs npm
+    fi
+    bash scripts/package_vscode.sh test
     # 1. Every test on the release build.
     ctest --preset release -j "$jobs"
     # 2. The same code under AddressSanitizer + UBSan (build/asan-ubsan): the
-    #    language, compiler, runtime and hard-case tests (e2e and conformance need
+    #    language, compiler, runtime, hard-case and in-memory LSP tests (e2e and conformance need
     #    the CLI's full renders and stay release-only, for time). UBSan aborts on the
     #    first report (-fno-sanitize-recover). The test preset sets the sanitizer
     #    options: leak suppressions (tests/fuzz/lsan.supp), and
@@ -58,9 +75,9 @@ case "$mode" in
     #    the 1-byte interface type (inside libOpenImageIO, not fixable here).
     cmake --preset asan-ubsan >/dev/null
     cmake --build --preset asan-ubsan -j "$jobs" \
-      --target test_language test_compiler test_runtime test_hardcases
+      --target test_language test_compiler test_runtime test_hardcases test_lsp
     # (-LE: conformance cases carry layer tags too, and need the CLI.)
-    ctest --preset asan-ubsan -j "$jobs" -L '^(language|compiler|runtime|hardcases)$' \
+    ctest --preset asan-ubsan -j "$jobs" -L '^(language|compiler|runtime|hardcases|lsp)$' \
       -LE '^(conformance|e2e|cli)$' --timeout 600
     # 3. A bounded fuzzing run of the front end and compiler (clang, libFuzzer).
     bash bench/fuzz.sh "${SNELL_FUZZ_SECONDS:-60}"

@@ -10,5 +10,5 @@ while IFS= read -r f; do
     echo "not formatted: $f (run: clang-format -i $f)"
     bad=1
   fi
-done < <(find language compiler runtime cli bench tests -name '*.cpp' -o -name '*.hpp' | sort)
+done < <(find language compiler runtime cli lsp bench tests -name '*.cpp' -o -name '*.hpp' | sort)
 exit $bad

@@ -87,11 +87,12 @@ TEST_CASE("each subcommand takes exactly the options it took before the table", 
        {"scene", "--vary", "--series", "--repeats", "--reference-spp", "--out", "--markdown",
         "--name", "--res", "--set", "-I", "--threads", "--no-images", "-q,--quiet"}},
       {"dump-ast", {"scene"}},
+      {"lsp", {"-I", "--max-steps"}},
   };
   Line line;
   std::set<std::string> subcommands;
   for (const CLI::App* sub : line.app.get_subcommands({})) subcommands.insert(sub->get_name());
-  CHECK(subcommands == std::set<std::string>{"render", "check", "sweep", "dump-ast"});
+  CHECK(subcommands == std::set<std::string>{"render", "check", "sweep", "dump-ast", "lsp"});
   for (const auto& [name, options] : expected) {
     INFO("snell " << name);
     CLI::App* sub = line.app.get_subcommand(name);
@@ -103,7 +104,9 @@ TEST_CASE("each subcommand takes exactly the options it took before the table", 
       CHECK(opt->get_required() == (n == "scene" || n == "--vary"));
     }
   }
-  // The one option whose help differs by subcommand.
+  // The options whose help differs by subcommand.
+  CHECK(line.app.get_subcommand("lsp")->get_option("--max-steps")->get_description() ==
+        "evaluation step budget per analysis (default 5000000)");
   CHECK(line.app.get_subcommand("render")->get_option("--res")->get_description() ==
         "resolution WIDTHxHEIGHT (overrides settings.resolution)");
   CHECK(line.app.get_subcommand("sweep")->get_option("--res")->get_description() ==
@@ -191,6 +194,12 @@ TEST_CASE("options land in the fields the table names", "[cli][options]") {
     Line line;
     REQUIRE(line.parse("dump-ast d.scn") == cli::DumpAst);
     CHECK(line.args.scene == "d.scn");
+  }
+  {
+    Line line;
+    REQUIRE(line.parse("lsp -I inc --max-steps 1000") == cli::Lsp);
+    CHECK(line.args.include_dirs == std::vector<std::string>{"inc"});
+    CHECK(line.args.max_steps == 1000);
   }
 }
 

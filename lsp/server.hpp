@@ -1,0 +1,79 @@
+// The language server: LSP lifecycle, open documents and their analyses, and
+// the dispatch of requests to features.hpp. Transport-free (handle() takes a
+// parsed message and answers through a sink) so tests can drive it in memory;
+// run_stdio() is the event loop `snell lsp` runs.
+//
+// Diagnostics are debounced: a change marks its document stale and the
+// analysis runs once the client has been quiet for `debounce_ms` (every open
+// document is re-analysed too, since any may import the changed one). A request
+// about a stale document analyses it first, so answers always match the text.
+#pragma once
+
+#include <chrono>
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "lsp/analysis.hpp"
+#include "lsp/jsonrpc.hpp"
+#include "lsp/text.hpp"
+
+namespace snell::lsp {
+
+struct ServerOptions {
+  std::vector<std::string> include_dirs;  // -I, as the CLI takes them
+  std::uint64_t step_budget = 5'000'000;
+  int debounce_ms = 150;
+};
+
+class Server {
+ public:
+  using Clock = std::chrono::steady_clock;
+  using Sink = std::function<void(const json&)>;
+
+  Server(ServerOptions options, Sink sink);
+
+  // One message from the client (a request, a notification or a response).
+  void handle(const json& message);
+  // Runs the analyses that are due; returns how long until the next is due.
+  std::optional<Clock::duration> tick(Clock::time_point now);
+  bool exit_requested() const { return exit_; }
+  // The process's exit status after `exit` (1 when no `shutdown` came first).
+  int exit_code() const { return shutdown_ ? 0 : 1; }
+
+ private:
+  struct Document {
+    std::string uri, path, canonical;
+    std::string text;
+    std::int64_t version = 0;
+    std::unique_ptr<Analysis> analysis;
+    bool stale = true;
+    Clock::time_point due;
+  };
+
+  json dispatch(const std::string& method, const json& params, bool& handled);
+  json initialize(const json& params);
+  void did_open(const json& params);
+  void did_change(const json& params);
+  void did_close(const json& params);
+  Document* document(const json& params);
+  Document& fresh(Document& doc);  // analysed for its current text
+  void publish(Document& doc);
+  std::uint32_t offset_of(const Document& doc, const json& params) const;
+  AnalysisOptions analysis_options() const;
+
+  ServerOptions options_;
+  Sink send_;
+  Encoding encoding_ = Encoding::Utf16;
+  bool initialized_ = false, shutdown_ = false, exit_ = false;
+  std::map<std::string, Document> docs_;  // by URI
+};
+
+// Serves LSP on stdin/stdout until `exit` or until stdin closes; returns the
+// process's exit status.
+int run_stdio(const ServerOptions& options);
+
+}  // namespace snell::lsp

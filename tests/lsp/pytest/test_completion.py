@@ -1,0 +1,78 @@
+"""Completion: statement level, properties of the enclosing block (only those
+not yet given), values (names in scope, constructors, builtins), imports."""
+from conftest import find, open_doc
+from lsprotocol import types
+
+
+async def labels(client, uri, pos):
+    r = await client.text_document_completion_async(
+        types.CompletionParams(text_document=types.TextDocumentIdentifier(uri=uri), position=pos)
+    )
+    items = r.items if isinstance(r, types.CompletionList) else r
+    return {i.label for i in items}
+
+
+async def test_statement_level(client, tmp_path):
+    text = "let r = 1;\n\n"
+    uri = await open_doc(client, tmp_path / "s.scn", text)
+    got = await labels(client, uri, types.Position(line=1, character=0))
+    assert {"sphere", "camera", "settings", "union", "let", "fn", "import", "r"} <= got
+    assert "radius" not in got
+
+
+async def test_properties_not_yet_given(client, tmp_path):
+    text = "sphere { center <0, 0, 0>  }\n"
+    uri = await open_doc(client, tmp_path / "p.scn", text)
+    got = await labels(client, uri, find(text, "  }", delta=1))
+    assert "radius" in got and "material" in got and "translate" in got
+    assert "center" not in got  # already given
+    assert "camera" not in got  # not a statement here
+    # A transform may repeat.
+    text2 = "box { min <0,0,0> max <1,1,1> translate <1, 0, 0>  }\n"
+    uri2 = await open_doc(client, tmp_path / "q.scn", text2)
+    got = await labels(client, uri2, find(text2, "  }", delta=1))
+    assert "translate" in got and "min" not in got
+
+
+async def test_values(client, tmp_path):
+    text = "let glass = dielectric 1.5;\nsphere { material  }\n"
+    uri = await open_doc(client, tmp_path / "v.scn", text)
+    got = await labels(client, uri, find(text, "material ", delta=9))
+    assert {"glass", "diffuse", "mirror", "dielectric", "sin", "true"} <= got
+    assert "radius" not in got
+
+
+async def test_typing_a_word(client, tmp_path):
+    text = "sphere { rad }\n"
+    uri = await open_doc(client, tmp_path / "w.scn", text)
+    got = await labels(client, uri, find(text, "rad", delta=3))
+    assert "radius" in got
+
+
+async def test_imports(client, tmp_path):
+    (tmp_path / "mine.scn").write_text("let a = 1;\n")
+    text = 'import "\n'
+    uri = await open_doc(client, tmp_path / "i.scn", text)
+    got = await labels(client, uri, types.Position(line=0, character=8))
+    assert "mine.scn" in got  # beside the file
+    assert "colors.scn" in got and "materials.scn" in got  # the standard library
+    assert "i.scn" not in got  # never itself
+
+
+async def test_nested_and_group_blocks(client, tmp_path):
+    text = "union {\n  sphere { radius 1 }\n  \n}\nbox { min <0,0,0> max <1,1,1> motion {  } }\n"
+    uri = await open_doc(client, tmp_path / "n.scn", text)
+    # In a CSG body: statements and the object properties.
+    got = await labels(client, uri, types.Position(line=2, character=2))
+    assert {"sphere", "let", "translate", "material"} <= got
+    # In motion { }: only motion's properties.
+    got = await labels(client, uri, find(text, "{  }", delta=2))
+    assert {"translate", "rotate", "scale"} <= got
+    assert "min" not in got and "material" not in got
+
+
+async def test_enum_spellings_in_strings(client, tmp_path):
+    text = 'settings { sampler "" }\n'
+    uri = await open_doc(client, tmp_path / "e.scn", text)
+    got = await labels(client, uri, find(text, '""', delta=1))
+    assert "stratified" in got  # runtime/ir/kinds.def's SamplerKind

@@ -1,0 +1,124 @@
+"""Hover, go to definition and document symbols."""
+from conftest import find, open_doc
+from lsprotocol import types
+
+SCENE = """import "lib.scn";
+let r = 1.5;
+fn pillar(x, h) { box { min <x - 0.2, 0, -0.2> max <x + 0.2, h, 0.2> } }
+for i in 0 .. 3 { pillar(i * 1.5, r); }
+sphere { center <0, 1, 0> radius r material shiny }
+"""
+LIB = "let shiny = mirror 0.9;\n"
+
+
+async def setup(client, tmp_path):
+    (tmp_path / "lib.scn").write_text(LIB)
+    return await open_doc(client, tmp_path / "scene.scn", SCENE)
+
+
+def doc(uri):
+    return types.TextDocumentIdentifier(uri=uri)
+
+
+async def hover_text(client, uri, pos):
+    h = await client.text_document_hover_async(types.HoverParams(text_document=doc(uri), position=pos))
+    assert h is not None
+    return h.contents.value
+
+
+async def test_hover_property_from_table(client, tmp_path):
+    uri = await setup(client, tmp_path)
+    text = await hover_text(client, uri, find(SCENE, "radius", delta=2))
+    assert "property of `sphere`" in text
+    assert "a number > 0" in text  # compile::describe: type and range
+    assert "default: `1`" in text  # the IR's default
+    text = await hover_text(client, uri, find(SCENE, "min", delta=1))
+    assert "required" in text
+
+
+async def test_hover_block(client, tmp_path):
+    uri = await setup(client, tmp_path)
+    text = await hover_text(client, uri, find(SCENE, "sphere", delta=1))
+    assert "**sphere**" in text and "`center`" in text and "`radius`" in text
+    assert "`material`" in text  # the object properties
+
+
+async def test_hover_names(client, tmp_path):
+    uri = await setup(client, tmp_path)
+    text = await hover_text(client, uri, find(SCENE, "radius r", delta=7))
+    assert "let r" in text and "number" in text and "1.5" in text and "line 2" in text
+    text = await hover_text(client, uri, find(SCENE, "shiny", delta=1))
+    assert "let shiny" in text and "material" in text and "lib.scn:1" in text
+    text = await hover_text(client, uri, find(SCENE, "pillar(i", delta=1))
+    assert "fn pillar(x, h)" in text
+    text = await hover_text(client, uri, find(SCENE, "h, 0.2"))
+    assert "parameter of pillar" in text and "number" in text
+
+
+async def test_definition(client, tmp_path):
+    uri = await setup(client, tmp_path)
+    loc = await client.text_document_definition_async(
+        types.DefinitionParams(text_document=doc(uri), position=find(SCENE, "radius r", delta=7))
+    )
+    loc = loc[0] if isinstance(loc, list) else loc
+    assert loc.uri == uri
+    assert loc.range.start == find(SCENE, "r = 1.5")
+    # Into the imported file.
+    loc = await client.text_document_definition_async(
+        types.DefinitionParams(text_document=doc(uri), position=find(SCENE, "shiny", delta=2))
+    )
+    loc = loc[0] if isinstance(loc, list) else loc
+    assert loc.uri == (tmp_path / "lib.scn").as_uri()
+    assert loc.range.start == types.Position(line=0, character=4)
+    # The import itself opens the file.
+    loc = await client.text_document_definition_async(
+        types.DefinitionParams(text_document=doc(uri), position=find(SCENE, "lib.scn", delta=2))
+    )
+    loc = loc[0] if isinstance(loc, list) else loc
+    assert loc.uri == (tmp_path / "lib.scn").as_uri()
+    # A parameter.
+    loc = await client.text_document_definition_async(
+        types.DefinitionParams(text_document=doc(uri), position=find(SCENE, "x + 0.2"))
+    )
+    loc = loc[0] if isinstance(loc, list) else loc
+    assert loc.range.start == find(SCENE, "x, h")
+
+
+async def test_document_symbols(client, tmp_path):
+    uri = await setup(client, tmp_path)
+    syms = await client.text_document_document_symbol_async(
+        types.DocumentSymbolParams(text_document=doc(uri))
+    )
+    names = [(s.name, s.kind) for s in syms]
+    assert ("r", types.SymbolKind.Variable) in names
+    assert ("pillar", types.SymbolKind.Function) in names
+    assert ("sphere", types.SymbolKind.Object) in names
+    pillar = next(s for s in syms if s.name == "pillar")
+    assert [c.name for c in pillar.children] == ["box"]
+    assert pillar.selection_range.start == find(SCENE, "pillar")
+
+
+async def test_hover_in_groups_and_constructors(client, tmp_path):
+    text = "union {\n  sphere { radius 1 }\n  translate <0, 1, 0>\n}\nlet g = dielectric { ior 1.5 };\n"
+    uri = await open_doc(client, tmp_path / "h.scn", text)
+    t = await hover_text(client, uri, find(text, "translate", delta=2))
+    assert "property of `object`" in t and "may repeat" in t
+    t = await hover_text(client, uri, find(text, "ior", delta=1))
+    assert "property of `dielectric`" in t
+    t = await hover_text(client, uri, find(text, "dielectric", delta=1))
+    assert "material constructor" in t
+    t = await hover_text(client, uri, find(text, "union", delta=1))
+    assert "CSG" in t
+
+
+async def test_names_in_if_branches(client, tmp_path):
+    # The conditions of an if come before its branches in the tree's walk, not in the text.
+    text = "let a = 1;\nlet b = 2;\nif a > 0 { sphere { radius b } } else if b > 0 { sphere { radius a } }\n"
+    uri = await open_doc(client, tmp_path / "if.scn", text)
+    for needle, target in (("radius b", "b = 2"), ("radius a", "a = 1"), ("b > 0", "b = 2")):
+        delta = 7 if needle.startswith("radius") else 0
+        loc = await client.text_document_definition_async(
+            types.DefinitionParams(text_document=doc(uri), position=find(text, needle, delta=delta))
+        )
+        loc = loc[0] if isinstance(loc, list) else loc
+        assert loc.range.start == find(text, target), needle

@@ -1,0 +1,201 @@
+// The language server in memory: the framing, positions, and the server driven
+// message by message (its answers captured), including a 1000-line scene's
+// latency and random input it must survive. tests/lsp/pytest drives the real
+// `snell lsp` process with a real client (pytest-lsp).
+#include <catch2/catch.hpp>
+#include <chrono>
+#include <random>
+
+#include "lsp/jsonrpc.hpp"
+#include "lsp/server.hpp"
+#include "lsp/text.hpp"
+
+using namespace snell::lsp;
+
+TEST_CASE("framing: whole, split and back-to-back messages", "[lsp]") {
+  MessageReader r;
+  std::string a = frame({{"x", 1}}), b = frame({{"y", "é"}});
+  std::string all = a + b;
+  r.feed(all.substr(0, 5));
+  CHECK_FALSE(r.next());
+  r.feed(all.substr(5, a.size() + 3 - 5));
+  auto first = r.next();
+  REQUIRE(first);
+  CHECK(json::parse(*first)["x"] == 1);
+  CHECK_FALSE(r.next());
+  r.feed(all.substr(a.size() + 3));
+  auto second = r.next();
+  REQUIRE(second);
+  CHECK(json::parse(*second)["y"] == "é");
+}
+
+TEST_CASE("framing: headers in any case, extra headers, bad headers skipped", "[lsp]") {
+  MessageReader r;
+  r.feed("content-length: 2\r\nContent-Type: application/vscode-jsonrpc\r\n\r\n{}");
+  auto m = r.next();
+  REQUIRE(m);
+  CHECK(*m == "{}");
+  std::string error;
+  r.feed("Content-Length: x\r\n\r\nContent-Length: 2\r\n\r\n[]");
+  m = r.next(&error);
+  REQUIRE(m);
+  CHECK(*m == "[]");
+  CHECK_FALSE(error.empty());
+}
+
+TEST_CASE("framing: a body larger than the limit is dropped", "[lsp]") {
+  MessageReader r;
+  std::string error;
+  r.feed("Content-Length: 99999999999\r\n\r\nabc");
+  CHECK_FALSE(r.next(&error));
+  CHECK_FALSE(error.empty());
+}
+
+TEST_CASE("positions: UTF-16 and UTF-8 columns", "[lsp]") {
+  std::string text = "let é = 1;\nlet 𝛼 = 2;\n";
+  LineIndex idx(text);
+  std::uint32_t one = static_cast<std::uint32_t>(text.find('1'));
+  CHECK(idx.position(one, Encoding::Utf16).character == 8);
+  CHECK(idx.position(one, Encoding::Utf8).character == 9);
+  std::uint32_t two = static_cast<std::uint32_t>(text.find('2'));
+  Position p = idx.position(two, Encoding::Utf16);
+  CHECK(p.line == 1);
+  CHECK(p.character == 9);  // the astral letter is two UTF-16 units
+  CHECK(idx.offset(p, Encoding::Utf16) == two);
+  CHECK(idx.offset({1, 999}, Encoding::Utf16) == text.size() - 1);  // clamped to the line
+  CHECK(idx.offset({99, 0}, Encoding::Utf16) == text.size());
+}
+
+TEST_CASE("uris", "[lsp]") {
+  CHECK(uri_to_path("file:///tmp/a%20b/c.scn") == "/tmp/a b/c.scn");
+  CHECK(path_to_uri("/tmp/a b/c.scn") == "file:///tmp/a%20b/c.scn");
+}
+
+namespace {
+struct Client {
+  std::vector<json> out;
+  Server server{ServerOptions{{}, 5'000'000, 0}, [this](const json& m) { out.push_back(m); }};
+  int next_id = 1;
+  json request(const std::string& method, json params) {
+    int id = next_id++;
+    server.handle({{"jsonrpc", "2.0"}, {"id", id}, {"method", method}, {"params", params}});
+    for (const json& m : out)
+      if (m.contains("id") && m["id"] == id) return m;
+    return nullptr;
+  }
+  void notify(const std::string& method, json params) {
+    server.handle({{"jsonrpc", "2.0"}, {"method", method}, {"params", params}});
+  }
+  json last_diagnostics() {
+    for (auto it = out.rbegin(); it != out.rend(); ++it)
+      if (it->value("method", "") == "textDocument/publishDiagnostics") return (*it)["params"];
+    return nullptr;
+  }
+};
+json pos(int line, int ch) {
+  return {{"line", line}, {"character", ch}};
+}
+const char* kUri = "file:///tmp/snell-lsp-unit/scene.scn";
+}  // namespace
+
+TEST_CASE("server: diagnostics, hover and definition in memory", "[lsp]") {
+  Client c;
+  REQUIRE(c.request("initialize", {{"capabilities",
+                                    json::object()}})["result"]["capabilities"]["hoverProvider"] ==
+          true);
+  c.notify("initialized", json::object());
+  c.notify("textDocument/didOpen", {{"textDocument",
+                                     {{"uri", kUri},
+                                      {"languageId", "snell"},
+                                      {"version", 1},
+                                      {"text", "let r = 2;\nsphere { radus r }\n"}}}});
+  json d = c.last_diagnostics();
+  REQUIRE(d["diagnostics"].size() >= 1);
+  json first = d["diagnostics"][0];
+  CHECK(first["code"] == "UnknownProperty");
+  CHECK(first["range"]["start"] == pos(1, 9));
+  CHECK(first["range"]["end"] == pos(1, 14));
+  json hover = c.request("textDocument/hover",
+                         {{"textDocument", {{"uri", kUri}}}, {"position", pos(1, 16)}});
+  std::string text = hover["result"]["contents"]["value"];
+  CHECK(text.find("number") != std::string::npos);
+  json def = c.request("textDocument/definition",
+                       {{"textDocument", {{"uri", kUri}}}, {"position", pos(1, 16)}});
+  CHECK(def["result"]["range"]["start"] == pos(0, 4));
+  CHECK(c.request("shutdown", nullptr)["result"].is_null());
+  c.notify("exit", nullptr);
+  CHECK(c.server.exit_requested());
+  CHECK(c.server.exit_code() == 0);
+}
+
+TEST_CASE("server: a 1000-line scene is analysed well under 100 ms", "[lsp]") {
+  std::string text = "import \"colors.scn\";\nlet m = diffuse <0.8, 0.8, 0.8>;\n";
+  for (int i = 0; i < 1000; ++i)
+    text += "sphere { center <" + std::to_string(i % 37) + ", 1, " + std::to_string(i / 37) +
+            "> radius 0.4 material m }\n";
+  Client c;
+  c.request("initialize", {{"capabilities", json::object()}});
+  c.notify("textDocument/didOpen",
+           {{"textDocument", {{"uri", kUri}, {"version", 1}, {"text", text}}}});
+  auto t0 = std::chrono::steady_clock::now();
+  c.notify("textDocument/didChange", {{"textDocument", {{"uri", kUri}, {"version", 2}}},
+                                      {"contentChanges", {{{"text", text + "\n"}}}}});
+  json h = c.request("textDocument/hover",
+                     {{"textDocument", {{"uri", kUri}}}, {"position", pos(500, 2)}});
+  double ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  CHECK(h["result"]["contents"]["value"].get<std::string>().find("sphere") != std::string::npos);
+  WARN("re-analysis and hover of a 1000-line scene: " << ms << " ms");
+#ifndef __SANITIZE_ADDRESS__  // the sanitizers' build is several times slower by design
+  CHECK(ms < 100);
+#endif
+}
+
+TEST_CASE("server: random edits and bytes never crash it", "[lsp]") {
+  std::mt19937 rng(20);
+  Client c;
+  c.request("initialize", {{"capabilities", json::object()}});
+  std::string text = "let a = 1;\nfn f(x) = x * a;\nsphere { center <f(1), 0, 0> radius 1 }\n";
+  c.notify("textDocument/didOpen",
+           {{"textDocument", {{"uri", kUri}, {"version", 1}, {"text", text}}}});
+  const std::string pieces[] = {"{",
+                                "}",
+                                "<",
+                                ">",
+                                "sphere",
+                                "let",
+                                "fn",
+                                "(",
+                                ")",
+                                "\"",
+                                "/*",
+                                "import \"x.scn\";",
+                                "for i in 0 .. 1e9 { box {} }",
+                                "\xff",
+                                "\n",
+                                ";",
+                                "radius",
+                                "1e400",
+                                "object {",
+                                "union {"};
+  for (int i = 0; i < 300; ++i) {
+    std::size_t at = text.empty() ? 0 : rng() % (text.size() + 1);
+    if (rng() % 3 == 0 && !text.empty())
+      text.erase(at, rng() % 8);
+    else
+      text.insert(at, pieces[rng() % std::size(pieces)]);
+    c.notify("textDocument/didChange", {{"textDocument", {{"uri", kUri}, {"version", i + 2}}},
+                                        {"contentChanges", {{{"text", text}}}}});
+    int line = static_cast<int>(rng() % 6), ch = static_cast<int>(rng() % 40);
+    for (const char* m : {"textDocument/hover", "textDocument/completion",
+                          "textDocument/definition", "textDocument/documentSymbol"}) {
+      json r = c.request(m, {{"textDocument", {{"uri", kUri}}}, {"position", pos(line, ch)}});
+      REQUIRE(r.contains("result"));
+    }
+  }
+  // Malformed messages get errors, not crashes.
+  CHECK(c.request("textDocument/hover", {{"textDocument", 5}}).contains("error"));
+  c.server.handle(json::array());
+  c.server.handle("text");
+  CHECK(c.request("no/such", json::object())["error"]["code"] == kMethodNotFound);
+}
