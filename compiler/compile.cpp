@@ -284,6 +284,8 @@ std::unique_ptr<Compilation> compile_source(const std::string& path, std::string
         c->sources, c->diags, builder,
         [&](const std::string& name, lang::Span span) { return driver.load_import(name, span); },
         options.step_budget);
+    eval.predeclare("clock", Value::number(options.clock));
+    eval.predeclare("frame", Value::number(options.frame));
     // The main file counts as imported: importing it again is a cycle.
     eval.run_file(*program);
     if (c->diags.has_errors()) return;

@@ -23,6 +23,9 @@ struct CompileOptions {
   std::size_t max_errors = 20;
   std::uint64_t step_budget = kDefaultStepBudget;
   std::string stdlib_dir;  // empty: $SNELL_STDLIB, else the installed/build stdlib
+  // §18: the predeclared names' values (--clock, --frames: one compilation a frame).
+  double clock = 0;
+  double frame = 0;
 };
 
 enum class CompileStatus {
