@@ -20,7 +20,7 @@ class App;
 namespace snell::cli {
 
 // A bit each, so a row can name several.
-enum Command : unsigned { Render = 1, Check = 2, Sweep = 4, DumpAst = 8 };
+enum Command : unsigned { Render = 1, Check = 2, Sweep = 4, DumpAst = 8, Merge = 16 };
 
 struct CommandInfo {
   Command id;
@@ -35,6 +35,8 @@ inline constexpr CommandInfo kCommands[] = {
     {Sweep, "sweep",
      "render a scene across settings: time and error against a converged reference"},
     {DumpAst, "dump-ast", "print the syntax tree of a .scn file"},
+    {Merge, "merge",
+     "assemble the pieces of a split render (--crop, --sample-range) into one image"},
 };
 
 // What CLI11 checks beyond the value's type.
@@ -120,6 +122,14 @@ struct CliArgs {
   std::string pixel;
   std::string features = "auto";
   std::string ocio_config;
+  // §18 animation and split renders (render; cli/animation.hpp, cli/split.hpp).
+  std::string frames;           // "A..B"
+  std::optional<double> clock;  // --clock X
+  std::string crop;             // "X0,Y0,X1,Y1"
+  std::string sample_range;     // "A..B"
+  // merge only.
+  std::string merge_out;
+  std::vector<std::string> pieces;
   // sweep only: --vary and --series are parsed after CLI11 (their errors are
   // ours); the rest land in `sweep` directly. Its scene, threads, quiet and
   // compile options are filled from the fields above when the sweep runs.
