@@ -272,6 +272,8 @@ int run_render(const CliArgs& o) {
   if (!build_compile_options(o, copts, error)) return usage_error(error);
 
   // §18: one frame (clock from --clock, default 0), or --frames A..B.
+  if (o.frames.empty() && o.frame)
+    return usage_error("--frame F picks one frame of a sequence: give --frames A..B with it");
   if (o.frames.empty()) {
     FrameJob job{o, copts, outputs, 0, o.clock.value_or(0.0)};
     int code = render_frame(job);
@@ -284,21 +286,26 @@ int run_render(const CliArgs& o) {
   IntRange frames;
   if (!parse_range(o.frames, "--frames", std::numeric_limits<std::int32_t>::max(), frames, error))
     return usage_error(error);
+  IntRange run = frames;  // the frames this process renders
+  if (o.frame) {
+    if (*o.frame < frames.begin || *o.frame >= frames.end)
+      return usage_error(fmt::format("--frame {} is not one of --frames {}", *o.frame, o.frames));
+    run = {*o.frame, *o.frame + 1};
+  }
   rt::RenderStats total;
   Progress overall(false, false);  // its clock only: the frames' ETA
-  for (std::int64_t f = frames.begin; f < frames.end; ++f) {
-    FrameJob job{o, copts, {}, f, frame_clock(frames, f), f == frames.begin, &total};
+  for (std::int64_t f = run.begin; f < run.end; ++f) {
+    FrameJob job{o, copts, {}, f, frame_clock(frames, f), f == run.begin, &total};
     for (const std::string& out : outputs) job.outputs.push_back(frame_output_name(out, f));
     if (int code = render_frame(job); code >= 0) return code;
-    std::int64_t done = f - frames.begin + 1;
+    std::int64_t done = f - run.begin + 1;
     double elapsed = overall.seconds();
     if (!o.quiet)
       std::cerr << fmt::format("frame {} ({}/{}, clock {}) done: {:.1f}s elapsed, ETA {:.1f}s\n", f,
-                               done, frames.size(), job.clock, elapsed,
-                               elapsed / double(done) * double(frames.size() - done));
+                               done, run.size(), job.clock, elapsed,
+                               elapsed / double(done) * double(run.size() - done));
   }
-  if (o.stats)
-    std::cerr << fmt::format("total over {} frames:\n", frames.size()) << total.to_string();
+  if (o.stats) std::cerr << fmt::format("total over {} frames:\n", run.size()) << total.to_string();
   return kExitOk;
 }
 

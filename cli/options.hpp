@@ -123,10 +123,11 @@ struct CliArgs {
   std::string features = "auto";
   std::string ocio_config;
   // §18 animation and split renders (render; cli/animation.hpp, cli/split.hpp).
-  std::string frames;           // "A..B"
-  std::optional<double> clock;  // --clock X
-  std::string crop;             // "X0,Y0,X1,Y1"
-  std::string sample_range;     // "A..B"
+  std::string frames;                 // "A..B"
+  std::optional<std::int64_t> frame;  // --frame F: one frame of --frames
+  std::optional<double> clock;        // --clock X
+  std::string crop;                   // "X0,Y0,X1,Y1"
+  std::string sample_range;           // "A..B"
   // merge only.
   std::string merge_out;
   std::vector<std::string> pieces;

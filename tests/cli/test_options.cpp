@@ -83,7 +83,7 @@ TEST_CASE("each subcommand takes exactly the options it took before the table", 
         "-q,--quiet", "--max-errors", "--max-steps", "--dump-ast", "--dump-ir", "--pixel",
         "--features", "--ocio-config",
         // §18, added with animation and split renders.
-        "--frames", "--clock", "--crop", "--sample-range"}},
+        "--frames", "--frame", "--clock", "--crop", "--sample-range"}},
       {"check", {"scene", "-I", "--set", "--max-errors", "--max-steps"}},
       {"sweep",
        {"scene", "--vary", "--series", "--repeats", "--reference-spp", "--out", "--markdown",
@@ -194,9 +194,10 @@ TEST_CASE("options land in the fields the table names", "[cli][options]") {
   }
   {
     Line line;
-    REQUIRE(line.parse("render a.scn --frames 0..24 --clock 0.5 --crop 1,2,3,4 "
+    REQUIRE(line.parse("render a.scn --frames 0..24 --frame 3 --clock 0.5 --crop 1,2,3,4 "
                        "--sample-range 0..8") == cli::Render);
     CHECK(line.args.frames == "0..24");
+    CHECK(line.args.frame == 3);
     CHECK(line.args.clock == 0.5);
     CHECK(line.args.crop == "1,2,3,4");
     CHECK(line.args.sample_range == "0..8");

@@ -293,6 +293,13 @@ TEST_CASE("--frames renders each frame with its clock and names it", "[e2e][anim
   Exr one = read_exr(tmp / "one_#.exr");
   CHECK(one.at(1, 1)[0] == 0.625f);
   CHECK(one.at(1, 1)[1] == 0.0f);
+  // --frame F: one frame of the sequence, with the sequence's clock (a farm task).
+  REQUIRE(run(a + " --frames 2..6 --frame 4 -o " + (tmp / "task_##.exr")) == 0);
+  Exr task = read_exr(tmp / "task_04.exr");
+  CHECK(task.at(0, 0)[0] == 0.5f);
+  CHECK(task.at(0, 0)[1] == 0.4f);
+  CHECK(!fs::exists(tmp / "task_02.exr"));
+  CHECK(!fs::exists(tmp / "task_05.exr"));
   // A frame number wider than its # run is written whole.
   REQUIRE(run(a + " --frames 9..11 -o " + (tmp / "w#.exr")) == 0);
   CHECK(fs::exists(tmp / "w9.exr"));
@@ -304,12 +311,26 @@ TEST_CASE("animation and split options: usage errors exit 2 and write nothing",
   Scratch tmp;
   std::ofstream(tmp / "ok.scn") << "settings { resolution <8, 6> samples 4 }\nsphere { }\n";
   const std::string r = "render " + (tmp / "ok.scn") + " --quiet -o " + (tmp / "x.exr");
-  for (const char* bad :
-       {"--frames 5..3", "--frames 3..3", "--frames 3", "--frames a..b", "--frames -1..2",
-        "--frames 0..2 --clock 0.5", "--clock abc", "--crop 0,0,9,6", "--crop 4,0,4,6",
-        "--crop 1,2,3", "--crop 0,0,8,6,1", "--crop -1,0,8,6", "--sample-range 0..5",
-        "--sample-range 2..2", "--sample-range 3..1", "--sample-range x",
-        "--pixel 7,5 --crop 0,0,4,4"}) {
+  for (const char* bad : {"--frames 5..3",
+                          "--frames 3..3",
+                          "--frames 3",
+                          "--frames a..b",
+                          "--frames -1..2",
+                          "--frames 0..2 --clock 0.5",
+                          "--frame 1",
+                          "--frames 0..2 --frame 2",
+                          "--frames 2..4 --frame 1",
+                          "--clock abc",
+                          "--crop 0,0,9,6",
+                          "--crop 4,0,4,6",
+                          "--crop 1,2,3",
+                          "--crop 0,0,8,6,1",
+                          "--crop -1,0,8,6",
+                          "--sample-range 0..5",
+                          "--sample-range 2..2",
+                          "--sample-range 3..1",
+                          "--sample-range x",
+                          "--pixel 7,5 --crop 0,0,4,4"}) {
     INFO(bad);
     CHECK(run(r + " " + bad) == 2);
   }
