@@ -7,6 +7,7 @@
 #include <iostream>
 
 #include "cli/commands.hpp"
+#include "cli/farm.hpp"
 #include "cli/options.hpp"
 #include "cli/sweep.hpp"
 
@@ -26,6 +27,8 @@ int dispatch(unsigned command, const cli::CliArgs& o) {
       return cli::dump_ast(o.scene);
     case cli::Merge:
       return cli::run_merge(o);
+    case cli::Farm:
+      return cli::run_farm(o);
     case cli::Sweep: {
       cli::SweepOptions so = o.sweep;
       so.scene = o.scene;

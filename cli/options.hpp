@@ -20,7 +20,7 @@ class App;
 namespace snell::cli {
 
 // A bit each, so a row can name several.
-enum Command : unsigned { Render = 1, Check = 2, Sweep = 4, DumpAst = 8, Merge = 16 };
+enum Command : unsigned { Render = 1, Check = 2, Sweep = 4, DumpAst = 8, Merge = 16, Farm = 32 };
 
 struct CommandInfo {
   Command id;
@@ -35,6 +35,8 @@ inline constexpr CommandInfo kCommands[] = {
     {Sweep, "sweep",
      "render a scene across settings: time and error against a converged reference"},
     {DumpAst, "dump-ast", "print the syntax tree of a .scn file"},
+    {Farm, "farm",
+     "split a render over a batch system (slurm): an array job of pieces and a merge job"},
     {Merge, "merge",
      "assemble the pieces of a split render (--crop, --sample-range) into one image"},
 };
@@ -128,6 +130,12 @@ struct CliArgs {
   std::optional<double> clock;        // --clock X
   std::string crop;                   // "X0,Y0,X1,Y1"
   std::string sample_range;           // "A..B"
+  // farm only (cli/farm.hpp).
+  std::string farm_backend;
+  std::optional<int> farm_tiles, farm_passes;
+  std::string farm_dir;
+  bool farm_dry_run = false;
+  std::vector<std::string> farm_sbatch;
   // merge only.
   std::string merge_out;
   std::vector<std::string> pieces;

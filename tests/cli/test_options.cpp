@@ -91,21 +91,28 @@ TEST_CASE("each subcommand takes exactly the options it took before the table", 
       {"dump-ast", {"scene"}},
       // §18: added with split renders.
       {"merge", {"out", "pieces", "-q,--quiet", "--ocio-config"}},
+      // §18: the farm forwards render options to its tasks.
+      {"farm",
+       {"backend", "scene", "--tiles", "--passes", "--frames", "--dir", "--sbatch", "--dry-run",
+        "-o,--output", "--spp", "--res", "--threads", "--seed", "--set", "-I", "--clock",
+        "--max-steps", "--features", "--ocio-config"}},
   };
   Line line;
   std::set<std::string> subcommands;
   for (const CLI::App* sub : line.app.get_subcommands({})) subcommands.insert(sub->get_name());
-  CHECK(subcommands == std::set<std::string>{"render", "check", "sweep", "dump-ast", "merge"});
+  CHECK(subcommands ==
+        std::set<std::string>{"render", "check", "sweep", "dump-ast", "merge", "farm"});
   for (const auto& [name, options] : expected) {
     INFO("snell " << name);
     CLI::App* sub = line.app.get_subcommand(name);
     CHECK(accepted(*sub) == options);
     // The scene is required everywhere, --vary by the sweep, merge's output and
-    // pieces; nothing else is.
+    // pieces, the farm's backend and --dir; nothing else is.
     for (const CLI::Option* opt : sub->get_options()) {
       std::string n = opt->get_name(true, true);
       INFO(n);
-      CHECK(opt->get_required() == (n == "scene" || n == "--vary" || n == "out" || n == "pieces"));
+      CHECK(opt->get_required() == (n == "scene" || n == "--vary" || n == "out" || n == "pieces" ||
+                                    n == "backend" || n == "--dir"));
     }
   }
   // The one option whose help differs by subcommand.
