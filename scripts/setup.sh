@@ -19,6 +19,7 @@ packages=(
   catch2 libcli11-dev libfmt-dev nlohmann-json3-dev libtinyobjloader-dev
 )
 if [ "$mode" = test ]; then packages+=(clang libclang-rt-dev clang-format); fi   # the fuzz target (libFuzzer runtime); the format test
+if [ "$mode" = test ]; then packages+=(slurm-wlm); fi   # the farm test (ctest -L farm): a one-node Slurm cluster
 
 missing=()
 for p in "${packages[@]}"; do

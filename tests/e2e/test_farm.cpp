@@ -8,11 +8,14 @@
 #include <OpenImageIO/imageio.h>
 
 #include <catch2/catch.hpp>
+#include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <thread>
 
 namespace fs = std::filesystem;
 
@@ -172,4 +175,73 @@ TEST_CASE("farm: --dry-run prints and submits nothing; usage errors exit 2", "[e
       std::system((kSnell + " farm pbs " + kShowcase + d + " --tiles 2 >/dev/null 2>&1").c_str());
   CHECK(WEXITSTATUS(status) == 2);
   CHECK(!fs::exists(tmp / "calls.txt"));
+}
+
+namespace {
+
+// Runs `cmd`, returns its stdout.
+std::string output_of(const std::string& cmd) {
+  std::string out;
+  FILE* f = ::popen(cmd.c_str(), "r");
+  REQUIRE(f);
+  char buf[512];
+  while (std::fgets(buf, sizeof buf, f)) out += buf;
+  ::pclose(f);
+  return out;
+}
+
+double now() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+// Submits a real farm run, waits for both jobs to leave the queue, returns the
+// wall time from submission to the merged image.
+double farm_on_slurm(const std::string& args, const std::string& dir) {
+  double t0 = now();
+  std::string out = output_of(kSnell + " farm slurm " + args + " --dir " + dir + " 2>&1");
+  INFO(out);
+  std::size_t last = out.find_last_of('\n', out.size() - 2);
+  std::string ids = out.substr(last == std::string::npos ? 0 : last + 1);
+  unsigned array = 0, merge = 0;
+  REQUIRE(std::sscanf(ids.c_str(), "%u %u", &array, &merge) == 2);
+  std::string wait = "squeue -h -j " + std::to_string(array) + "," + std::to_string(merge);
+  for (int i = 0; i < 1500 && !output_of(wait + " 2>/dev/null").empty(); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  REQUIRE(output_of(wait + " 2>/dev/null").empty());
+  return now() - t0;
+}
+
+}  // namespace
+
+// Run by tests/farm/slurm_cluster.sh (CTest label `farm`), which starts a one-node
+// cluster and sets SLURM_CONF; hidden from the plain test_e2e run.
+TEST_CASE("farm on a real Slurm: 4 tiles bit for bit, 4 passes within 1e-6", "[.][slurm]") {
+  REQUIRE(std::getenv("SLURM_CONF"));
+  Scratch tmp;
+  const std::string opts = " --res 160x90 --spp 8";
+  double t0 = now();
+  REQUIRE(render(kShowcase + opts + " --quiet -o " + (tmp / "one.exr")) == 0);
+  double one_seconds = now() - t0;
+  std::vector<float> one = read_exr(tmp / "one.exr");
+
+  double tiles_seconds = farm_on_slurm(kShowcase + opts + " --tiles 4 -o out.exr", tmp / "tiles");
+  INFO(slurp(tmp / "tiles/logs/merge.out"));
+  CHECK(slurp(tmp / "tiles/logs/merge.out").find("snell farm: done") != std::string::npos);
+  std::vector<float> tiles = read_exr(tmp / "tiles/out.exr");
+  REQUIRE(tiles.size() == one.size());
+  CHECK(std::memcmp(tiles.data(), one.data(), one.size() * sizeof(float)) == 0);
+
+  double passes_seconds =
+      farm_on_slurm(kShowcase + opts + " --passes 4 -o out.exr", tmp / "passes");
+  std::vector<float> passes = read_exr(tmp / "passes/out.exr");
+  REQUIRE(passes.size() == one.size());
+  double worst = 0;
+  for (std::size_t i = 0; i < one.size(); ++i)
+    if (one[i] != 0 || passes[i] != 0)
+      worst = std::max(worst, double(std::fabs(one[i] - passes[i]) / std::max(one[i], passes[i])));
+  CHECK(worst <= 1e-6);
+  std::printf(
+      "farm on Slurm, showcase 160x90 at 8 spp: one process %.2f s; 4 tiles %.2f s; 4 passes "
+      "%.2f s (submission to merged image); passes' worst relative difference %.2g\n",
+      one_seconds, tiles_seconds, passes_seconds, worst);
 }
