@@ -256,7 +256,8 @@ TEST_CASE("merge refuses pieces that do not make one image, and writes nothing",
   CHECK(!fs::exists(tmp / "n.exr"));
 }
 
-TEST_CASE("--frames renders each frame with its clock and names it", "[e2e][animation]") {
+TEST_CASE("animation: --frames renders each frame with its clock and names it",
+          "[e2e][animation]") {
   Scratch tmp;
   // No objects: every pixel is the background, <clock, frame / 10, 0.5>.
   std::ofstream(tmp / "a.scn") << "settings { resolution <4, 2> }\n"
