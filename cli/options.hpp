@@ -20,7 +20,15 @@ class App;
 namespace snell::cli {
 
 // A bit each, so a row can name several.
-enum Command : unsigned { Render = 1, Check = 2, Sweep = 4, DumpAst = 8, Lsp = 16 };
+enum Command : unsigned {
+  Render = 1,
+  Check = 2,
+  Sweep = 4,
+  DumpAst = 8,
+  Merge = 16,
+  Farm = 32,
+  Lsp = 64
+};
 
 struct CommandInfo {
   Command id;
@@ -35,6 +43,10 @@ inline constexpr CommandInfo kCommands[] = {
     {Sweep, "sweep",
      "render a scene across settings: time and error against a converged reference"},
     {DumpAst, "dump-ast", "print the syntax tree of a .scn file"},
+    {Farm, "farm",
+     "split a render over a batch system (slurm): an array job of pieces and a merge job"},
+    {Merge, "merge",
+     "assemble the pieces of a split render (--crop, --sample-range) into one image"},
     {Lsp, "lsp", "serve the Language Server Protocol on stdin/stdout (for editors)"},
 };
 
@@ -121,6 +133,21 @@ struct CliArgs {
   std::string pixel;
   std::string features = "auto";
   std::string ocio_config;
+  // §18 animation and split renders (render; cli/animation.hpp, cli/split.hpp).
+  std::string frames;                 // "A..B"
+  std::optional<std::int64_t> frame;  // --frame F: one frame of --frames
+  std::optional<double> clock;        // --clock X
+  std::string crop;                   // "X0,Y0,X1,Y1"
+  std::string sample_range;           // "A..B"
+  // farm only (cli/farm.hpp).
+  std::string farm_backend;
+  std::optional<int> farm_tiles, farm_passes;
+  std::string farm_dir;
+  bool farm_dry_run = false;
+  std::vector<std::string> farm_sbatch;
+  // merge only.
+  std::string merge_out;
+  std::vector<std::string> pieces;
   // sweep only: --vary and --series are parsed after CLI11 (their errors are
   // ours); the rest land in `sweep` directly. Its scene, threads, quiet and
   // compile options are filled from the fields above when the sweep runs.

@@ -31,6 +31,9 @@ struct CompileOptions {
   // Editors: sees every value bound by let, fn and a call's parameters (for
   // hovers that show a name's type). Null in the CLI.
   DefineObserver on_define;
+  // §18: the predeclared names' values (--clock, --frames: one compilation a frame).
+  double clock = 0;
+  double frame = 0;
 };
 
 // Where `import "NAME";` written in the file `from` finds its file, searched as

@@ -80,8 +80,17 @@ void Evaluator::report_non_finite(const Value& v, const Expr& e) {
 // ---------------------------------------------------------------------------
 // Statements
 
+void Evaluator::predeclare(const std::string& name, Value value) {
+  std::int32_t sym = intern(name);
+  if (Binding* b = prelude_->find_local(sym))
+    b->value = std::move(value);
+  else
+    prelude_->vars.push_back({sym, std::move(value), Span{}, false});
+}
+
 std::shared_ptr<Env> Evaluator::run_file(const lang::Program& program) {
   auto env = std::make_shared<Env>();
+  env->parent = prelude_;
   Frame frame;
   running_.push_back(program.file);
   exec_block(program.statements, env, frame);

@@ -73,6 +73,11 @@ class Evaluator {
   // Runs a file's statements in a fresh top-level scope, returns that scope.
   std::shared_ptr<Env> run_file(const lang::Program& program);
 
+  // §18: a predeclared name (clock, frame), visible in every file the evaluator
+  // runs (the parent scope of each file's top level), so a file or a function may
+  // shadow it as any inner scope may. Call before run_file.
+  void predeclare(const std::string& name, Value value);
+
   // Evaluates a lone expression in an empty scope (for --set KEY=VALUE).
   Value eval_standalone(const lang::Expr& expr);
 
@@ -228,6 +233,7 @@ class Evaluator {
   std::uint64_t steps_ = 0;
   int depth_ = 0;
   bool aborted_ = false;  // recursion limit or step budget: stop everything
+  std::shared_ptr<Env> prelude_ = std::make_shared<Env>();  // predeclare()
   std::unordered_map<std::string, std::int32_t> symbol_ids_;
   std::vector<std::string> symbol_names_;
   std::vector<int> symbol_builtin_;             // builtin id per symbol, or -1

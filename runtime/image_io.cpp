@@ -50,6 +50,12 @@ std::string write_image_oiio(const std::string& path, const Image& image, const 
   std::vector<unsigned char> bytes;
   if (exr) {
     spec = OIIO::ImageSpec(int(image.width), int(image.height), 3, OIIO::TypeDesc::FLOAT);
+    // §18: a crop is its data window at its place in the full display window.
+    spec.x = int(image.x0);
+    spec.y = int(image.y0);
+    spec.full_x = spec.full_y = 0;
+    spec.full_width = int(image.display_width());
+    spec.full_height = int(image.display_height());
     spec.attribute("compression", "zip");
     spec.attribute("oiio:ColorSpace", "Linear Rec.709 (sRGB)");
   } else {
@@ -67,6 +73,7 @@ std::string write_image_oiio(const std::string& path, const Image& image, const 
   spec.attribute("snell:samples", int(info.samples));
   spec.attribute("snell:seed", fmt::format("{}", info.seed));
   spec.attribute("snell:render_seconds", float(info.render_seconds));
+  for (const auto& [key, value] : info.attributes) spec.attribute(key, value);
 
   std::string tmp = temp_name(path);
   auto fail = [&](const std::string& why) {
@@ -92,7 +99,44 @@ std::string write_image_oiio(const std::string& path, const Image& image, const 
   return {};
 }
 
+std::string read_image_oiio(const std::string& path, ImageFile& file) {
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) return fmt::format("cannot read {}: {}", path, OIIO::geterror());
+  const OIIO::ImageSpec& spec = in->spec();
+  if (spec.nchannels < 3)
+    return fmt::format("cannot read {}: it has {} channel(s), not RGB", path, spec.nchannels);
+  if (spec.x < 0 || spec.y < 0 || spec.full_x != 0 || spec.full_y != 0 || spec.width <= 0 ||
+      spec.height <= 0)
+    return fmt::format("cannot read {}: its data window does not lie in a display window at 0, 0",
+                       path);
+  Image& im = file.image;
+  im.width = std::uint32_t(spec.width);
+  im.height = std::uint32_t(spec.height);
+  im.x0 = std::uint32_t(spec.x);
+  im.y0 = std::uint32_t(spec.y);
+  im.full_width = std::uint32_t(std::max(spec.full_width, 0));
+  im.full_height = std::uint32_t(std::max(spec.full_height, 0));
+  im.rgb.resize(std::size_t(im.width) * im.height * 3);
+  // The first three channels, as float: an EXR written by Snell is float already,
+  // so its bits come back unchanged.
+  if (!in->read_image(0, 0, 0, 3, OIIO::TypeDesc::FLOAT, im.rgb.data()))
+    return fmt::format("cannot read {}: {}", path, in->geterror());
+  file.attributes.clear();
+  for (const OIIO::ParamValue& p : spec.extra_attribs)
+    file.attributes.emplace_back(p.name().string(), p.get_string());
+  return {};
+}
+
 }  // namespace snell::rt
+
+extern "C" __attribute__((visibility("default"))) void snell_read_image_v1(
+    const std::string& path, snell::rt::ImageFile& file, std::string& error) {
+  try {
+    error = snell::rt::read_image_oiio(path, file);
+  } catch (const std::exception& e) {
+    error = fmt::format("cannot read {}: {}", path, e.what());
+  }
+}
 
 // The module's entry point (image_out.cpp resolves it by name). The caller is the
 // same build of Snell, so C++ types cross safely; the version in the name guards

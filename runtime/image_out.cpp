@@ -1,4 +1,4 @@
-// write_image() without linking OpenImageIO: the writer (image_io.cpp, OIIO and
+// write_image() and read_image() without linking OpenImageIO: the writer (image_io.cpp, OIIO and
 // OCIO) is in the image module (image_module.cpp), loaded on first use; `snell
 // render` loads it just before the render (preload_image_writer), so a missing
 // module fails before the work.
@@ -46,6 +46,16 @@ std::string write_image(const std::string& path, const Image& image, const Outpu
   if (!w.write) return fmt::format("cannot write {}: {}", path, w.error);
   std::string error;
   w.write(path, image, info, ocio_config, error);
+  return error;
+}
+
+std::string read_image(const std::string& path, ImageFile& out) {
+  using ReadFn = void (*)(const std::string&, ImageFile&, std::string&);
+  std::string error;
+  static const ReadFn read =
+      reinterpret_cast<ReadFn>(image_module_symbol("snell_read_image_v1", error));
+  if (!read) return fmt::format("cannot read {}: {}", path, error.empty() ? "no reader" : error);
+  read(path, out, error);
   return error;
 }
 

@@ -82,15 +82,33 @@ RenderResult render(const ir::Scene& scene, const RenderOptions& options) {
   RenderResult result;
   const ir::Settings& st = scene.settings;
   Image& img = result.image;
-  img.width = st.width;
-  img.height = st.height;
+  // §18: the window rendered (the whole image unless cropped) and the samples.
+  RenderOptions::Window win{0, 0, st.width, st.height};
+  if (options.crop) {
+    win.x0 = std::min(options.crop->x0, st.width);
+    win.y0 = std::min(options.crop->y0, st.height);
+    win.x1 = std::clamp(options.crop->x1, win.x0, st.width);
+    win.y1 = std::clamp(options.crop->y1, win.y0, st.height);
+    img.x0 = win.x0;
+    img.y0 = win.y0;
+    img.full_width = st.width;
+    img.full_height = st.height;
+  }
+  const std::uint32_t spp = st.samples ? st.samples : 1;
+  std::uint32_t s0 = 0, s1 = spp;
+  if (options.sample_range) {
+    s0 = std::min(options.sample_range->first, spp);
+    s1 = std::clamp(options.sample_range->second, s0, spp);
+  }
+  img.width = win.x1 - win.x0;
+  img.height = win.y1 - win.y0;
   img.rgb.assign(std::size_t(img.width) * img.height * 3, 0.0f);
   KernelChoice kernel = choose_kernel(scene, options.general_kernel);
   if (!kernel.general && options.extra_axes)
     kernel.bits = canonical_kernel(kernel.bits | options.extra_axes);
   result.stats.kernel = kernel.name();
   result.stats.cost_stride = options.measure_cost ? kCostStride : 0;
-  if (img.width == 0 || img.height == 0) return result;
+  if (img.width == 0 || img.height == 0 || s0 == s1) return result;
 
   auto t0 = Clock::now();
   EmbreeScene embree(scene, scene.camera.location);
@@ -104,14 +122,18 @@ RenderResult render(const ir::Scene& scene, const RenderOptions& options) {
     if (!images) result.texture_stats = "images: " + err + "\n";
   }
   std::unique_ptr<Integrator> integrator = make_integrator(scene, embree, images.get());
-  Camera camera(scene.camera, img.width, img.height);
+  // The full image's camera: a crop's pixels are the full render's pixels.
+  Camera camera(scene.camera, st.width, st.height);
   auto t1 = Clock::now();
 
   TileContext ctx;
   ctx.img = &img;
   ctx.camera = &camera;
   ctx.integrator = integrator.get();
-  ctx.spec = SamplerSpec{st.sampler, st.seed, st.samples ? st.samples : 1};
+  // The full spp, whatever the sample range: stratification depends on it.
+  ctx.spec = SamplerSpec{st.sampler, st.seed, spp};
+  ctx.sample_begin = s0;
+  ctx.sample_end = s1;
   ctx.motion_on = embree.has_motion();
   ctx.tiles_x = (img.width + kTile - 1) / kTile;
   ctx.options = &options;
@@ -153,7 +175,7 @@ RenderResult render(const ir::Scene& scene, const RenderOptions& options) {
     rs.merge(w.stats);
     for (int k = 0; k < kCostKinds; ++k) ns[k] += w.cost.ns[k];
   }
-  std::uint64_t samples = std::uint64_t(img.width) * img.height * ctx.spec.spp;
+  std::uint64_t samples = std::uint64_t(img.width) * img.height * (s1 - s0);
   double scale = rs.timed_samples ? 1e-9 * double(samples) / double(rs.timed_samples) : 0;
   rs.camera_seconds = ns[kCostCamera] * scale;
   rs.reflection_seconds = ns[kCostReflection] * scale;

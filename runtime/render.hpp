@@ -15,9 +15,15 @@
 namespace snell::rt {
 
 // Linear scene-referred RGB radiance, row-major, pixel (0, 0) top-left.
+// A crop (§18) is a window of a larger image: its pixel (0, 0) is pixel (x0, y0) of
+// the full_width × full_height image (an EXR's data and display windows); a whole
+// image has x0 = y0 = 0 and full_* = 0 (meaning width and height).
 struct Image {
   std::uint32_t width = 0, height = 0;
+  std::uint32_t x0 = 0, y0 = 0, full_width = 0, full_height = 0;
   std::vector<float> rgb;  // 3 floats per pixel
+  std::uint32_t display_width() const { return full_width ? full_width : width; }
+  std::uint32_t display_height() const { return full_height ? full_height : height; }
   float* at(std::uint32_t x, std::uint32_t y) { return &rgb[3 * (std::size_t(y) * width + x)]; }
   const float* at(std::uint32_t x, std::uint32_t y) const {
     return &rgb[3 * (std::size_t(y) * width + x)];
@@ -39,6 +45,17 @@ struct RenderOptions {
   // Off, the render never reads the clock per sample (about 2 % of a simple
   // scene's render time on this machine); the picture is the same either way.
   bool measure_cost = false;
+  // §18 split renders. `crop`: only the pixels x0 <= x < x1, y0 <= y < y1 of the
+  // full image (the result is that window, Image::x0/y0 set). `sample_range`: only
+  // samples [first, second) of every pixel's full sequence (the sampler is a pure
+  // function of the full image's pixel, the sample index and the full spp), each
+  // pixel the mean of those samples. Both are clamped to the image and to spp; the
+  // CLI rejects values outside them first.
+  struct Window {
+    std::uint32_t x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+  };
+  std::optional<Window> crop;
+  std::optional<std::pair<std::uint32_t, std::uint32_t>> sample_range;
 };
 
 // Counters for --stats; summed over threads after the render.
@@ -85,6 +102,9 @@ struct OutputInfo {
   std::uint32_t samples = 0;
   std::uint64_t seed = 0;
   double render_seconds = 0;
+  // Further metadata, written as string attributes (EXR header, PNG text): the
+  // §18 piece identity (cli/split.hpp names them).
+  std::vector<std::pair<std::string, std::string>> attributes;
 };
 
 // Writes `image` to `path`; the format follows the extension: .exr holds linear
@@ -96,6 +116,21 @@ struct OutputInfo {
 // (image_out.cpp); a missing module is an error message, like a failed write.
 std::string write_image(const std::string& path, const Image& image, const OutputInfo& info,
                         const std::string& ocio_config);
+
+// An image file read back (snell merge): its pixels as linear float RGB (the
+// first three channels), its data window at its place in the display window,
+// and its string-valued metadata (every attribute, as text). Returns an error
+// message, or empty. Through the image module, like write_image.
+struct ImageFile {
+  Image image;
+  std::vector<std::pair<std::string, std::string>> attributes;
+  const std::string* attribute(const std::string& name) const {
+    for (const auto& [k, v] : attributes)
+      if (k == name) return &v;
+    return nullptr;
+  }
+};
+std::string read_image(const std::string& path, ImageFile& out);
 
 // Loads the image-output module now rather than at the first write_image (the
 // CLI calls it before the render, so a writer that cannot load fails early).

@@ -20,6 +20,7 @@ packages=(
 )
 if [ "$mode" = test ]; then packages+=(clang libclang-rt-dev clang-format); fi   # the fuzz target (libFuzzer runtime); the format test
 if [ "$mode" = test ]; then packages+=(python3 python3-venv); fi   # the LSP tests' venv (pytest-lsp)
+if [ "$mode" = test ]; then packages+=(slurm-wlm); fi   # the farm test (ctest -L farm): a one-node Slurm cluster
 
 missing=()
 for p in "${packages[@]}"; do

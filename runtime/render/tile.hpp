@@ -33,6 +33,10 @@ struct TileContext {
   const Camera* camera = nullptr;
   const Integrator* integrator = nullptr;
   SamplerSpec spec;
+  // §18: samples [sample_begin, sample_end) of each pixel; the pixels of `img`, a
+  // window of the full image whose top-left is (img->x0, img->y0). Tiles are laid
+  // over the window, but every sample is keyed by full-image coordinates.
+  std::uint32_t sample_begin = 0, sample_end = 1;
   bool motion_on = false;  // some object has motion geometry: ray times matter
   std::uint32_t tiles_x = 1;
   const RenderOptions* options = nullptr;
@@ -82,8 +86,9 @@ void render_tile(const TileContext& c, std::uint32_t tile, Worker& wk) {
   RenderStats& stats = wk.stats;
   CostClock& clock = wk.cost;
   const SamplerSpec& spec = c.spec;
-  std::uint32_t x0 = (tile % c.tiles_x) * kTile, y0 = (tile / c.tiles_x) * kTile;
-  std::uint32_t x1 = std::min(x0 + kTile, img.width), y1 = std::min(y0 + kTile, img.height);
+  std::uint32_t x0 = img.x0 + (tile % c.tiles_x) * kTile, y0 = img.y0 + (tile / c.tiles_x) * kTile;
+  std::uint32_t x1 = std::min(x0 + kTile, img.x0 + img.width);
+  std::uint32_t y1 = std::min(y0 + kTile, img.y0 + img.height);
   for (std::uint32_t y = y0; y < y1; ++y)
     for (std::uint32_t x = x0; x < x1; ++x) {
       bool tracing = c.options->trace_pixel && c.options->trace_pixel->first == x &&
@@ -91,7 +96,7 @@ void render_tile(const TileContext& c, std::uint32_t tile, Worker& wk) {
       const std::uint64_t pixel = pixel_hash(spec, x, y);
       double sum[3] = {0, 0, 0};
       std::uint32_t kept = 0;
-      for (std::uint32_t s = 0; s < spec.spp; ++s) {
+      for (std::uint32_t s = c.sample_begin; s < c.sample_end; ++s) {
         bool timed = c.measure_cost && timed_sample(x, y, s);
         double t_cam = timed ? CostClock::now_ns() : 0, t_effects = 0;
         SampleContext sc{spec, x, y, s, pixel};
@@ -126,8 +131,8 @@ void render_tile(const TileContext& c, std::uint32_t tile, Worker& wk) {
           clock.ns[kCostCamera] += std::fmax(0.0, clock.since(t_cam) - t_effects);
           ++stats.timed_samples;
         }
-        std::string* tr = (tracing && s == 0) ? c.trace : nullptr;
-        if (tr) *tr += fmt::format("pixel ({}, {}) sample 0\n", x, y);
+        std::string* tr = (tracing && s == c.sample_begin) ? c.trace : nullptr;
+        if (tr) *tr += fmt::format("pixel ({}, {}) sample {}\n", x, y, s);
         Color col;
         if (tr || timed) {
           Probe<true> probe{stats, tr, timed ? &clock : nullptr};
@@ -143,7 +148,7 @@ void render_tile(const TileContext& c, std::uint32_t tile, Worker& wk) {
         sum[0] += col.x, sum[1] += col.y, sum[2] += col.z;
         ++kept;
       }
-      float* px = c.rgb + 3 * (std::size_t(y) * img.width + x);
+      float* px = c.rgb + 3 * (std::size_t(y - img.y0) * img.width + (x - img.x0));
       for (int k = 0; k < 3; ++k) px[k] = kept ? float(sum[k] / kept) : 0.0f;
     }
 }

@@ -81,27 +81,39 @@ TEST_CASE("each subcommand takes exactly the options it took before the table", 
       {"render",
        {"scene", "-o,--output", "--spp", "--res", "--threads", "--seed", "--set", "-I", "--stats",
         "-q,--quiet", "--max-errors", "--max-steps", "--dump-ast", "--dump-ir", "--pixel",
-        "--features", "--ocio-config"}},
+        "--features", "--ocio-config",
+        // §18, added with animation and split renders.
+        "--frames", "--frame", "--clock", "--crop", "--sample-range"}},
       {"check", {"scene", "-I", "--set", "--max-errors", "--max-steps"}},
       {"sweep",
        {"scene", "--vary", "--series", "--repeats", "--reference-spp", "--out", "--markdown",
         "--name", "--res", "--set", "-I", "--threads", "--no-images", "-q,--quiet"}},
       {"dump-ast", {"scene"}},
       {"lsp", {"-I", "--max-steps"}},
+      // §18: added with split renders.
+      {"merge", {"out", "pieces", "-q,--quiet", "--ocio-config"}},
+      // §18: the farm forwards render options to its tasks.
+      {"farm",
+       {"backend", "scene", "--tiles", "--passes", "--frames", "--dir", "--sbatch", "--dry-run",
+        "-o,--output", "--spp", "--res", "--threads", "--seed", "--set", "-I", "--clock",
+        "--max-steps", "--features", "--ocio-config"}},
   };
   Line line;
   std::set<std::string> subcommands;
   for (const CLI::App* sub : line.app.get_subcommands({})) subcommands.insert(sub->get_name());
-  CHECK(subcommands == std::set<std::string>{"render", "check", "sweep", "dump-ast", "lsp"});
+  CHECK(subcommands ==
+        std::set<std::string>{"render", "check", "sweep", "dump-ast", "merge", "farm", "lsp"});
   for (const auto& [name, options] : expected) {
     INFO("snell " << name);
     CLI::App* sub = line.app.get_subcommand(name);
     CHECK(accepted(*sub) == options);
-    // The scene is required everywhere, --vary by the sweep; nothing else is.
+    // The scene is required everywhere, --vary by the sweep, merge's output and
+    // pieces, the farm's backend and --dir; nothing else is.
     for (const CLI::Option* opt : sub->get_options()) {
       std::string n = opt->get_name(true, true);
       INFO(n);
-      CHECK(opt->get_required() == (n == "scene" || n == "--vary"));
+      CHECK(opt->get_required() == (n == "scene" || n == "--vary" || n == "out" || n == "pieces" ||
+                                    n == "backend" || n == "--dir"));
     }
   }
   // The options whose help differs by subcommand.
@@ -189,6 +201,24 @@ TEST_CASE("options land in the fields the table names", "[cli][options]") {
             cli::Check);
     CHECK(line.args.max_errors == 3);
     CHECK(line.args.max_steps == 10);
+  }
+  {
+    Line line;
+    REQUIRE(line.parse("render a.scn --frames 0..24 --frame 3 --clock 0.5 --crop 1,2,3,4 "
+                       "--sample-range 0..8") == cli::Render);
+    CHECK(line.args.frames == "0..24");
+    CHECK(line.args.frame == 3);
+    CHECK(line.args.clock == 0.5);
+    CHECK(line.args.crop == "1,2,3,4");
+    CHECK(line.args.sample_range == "0..8");
+  }
+  {
+    Line line;
+    REQUIRE(line.parse("merge out.exr a.exr b.exr -q --ocio-config c.ocio") == cli::Merge);
+    CHECK(line.args.merge_out == "out.exr");
+    CHECK(line.args.pieces == std::vector<std::string>{"a.exr", "b.exr"});
+    CHECK(line.args.quiet);
+    CHECK(line.args.ocio_config == "c.ocio");
   }
   {
     Line line;

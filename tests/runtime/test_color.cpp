@@ -32,7 +32,7 @@ TEST_CASE("write_image writes EXR and PNG atomically", "[color][io]") {
   im.width = 4;
   im.height = 2;
   im.rgb.assign(4 * 2 * 3, 0.18f);
-  OutputInfo info{"test.scn", 4, 1, 0.5};
+  OutputInfo info{"test.scn", 4, 1, 0.5, {}};
   CHECK(write_image((dir / "a.exr").string(), im, info, "") == "");
   CHECK(write_image((dir / "a.png").string(), im, info, "") == "");
   CHECK(fs::file_size(dir / "a.exr") > 0);

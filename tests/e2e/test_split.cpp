@@ -1,0 +1,342 @@
+// §18 end to end: frames (clock, frame, output names), crops (bit-identical to the
+// full render, at their place in the EXR's display window), sample ranges, and
+// snell merge (crops bit for bit, sample ranges within 1e-6 relative, and every
+// refusal writing nothing). The every-effect scene is examples/showcase.scn
+// (thin lens, motion blur, an area light, glossy metal, glass with absorption,
+// glazes, a checker), rendered small.
+#include <OpenImageIO/imageio.h>
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kSnell = SNELL_EXE;
+const std::string kSrc = SNELL_SOURCE_DIR;
+const std::string kShowcase = kSrc + "/examples/showcase.scn";
+
+struct Scratch {
+  fs::path dir;
+  Scratch() {
+    dir = fs::temp_directory_path() / ("snell_split_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+  }
+  ~Scratch() { fs::remove_all(dir); }
+  std::string operator/(const std::string& name) const { return (dir / name).string(); }
+};
+
+int run(const std::string& args, const std::string& log = "/dev/null") {
+  int status = std::system((kSnell + " " + args + " > " + log + " 2>&1").c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path);
+  return std::string((std::istreambuf_iterator<char>(in)), {});
+}
+
+struct Exr {
+  OIIO::ImageSpec spec;
+  std::vector<float> rgb;                // the data window, 3 floats a pixel
+  const float* at(int x, int y) const {  // full-image coordinates
+    return &rgb[3 * (std::size_t(y - spec.y) * spec.width + (x - spec.x))];
+  }
+  std::string attr(const char* name) const { return spec.get_string_attribute(name); }
+};
+
+Exr read_exr(const std::string& path) {
+  auto in = OIIO::ImageInput::open(path);
+  REQUIRE(in);
+  Exr e;
+  e.spec = in->spec();
+  REQUIRE(e.spec.nchannels == 3);
+  e.rgb.resize(std::size_t(e.spec.width) * e.spec.height * 3);
+  REQUIRE(in->read_image(0, 0, 0, 3, OIIO::TypeDesc::FLOAT, e.rgb.data()));
+  return e;
+}
+
+// The small every-effect render, with `sampler`.
+std::string showcase(const std::string& sampler, int spp) {
+  return "render " + kShowcase + " --quiet --res 48x27 --spp " + std::to_string(spp) +
+         " --set sampler=" + sampler;
+}
+
+}  // namespace
+
+TEST_CASE("a crop holds the full render's pixels, bit for bit, at their place", "[e2e][split]") {
+  Scratch tmp;
+  for (const char* sampler : {"independent", "stratified", "sobol"}) {
+    INFO("sampler " << sampler);
+    REQUIRE(run(showcase(sampler, 6) + " -o " + (tmp / "full.exr")) == 0);
+    // Not on the 16-pixel tile grid: a crop's tiles start at its own corner.
+    REQUIRE(run(showcase(sampler, 6) + " --crop 5,3,37,22 -o " + (tmp / "crop.exr") + " -o " +
+                (tmp / "crop.png")) == 0);
+    Exr full = read_exr(tmp / "full.exr"), crop = read_exr(tmp / "crop.exr");
+    CHECK(crop.spec.x == 5);
+    CHECK(crop.spec.y == 3);
+    CHECK(crop.spec.width == 32);
+    CHECK(crop.spec.height == 19);
+    CHECK(crop.spec.full_x == 0);
+    CHECK(crop.spec.full_y == 0);
+    CHECK(crop.spec.full_width == 48);
+    CHECK(crop.spec.full_height == 27);
+    CHECK(crop.attr("snell:crop") == "5,3,37,22");
+    CHECK(crop.attr("snell:sample_range") == "0..6");
+    CHECK(crop.attr("snell:scene_hash") == full.attr("snell:scene_hash"));
+    CHECK(crop.attr("snell:scene_hash").size() == 16);
+    std::size_t differ = 0;
+    for (int y = 3; y < 22; ++y)
+      for (int x = 5; x < 37; ++x)
+        differ += std::memcmp(crop.at(x, y), full.at(x, y), 3 * sizeof(float)) != 0;
+    CHECK(differ == 0);
+    // The PNG of a crop is the cropped pixels alone.
+    auto png = OIIO::ImageInput::open(tmp / "crop.png");
+    REQUIRE(png);
+    CHECK(png->spec().width == 32);
+    CHECK(png->spec().height == 19);
+  }
+}
+
+TEST_CASE("sample ranges merge to the one-run image within 1e-6 relative", "[e2e][split]") {
+  Scratch tmp;
+  for (const char* sampler : {"independent", "stratified", "sobol"}) {
+    INFO("sampler " << sampler);
+    REQUIRE(run(showcase(sampler, 7) + " -o " + (tmp / "full.exr")) == 0);
+    // Uneven ranges of 7 samples (stratification is over the whole 7).
+    REQUIRE(run(showcase(sampler, 7) + " --sample-range 0..1 -o " + (tmp / "a.exr")) == 0);
+    REQUIRE(run(showcase(sampler, 7) + " --sample-range 1..5 -o " + (tmp / "b.exr")) == 0);
+    REQUIRE(run(showcase(sampler, 7) + " --sample-range 5..7 -o " + (tmp / "c.exr")) == 0);
+    CHECK(read_exr(tmp / "b.exr").attr("snell:piece_samples") == "4");
+    REQUIRE(run("merge --quiet " + (tmp / "m.exr") + " " + (tmp / "c.exr") + " " + (tmp / "a.exr") +
+                " " + (tmp / "b.exr")) == 0);
+    Exr full = read_exr(tmp / "full.exr"), merged = read_exr(tmp / "m.exr"),
+        a = read_exr(tmp / "a.exr");
+    REQUIRE(merged.rgb.size() == full.rgb.size());
+    double worst = 0;
+    std::size_t piece_differs = 0;
+    for (std::size_t i = 0; i < full.rgb.size(); ++i) {
+      double f = full.rgb[i], m = merged.rgb[i];
+      double scale = std::max(std::fabs(f), std::fabs(m));
+      if (scale > 0) worst = std::max(worst, std::fabs(f - m) / scale);
+      piece_differs += a.rgb[i] != full.rgb[i];
+    }
+    // Three float32 roundings (the piece's mean, the merge's sum, its result) of
+    // sums of non-negative terms: at most ~3 · 2^-24 ≈ 1.8e-7 relative.
+    CHECK(worst <= 1e-6);
+    // And the test can fail: one sample alone is not the image.
+    CHECK(piece_differs > full.rgb.size() / 2);
+    CHECK(merged.attr("snell:sample_range") == "0..7");
+  }
+}
+
+TEST_CASE("crops and sample-split crops merge into the full render", "[e2e][split]") {
+  Scratch tmp;
+  const std::string r = showcase("stratified", 4);
+  REQUIRE(run(r + " -o " + (tmp / "full.exr")) == 0);
+  REQUIRE(run(r + " --crop 0,0,20,27 -o " + (tmp / "left.exr")) == 0);
+  REQUIRE(run(r + " --crop 20,0,48,11 -o " + (tmp / "top.exr")) == 0);
+  REQUIRE(run(r + " --crop 20,11,48,27 --sample-range 0..3 -o " + (tmp / "br0.exr")) == 0);
+  REQUIRE(run(r + " --crop 20,11,48,27 --sample-range 3..4 -o " + (tmp / "br1.exr")) == 0);
+  REQUIRE(run("merge --quiet " + (tmp / "m.exr") + " " + (tmp / "top.exr") + " " +
+              (tmp / "br1.exr") + " " + (tmp / "left.exr") + " " + (tmp / "br0.exr")) == 0);
+  REQUIRE(run("merge --quiet " + (tmp / "m.png") + " " + (tmp / "top.exr") + " " +
+              (tmp / "br1.exr") + " " + (tmp / "left.exr") + " " + (tmp / "br0.exr")) == 0);
+  Exr full = read_exr(tmp / "full.exr"), m = read_exr(tmp / "m.exr");
+  REQUIRE(m.spec.width == 48);
+  REQUIRE(m.spec.height == 27);
+  std::size_t crop_differs = 0;
+  double worst = 0;
+  for (int y = 0; y < 27; ++y)
+    for (int x = 0; x < 48; ++x) {
+      if (x < 20 || y < 11) {
+        crop_differs += std::memcmp(m.at(x, y), full.at(x, y), 3 * sizeof(float)) != 0;
+      } else {
+        for (int k = 0; k < 3; ++k) {
+          double f = full.at(x, y)[k], g = m.at(x, y)[k];
+          if (f != 0 || g != 0)
+            worst = std::max(worst, std::fabs(f - g) / std::max(std::fabs(f), std::fabs(g)));
+        }
+      }
+    }
+  CHECK(crop_differs == 0);
+  CHECK(worst <= 1e-6);
+  // The PNG goes through the same display transform as render's: identical bytes
+  // to a PNG of the one-run render wherever the crops are bit-identical.
+  REQUIRE(run(r + " -o " + (tmp / "full.png")) == 0);
+  auto p1 = OIIO::ImageInput::open(tmp / "m.png"), p2 = OIIO::ImageInput::open(tmp / "full.png");
+  REQUIRE(p1);
+  REQUIRE(p2);
+  std::vector<unsigned char> b1(48 * 27 * 3), b2(48 * 27 * 3);
+  REQUIRE(p1->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, b1.data()));
+  REQUIRE(p2->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, b2.data()));
+  std::size_t png_differs = 0;
+  for (int y = 0; y < 27; ++y)
+    for (int x = 0; x < 48; ++x)
+      if (x < 20 || y < 11)
+        for (int k = 0; k < 3; ++k)
+          png_differs += b1[(y * 48 + x) * 3 + k] != b2[(y * 48 + x) * 3 + k];
+  CHECK(png_differs == 0);
+}
+
+TEST_CASE("merge refuses pieces that do not make one image, and writes nothing", "[e2e][split]") {
+  Scratch tmp;
+  std::ofstream(tmp / "s.scn") << "settings { resolution <12, 8> samples 4 }\n"
+                                  "point_light { position <0, 5, -5> intensity 30 }\n"
+                                  "sphere { center <0, 0, 0> radius 1 }\n";
+  std::ofstream(tmp / "t.scn") << "settings { resolution <12, 8> samples 4 }\n"
+                                  "point_light { position <0, 5, -5> intensity 30 }\n"
+                                  "sphere { center <0, 0, 0> radius 1.5 }\n";
+  const std::string s = "render " + (tmp / "s.scn") + " --quiet";
+  REQUIRE(run(s + " --crop 0,0,6,8 -o " + (tmp / "left.exr")) == 0);
+  REQUIRE(run(s + " --crop 6,0,12,8 -o " + (tmp / "right.exr")) == 0);
+  REQUIRE(run(s + " --crop 5,0,12,8 -o " + (tmp / "wide_right.exr")) == 0);
+  REQUIRE(run(s + " --crop 6,0,12,7 -o " + (tmp / "short_right.exr")) == 0);
+  REQUIRE(run(s + " --crop 6,0,12,8 --seed 3 -o " + (tmp / "right_seed3.exr")) == 0);
+  REQUIRE(run("render " + (tmp / "t.scn") + " --quiet --crop 6,0,12,8 -o " +
+              (tmp / "right_t.exr")) == 0);
+  REQUIRE(run(s + " --sample-range 0..2 -o " + (tmp / "s02.exr")) == 0);
+  REQUIRE(run(s + " --sample-range 1..4 -o " + (tmp / "s14.exr")) == 0);
+  REQUIRE(run(s + " --sample-range 3..4 -o " + (tmp / "s34.exr")) == 0);
+  REQUIRE(run(s + " -o " + (tmp / "whole.png")) == 0);
+  // The good set merges, so each refusal below is the fault it names.
+  REQUIRE(run("merge --quiet " + (tmp / "ok.exr") + " " + (tmp / "left.exr") + " " +
+              (tmp / "right.exr")) == 0);
+  std::ofstream(tmp / "keep.exr") << "previous contents";
+  struct Case {
+    const char* what;
+    std::vector<std::string> pieces;
+    const char* says;
+  };
+  const std::vector<Case> cases = {
+      {"a different scene", {"left.exr", "right_t.exr"}, "different scenes"},
+      {"different settings", {"left.exr", "right_seed3.exr"}, "different settings"},
+      {"overlapping crops", {"left.exr", "wide_right.exr"}, "overlap"},
+      {"a piece given twice", {"left.exr", "right.exr", "right.exr"}, "both hold samples"},
+      {"pixels not covered", {"left.exr", "short_right.exr"}, "do not cover"},
+      {"overlapping sample ranges", {"s02.exr", "s14.exr"}, "both hold samples 1..2"},
+      {"samples not covered", {"s02.exr", "s34.exr"}, "no piece holds samples 2..3"},
+      {"one crop alone", {"left.exr"}, "do not cover"},
+  };
+  for (const Case& c : cases) {
+    INFO(c.what);
+    std::string args = "merge " + (tmp / "keep.exr");
+    for (const std::string& p : c.pieces) args += " " + (tmp / p);
+    CHECK(run(args, tmp / "log.txt") == 1);
+    std::string log = slurp(tmp / "log.txt");
+    INFO(log);
+    CHECK(log.find(c.says) != std::string::npos);
+    CHECK(log.find("nothing written") != std::string::npos);
+    CHECK(slurp(tmp / "keep.exr") == "previous contents");
+    std::string args_new = "merge " + (tmp / "new.exr");
+    for (const std::string& p : c.pieces) args_new += " " + (tmp / p);
+    CHECK(run(args_new) == 1);
+    CHECK(!fs::exists(tmp / "new.exr"));
+  }
+  // Not a piece: a PNG (usage, 2), a missing file (3), an EXR without metadata (1).
+  CHECK(run("merge " + (tmp / "n.exr") + " " + (tmp / "whole.png")) == 2);
+  CHECK(run("merge " + (tmp / "n.exr") + " " + (tmp / "left.exr") + " " + (tmp / "gone.exr")) == 3);
+  {
+    OIIO::ImageSpec spec(4, 4, 3, OIIO::TypeDesc::FLOAT);
+    auto out = OIIO::ImageOutput::create(tmp / "plain.exr");
+    REQUIRE(out);
+    std::vector<float> zero(48, 0.0f);
+    REQUIRE(out->open(tmp / "plain.exr", spec));
+    REQUIRE(out->write_image(OIIO::TypeDesc::FLOAT, zero.data()));
+    out->close();
+  }
+  CHECK(run("merge " + (tmp / "n.exr") + " " + (tmp / "plain.exr"), tmp / "log.txt") == 1);
+  CHECK(slurp(tmp / "log.txt").find("not a piece of a Snell render") != std::string::npos);
+  CHECK(run("merge " + (tmp / "n.exr")) == 2);  // no pieces
+  CHECK(!fs::exists(tmp / "n.exr"));
+}
+
+TEST_CASE("animation: --frames renders each frame with its clock and names it",
+          "[e2e][animation]") {
+  Scratch tmp;
+  // No objects: every pixel is the background, <clock, frame / 10, 0.5>.
+  std::ofstream(tmp / "a.scn") << "settings { resolution <4, 2> }\n"
+                                  "background <clock, frame / 10, 0.5>\n";
+  const std::string a = "render " + (tmp / "a.scn") + " --quiet";
+  REQUIRE(run(a + " --frames 2..6 -o " + (tmp / "run_##.exr") + " -o " + (tmp / "plain.exr") +
+                  " --stats",
+              tmp / "log.txt") == 0);
+  for (int f = 2; f < 6; ++f) {
+    INFO("frame " << f);
+    char hashed[32], plain[32];
+    std::snprintf(hashed, sizeof hashed, "run_%02d.exr", f);
+    std::snprintf(plain, sizeof plain, "plain_%04d.exr", f);
+    Exr e = read_exr(tmp / hashed);
+    CHECK(e.at(0, 0)[0] == float((f - 2) / 4.0));
+    CHECK(e.at(3, 1)[1] == float(f / 10.0));
+    CHECK(e.attr("snell:frame") == std::to_string(f));
+    CHECK(fs::exists(tmp / plain));
+  }
+  CHECK(!fs::exists(tmp / "run_06.exr"));
+  CHECK(!fs::exists(tmp / "plain.exr"));
+  std::string log = slurp(tmp / "log.txt");
+  CHECK(log.find("total over 4 frames") != std::string::npos);
+  CHECK(log.find("frame 5 (4/4, clock 0.75)") == std::string::npos);  // --quiet
+  // Progress: one line a frame with an ETA.
+  REQUIRE(run("render " + (tmp / "a.scn") + " --frames 0..2 -o " + (tmp / "p.exr"),
+              tmp / "log.txt") == 0);
+  log = slurp(tmp / "log.txt");
+  CHECK(log.find("frame 0 (1/2, clock 0) done") != std::string::npos);
+  CHECK(log.find("frame 1 (2/2, clock 0.5) done") != std::string::npos);
+  CHECK(log.find("ETA") != std::string::npos);
+  // --clock: one frame, its name as given (frame stays 0).
+  REQUIRE(run(a + " --clock 0.625 -o " + (tmp / "one_#.exr")) == 0);
+  Exr one = read_exr(tmp / "one_#.exr");
+  CHECK(one.at(1, 1)[0] == 0.625f);
+  CHECK(one.at(1, 1)[1] == 0.0f);
+  // --frame F: one frame of the sequence, with the sequence's clock (a farm task).
+  REQUIRE(run(a + " --frames 2..6 --frame 4 -o " + (tmp / "task_##.exr")) == 0);
+  Exr task = read_exr(tmp / "task_04.exr");
+  CHECK(task.at(0, 0)[0] == 0.5f);
+  CHECK(task.at(0, 0)[1] == 0.4f);
+  CHECK(!fs::exists(tmp / "task_02.exr"));
+  CHECK(!fs::exists(tmp / "task_05.exr"));
+  // A frame number wider than its # run is written whole.
+  REQUIRE(run(a + " --frames 9..11 -o " + (tmp / "w#.exr")) == 0);
+  CHECK(fs::exists(tmp / "w9.exr"));
+  CHECK(fs::exists(tmp / "w10.exr"));
+}
+
+TEST_CASE("animation and split options: usage errors exit 2 and write nothing",
+          "[e2e][animation][split]") {
+  Scratch tmp;
+  std::ofstream(tmp / "ok.scn") << "settings { resolution <8, 6> samples 4 }\nsphere { }\n";
+  const std::string r = "render " + (tmp / "ok.scn") + " --quiet -o " + (tmp / "x.exr");
+  for (const char* bad : {"--frames 5..3",
+                          "--frames 3..3",
+                          "--frames 3",
+                          "--frames a..b",
+                          "--frames -1..2",
+                          "--frames 0..2 --clock 0.5",
+                          "--frame 1",
+                          "--frames 0..2 --frame 2",
+                          "--frames 2..4 --frame 1",
+                          "--clock abc",
+                          "--crop 0,0,9,6",
+                          "--crop 4,0,4,6",
+                          "--crop 1,2,3",
+                          "--crop 0,0,8,6,1",
+                          "--crop -1,0,8,6",
+                          "--sample-range 0..5",
+                          "--sample-range 2..2",
+                          "--sample-range 3..1",
+                          "--sample-range x",
+                          "--pixel 7,5 --crop 0,0,4,4"}) {
+    INFO(bad);
+    CHECK(run(r + " " + bad) == 2);
+  }
+  CHECK(!fs::exists(tmp / "x.exr"));
+  CHECK(!fs::exists(tmp / "x_0000.exr"));
+  CHECK(run("merge --help") == 0);
+  CHECK(run("merge") == 2);
+}
