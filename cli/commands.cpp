@@ -21,6 +21,25 @@
 namespace snell::cli {
 
 namespace {
+// "AsepB" of two whole numbers written as digits only (no sign, no spaces), each
+// at most 2^32 - 1: strtoul and sscanf's %u would take "-5" as 4294967291.
+bool parse_pair(const std::string& s, char sep, unsigned& a, unsigned& b) {
+  auto num = [](std::string_view t, unsigned& v) {
+    if (t.empty() || t.size() > 10 || t.find_first_not_of("0123456789") != std::string_view::npos)
+      return false;
+    unsigned long long x = std::stoull(std::string(t));
+    if (x > 0xffffffffull) return false;
+    v = unsigned(x);
+    return true;
+  };
+  std::size_t k = s.find(sep);
+  if (sep == 'x' && k == std::string::npos) k = s.find('X');
+  if (k == std::string::npos) return false;
+  return num(std::string_view(s).substr(0, k), a) && num(std::string_view(s).substr(k + 1), b);
+}
+}  // namespace
+
+namespace {
 namespace fs = std::filesystem;
 }  // namespace
 
@@ -48,9 +67,8 @@ bool build_compile_options(const CliArgs& o, compile::CompileOptions& c, std::st
   if (o.spp) c.overrides.push_back({"samples", std::to_string(*o.spp)});
   if (!o.res.empty()) {
     unsigned w = 0, h = 0;
-    char x = 0, extra = 0;
-    if (std::sscanf(o.res.c_str(), "%u%c%u%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X')) {
-      error = "--res takes WIDTHxHEIGHT (e.g. 640x480), got '" + o.res + "'";
+    if (!parse_pair(o.res, 'x', w, h)) {
+      error = "--res takes WIDTHxHEIGHT in whole pixels (e.g. 640x480), got '" + o.res + "'";
       return false;
     }
     c.overrides.push_back({"resolution", "<" + std::to_string(w) + ", " + std::to_string(h) + ">"});
@@ -192,8 +210,7 @@ int render_frame(FrameJob& job) {
   }
   if (!o.pixel.empty()) {
     unsigned x = 0, y = 0;
-    char comma = 0, extra = 0;
-    if (std::sscanf(o.pixel.c_str(), "%u%c%u%c", &x, &comma, &y, &extra) != 3 || comma != ',')
+    if (!parse_pair(o.pixel, ',', x, y))
       return usage_error("--pixel takes X,Y (e.g. 320,240), got '" + o.pixel + "'");
     const Window& w = piece.crop;
     if (x < w.x0 || x >= w.x1 || y < w.y0 || y >= w.y1)

@@ -22,10 +22,31 @@ namespace snell::compile {
 namespace fs = std::filesystem;
 using lang::DiagKind;
 
-bool read_file(const std::string& path, std::string& text, std::string& message) {
+std::string not_a_file(const std::string& path) {
   std::error_code ec;
-  if (fs::is_directory(path, ec)) {
-    message = "'" + path + "' is a directory";
+  fs::file_status st = fs::status(path, ec);
+  switch (st.type()) {
+    case fs::file_type::regular:
+      return "";
+    case fs::file_type::not_found:
+      return "does not exist";
+    case fs::file_type::directory:
+      return "is a folder, not a file";
+    case fs::file_type::fifo:
+      return "is a named pipe (FIFO), not a file";
+    case fs::file_type::socket:
+      return "is a socket, not a file";
+    case fs::file_type::block:
+    case fs::file_type::character:
+      return "is a device, not a file";
+    default:
+      return ec ? "cannot be read: " + ec.message() : "is not a regular file";
+  }
+}
+
+bool read_file(const std::string& path, std::string& text, std::string& message) {
+  if (std::string why = not_a_file(path); !why.empty()) {
+    message = "'" + path + "' " + why;
     return false;
   }
   std::ifstream in(path, std::ios::binary);

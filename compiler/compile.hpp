@@ -79,6 +79,11 @@ std::string stdlib_dir(const CompileOptions& options);
 
 // Reads a whole file; false when it cannot be read (message set).
 bool read_file(const std::string& path, std::string& text, std::string& message);
+// Why `path` cannot be read as a file, in words that follow its name ("does not
+// exist", "is a folder, not a file", "is a named pipe (FIFO), not a file", ...), or
+// "" for a regular file. Only regular files are opened: a FIFO would block the
+// compiler until something writes to it.
+std::string not_a_file(const std::string& path);
 
 // Runs `fn` on a thread with a large stack (deeply nested programs and deep
 // recursion in the interpreter must never overflow the native stack).

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "compiler/compile.hpp"
 #include "compiler/lower.hpp"
 
 namespace snell::compile {
@@ -23,9 +24,8 @@ bool SceneBuilder::add_image(const std::string& file, Span span, std::uint32_t& 
     index = it->second;
     return true;
   }
-  std::error_code ec;
-  if (!fs::is_regular_file(p, ec)) {
-    diags_.report(DiagKind::FileUnreadable, span, "image file '" + key + "' does not exist");
+  if (std::string why = not_a_file(p.string()); !why.empty()) {
+    diags_.report(DiagKind::FileUnreadable, span, "image file '" + key + "' " + why);
     return false;
   }
   if (!std::ifstream(p, std::ios::binary).good()) {

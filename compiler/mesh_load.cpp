@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <filesystem>
 
+#include "compiler/compile.hpp"
 #include "compiler/lower.hpp"
 #include "runtime/ir/mesh_topology.hpp"
 
@@ -111,9 +112,8 @@ bool SceneBuilder::load_mesh(const std::string& file, Span span, std::uint32_t& 
     index = it->second;
     return true;
   }
-  std::error_code ec;
-  if (!fs::is_regular_file(p, ec)) {
-    diags_.report(DiagKind::FileUnreadable, span, "mesh file '" + key + "' does not exist");
+  if (std::string why = not_a_file(p.string()); !why.empty()) {
+    diags_.report(DiagKind::FileUnreadable, span, "mesh file '" + key + "' " + why);
     return false;
   }
   ir::MeshData mesh;

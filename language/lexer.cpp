@@ -6,6 +6,7 @@
 #include <charconv>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <string>
 
 #include "language/scanner.hpp"
@@ -68,9 +69,18 @@ Scanner::Scanner(const SourceManager& sources, FileId file, DiagnosticEngine& di
     : file_(file), diags_(diags), src_(sources.file(file).text()) {
   if (src_.size() > kMaxSourceBytes) {
     // Spans are 32-bit and every later stage is linear in the size; refuse early.
+    // The text was read only up to the limit: the size on disk is the real one.
+    std::error_code ec;
+    std::uintmax_t size = std::filesystem::file_size(sources.file(file).path(), ec);
+    if (ec || size < src_.size()) size = src_.size();
+    double mb = double(size) / (1024.0 * 1024.0);
+    char shown[32];
+    if (mb >= 1024)
+      std::snprintf(shown, sizeof shown, "%.1f GB", mb / 1024);
+    else
+      std::snprintf(shown, sizeof shown, "%.0f MB", mb);
     diags_.report(DiagKind::FileTooLarge, span(0, 0),
-                  "the file is " + std::to_string(src_.size() / (1024 * 1024)) +
-                      " MB; source files may be at most " +
+                  "the file is " + std::string(shown) + "; source files may be at most " +
                       std::to_string(kMaxSourceBytes / (1024 * 1024)) + " MB");
     src_ = {};
   }

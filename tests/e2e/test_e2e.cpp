@@ -2,12 +2,15 @@
 // back with OIIO, and pixels are checked against values that follow from the
 // scene by formula.
 #include <OpenImageIO/imageio.h>
+#include <sys/stat.h>
 
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <string>
 
 #include "compiler/compile.hpp"
 
@@ -259,4 +262,54 @@ TEST_CASE("snell check lists the effects a scene uses", "[e2e]") {
   CHECK(out.find("dielectric") != std::string::npos);
   CHECK(out.find("absorption") != std::string::npos);
   CHECK(out.find("motion blur:") == std::string::npos);
+}
+
+namespace {
+// Runs snell (under timeout: none of these may block) and returns its exit code,
+// with what it printed on stderr in `err`.
+int run_capture(const std::string& args, std::string& err, const Scratch& tmp) {
+  std::string log = tmp / "stderr.txt";
+  int status =
+      std::system(("timeout 20 " + kSnell + " " + args + " > /dev/null 2> " + log).c_str());
+  std::ifstream in(log);
+  err.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+}  // namespace
+
+TEST_CASE("inputs that are not files, sizes and numbers are reported as they are", "[e2e]") {
+  Scratch tmp;
+  std::string err;
+  std::ofstream(tmp / "ok.scn") << "settings { resolution <8, 8> }\nsphere { }\n";
+  // A negative resolution is shown as written (sscanf's %u read -5 as 4294967291).
+  CHECK(run_capture("render " + (tmp / "ok.scn") + " --quiet --res -5x10", err, tmp) == 2);
+  CHECK(err.find("'-5x10'") != std::string::npos);
+  CHECK(err.find("4294967291") == std::string::npos);
+  CHECK(run_capture("render " + (tmp / "ok.scn") + " --quiet --pixel -1,2", err, tmp) == 2);
+  CHECK(err.find("'-1,2'") != std::string::npos);
+  // A folder or a FIFO named as a mesh, an image or the scene is named as such
+  // (and a FIFO is never opened: it would block until written to).
+  fs::create_directories(tmp / "folder.obj");
+  REQUIRE(::mkfifo((tmp / "pipe.obj").c_str(), 0600) == 0);
+  REQUIRE(::mkfifo((tmp / "pipe.scn").c_str(), 0600) == 0);
+  std::ofstream(tmp / "folder.scn") << "mesh { file \"folder.obj\" }\n";
+  std::ofstream(tmp / "pipe-mesh.scn") << "mesh { file \"pipe.obj\" }\n";
+  std::ofstream(tmp / "pipe-image.scn")
+      << "sphere { material diffuse { color image { file \"pipe.obj\" } } }\n";
+  CHECK(run_capture("check " + (tmp / "folder.scn"), err, tmp) == 3);
+  CHECK(err.find("is a folder, not a file") != std::string::npos);
+  CHECK(run_capture("check " + (tmp / "pipe-mesh.scn"), err, tmp) == 3);
+  CHECK(err.find("is a named pipe (FIFO), not a file") != std::string::npos);
+  CHECK(run_capture("check " + (tmp / "pipe-image.scn"), err, tmp) == 3);
+  CHECK(err.find("is a named pipe (FIFO), not a file") != std::string::npos);
+  CHECK(run_capture("check " + (tmp / "pipe.scn"), err, tmp) == 3);
+  CHECK(err.find("is a named pipe (FIFO), not a file") != std::string::npos);
+  // A 1.5 GB (sparse) source file: its real size, not the 100 MB read of it.
+  {
+    std::ofstream big(tmp / "big.scn");
+    big << "sphere { }\n";
+  }
+  fs::resize_file(tmp / "big.scn", 1536ull * 1024 * 1024);
+  CHECK(run_capture("check " + (tmp / "big.scn"), err, tmp) != 0);
+  CHECK(err.find("the file is 1.5 GB") != std::string::npos);
 }
