@@ -52,6 +52,36 @@ DiagBuilder& DiagBuilder::note(Span span, std::string message) {
 
 DiagBuilder DiagnosticEngine::report(DiagKind kind, Span span, std::string message) {
   Severity sev = diag_severity(kind);
+  // One diagnostic per kind and source place: a repeat is counted on the first.
+  std::uint64_t key = (std::uint64_t(span.file) * 0x9E3779B97F4A7C15ull) ^
+                      (std::uint64_t(span.begin) << 32 | span.end) ^
+                      (std::uint64_t(kind) * 0xC2B2AE3D27D4EB4Full);
+  // Only placed diagnostics: those without a place (command-line overrides) differ
+  // by their words alone.
+  std::vector<std::size_t>* bucket = span.file < sources_.size() ? &places_[key] : nullptr;
+  // The same words again are a repeat; so is anything past the third different
+  // message there (a loop whose message names the iteration's value). Up to three
+  // stay apart: different functions failing at one call site say different things.
+  if (bucket) {
+    Diagnostic* first = nullptr;
+    int same_place = 0;
+    for (std::size_t i : *bucket) {
+      Diagnostic& d = diags_[i];
+      if (d.kind != kind || d.span.file != span.file || d.span.begin != span.begin ||
+          d.span.end != span.end)
+        continue;
+      if (!first) first = &d;
+      ++same_place;
+      if (d.message == message) {
+        ++d.repeats;
+        return DiagBuilder(this, kDropped);
+      }
+    }
+    if (first && same_place >= 3) {
+      ++first->repeats;
+      return DiagBuilder(this, kDropped);
+    }
+  }
   if (sev == Severity::Error) {
     if (limit_reached()) {
       ++dropped_;
@@ -62,7 +92,8 @@ DiagBuilder DiagnosticEngine::report(DiagKind kind, Span span, std::string messa
   } else {
     ++warnings_;
   }
-  diags_.push_back({kind, sev, span, std::move(message), {}});
+  diags_.push_back({kind, sev, span, std::move(message), {}, 0});
+  if (bucket) bucket->push_back(diags_.size() - 1);
   return DiagBuilder(this, diags_.size() - 1);
 }
 
@@ -109,7 +140,7 @@ std::string DiagnosticEngine::format(const Diagnostic& d, bool color) const {
     if (color) out += "\x1b[0m";
   };
   bool err = d.severity == Severity::Error;
-  header(d.span, err ? "error" : "warning", err ? "\x1b[1;31m" : "\x1b[1;35m", d.message);
+  header(d.span, err ? "error" : "warning", err ? "\x1b[1;31m" : "\x1b[1;35m", d.text());
   out += " [" + std::string(diag_name(d.kind)) + "]\n";
   snippet(out, d.span, color);
   for (const DiagNote& n : d.notes) {

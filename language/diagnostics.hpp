@@ -12,6 +12,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <unordered_map>
 #include <vector>
 
 #include "language/source.hpp"
@@ -43,6 +44,16 @@ struct Diagnostic {
   Span span;
   std::string message;
   std::vector<DiagNote> notes;
+  // The same error reported again at the same place (a loop's body, a function
+  // called again; DiagnosticEngine::report says when): counted here, shown once as
+  // "(and N more times)".
+  std::size_t repeats = 0;
+  // The message as shown: with the repeats, when there were any.
+  std::string text() const {
+    if (repeats == 0) return message;
+    return message + " (and " + std::to_string(repeats) + " more time" + (repeats == 1 ? "" : "s") +
+           ")";
+  }
 };
 
 class DiagnosticEngine;
@@ -92,6 +103,8 @@ class DiagnosticEngine {
   std::size_t warnings_ = 0;
   std::size_t max_errors_ = 20;
   std::size_t dropped_ = 0;
+  // (kind, file, begin, end) of each kept diagnostic -> its index.
+  std::unordered_map<std::uint64_t, std::vector<std::size_t>> places_;
 };
 
 // Levenshtein-closest candidate for "did you mean" notes, or empty when nothing is

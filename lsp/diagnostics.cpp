@@ -14,11 +14,11 @@ json diagnostics(const Locator& at) {
   const lang::SourceManager& sources = a.comp->sources;
   for (const lang::Diagnostic& d : a.comp->diags.diagnostics()) {
     lang::Span span = d.span.file < sources.size() ? d.span : lang::Span{a.main, 0, 0};
-    std::string message = d.message;
+    std::string message = d.text();
     json related = json::array();
     if (span.file != a.main) {
-      related.push_back({{"location", at.location(span)}, {"message", d.message}});
-      message = "in " + sources.location(span) + ": " + d.message;
+      related.push_back({{"location", at.location(span)}, {"message", d.text()}});
+      message = "in " + sources.location(span) + ": " + d.text();
       lang::Span via{a.main, 0, 0};
       for (const ImportSite& s : a.imports)
         if (s.file == span.file || via.end == 0) via = s.span;

@@ -202,3 +202,26 @@ TEST_CASE("file size limit", "[lexer]") {
   CHECK(l.diags == std::vector<std::string>{"FileTooLarge@1:1"});
   CHECK(l.kinds() == Kinds{K::EndOfFile});
 }
+
+TEST_CASE("diagnostics: one per place, repeats counted, up to three messages apart",
+          "[diagnostics]") {
+  SourceManager sm;
+  FileId f = sm.add("loop.scn", "for i in 0 .. 9 { sphere { radius x } }\n");
+  DiagnosticEngine diags(sm);
+  diags.set_max_errors(0);
+  Span at{f, 35, 36};
+  for (int i = 0; i < 9; ++i) diags.report(DiagKind::UndefinedName, at, "'x' is not defined");
+  REQUIRE(diags.diagnostics().size() == 1);
+  CHECK(diags.error_count() == 1);
+  CHECK(diags.diagnostics()[0].repeats == 8);
+  CHECK(diags.format(diags.diagnostics()[0]).find("'x' is not defined (and 8 more times)") !=
+        std::string::npos);
+  // Different words at one place stay apart up to three; later ones count on the first.
+  for (int i = 0; i < 6; ++i)
+    diags.report(DiagKind::InvalidValue, at, "value " + std::to_string(i) + " is wrong");
+  REQUIRE(diags.diagnostics().size() == 4);
+  CHECK(diags.diagnostics()[1].repeats == 3);
+  // Another kind, or another place, is another diagnostic.
+  diags.report(DiagKind::UndefinedName, Span{f, 4, 5}, "'x' is not defined");
+  CHECK(diags.diagnostics().size() == 5);
+}
