@@ -6,6 +6,9 @@
 // in one run, interleaved, 1 thread, median of repeats; ns per camera sample and
 // the ratio.
 //
+// Quadrics against triangles: twelve spheres and twelve CSG lenses, analytic and
+// tessellated (OBJ meshes written here), ns per camera sample and the ratio.
+//
 // Instances: N objects of one mesh value (`object { m ... }`, one prototype, Embree
 // instancing) against the same N written as separate meshes (each object's
 // triangles copied into the scene's BVH): the resident memory the built scene
@@ -65,6 +68,41 @@ std::string write_sphere_obj(const fs::path& dir, long tris) {
       f << "f " << v(i, j) << " " << v(i, j + 1) << " " << v(i + 1, j + 1) << " " << v(i + 1, j)
         << "\n";
   for (int j = 0; j < n; ++j) f << "f 2 " << v(n - 1, j) << " " << v(n - 1, j + 1) << "\n";
+  return path;
+}
+
+// The lens (the intersection of the spheres of radius 0.6 about (0, 0, ±0.3)) as
+// two tessellated caps meeting at the rim: `n` rings of `4n` segments each.
+std::string write_lens_obj(const fs::path& dir, int n) {
+  std::string path = (dir / "lens.obj").string();
+  std::ofstream f(path);
+  const double pi = 3.14159265358979323846, tmax = pi / 3;  // cos 60° = 0.3 / 0.6
+  int m = 4 * n;
+  // Vertices: the two poles, then per cap rings 1..n (ring n is the shared rim).
+  f << "v 0 0 0.3\nv 0 0 -0.3\n";
+  for (int cap = 0; cap < 2; ++cap)
+    for (int i = 1; i <= n; ++i)
+      for (int j = 0; j < m; ++j) {
+        double th = tmax * i / n, ph = 2 * pi * j / m, z = 0.6 * std::cos(th) - 0.3;
+        f << "v " << 0.6 * std::sin(th) * std::cos(ph) << " " << 0.6 * std::sin(th) * std::sin(ph)
+          << " " << (cap == 0 ? z : -z) << "\n";
+      }
+  auto v = [&](int cap, int i, int j) {
+    if (i == n && cap == 1) cap = 0;  // the rim is one ring
+    return 3 + cap * n * m + (i - 1) * m + (j % m);
+  };
+  for (int cap = 0; cap < 2; ++cap) {
+    bool flip = cap == 1;
+    auto tri = [&](int a, int b, int c) {
+      f << "f " << a << " " << (flip ? c : b) << " " << (flip ? b : c) << "\n";
+    };
+    for (int j = 0; j < m; ++j) tri(1 + cap, v(cap, 1, j), v(cap, 1, j + 1));
+    for (int i = 1; i < n; ++i)
+      for (int j = 0; j < m; ++j) {
+        tri(v(cap, i, j), v(cap, i + 1, j), v(cap, i + 1, j + 1));
+        tri(v(cap, i, j), v(cap, i + 1, j + 1), v(cap, i, j + 1));
+      }
+  }
   return path;
 }
 
@@ -156,6 +194,36 @@ int main(int argc, char** argv) {
     }
     double x = median(ta) / samples * 1e9, y = median(tb) / samples * 1e9;
     std::printf("%-18s %14.1f %14.1f %8.2f\n", p.name, x, y, y / x);
+    std::fflush(stdout);
+  }
+
+  // Quadrics and CSG against the same objects tessellated (about 20k triangles a
+  // sphere, 12k a lens: fine enough to look the same at this size).
+  {
+    std::string ball = "\"" + write_sphere_obj(dir, 20000) + "\"";
+    std::string lens = "\"" + write_lens_obj(dir, 40) + "\"";
+    const std::string grid8 = "for i in 0 .. 4 { for j in 0 .. 3 { ";
+    const std::string at = " translate <-1.8 + 1.2 * i, 0, 1.2 * j> } ";
+    std::string analytic =
+        grid8 + "sphere { radius 0.45 material diffuse 0.8" + at +
+        "intersection { sphere { center <0, 0, 0.3> radius 0.6 } sphere { center <0, 0, -0.3> "
+        "radius 0.6 } material diffuse 0.8 translate <-1.8 + 1.2 * i, 0.9, 1.2 * j> } } }";
+    std::string meshes = grid8 + "mesh { file " + ball + " scale 0.45 material diffuse 0.8" + at +
+                         "mesh { file " + lens +
+                         " material diffuse 0.8 translate <-1.8 + 1.2 * i, 0.9, 1.2 * j> } } }";
+    ir::Scene a = compile_scene(analytic, res, spp), b = compile_scene(meshes, res, spp);
+    rt::RenderOptions o;
+    o.threads = 1;
+    std::vector<double> ta, tb;
+    double samples = double(res) * (res * 3 / 4) * spp;
+    for (int r = 0; r < repeats; ++r) {
+      ta.push_back(rt::render(a, o).stats.render_seconds);
+      tb.push_back(rt::render(b, o).stats.render_seconds);
+    }
+    double x = median(ta) / samples * 1e9, y = median(tb) / samples * 1e9;
+    std::printf("\nQuadrics and CSG against the same tessellated (12 spheres, 12 lenses):\n");
+    std::printf("%-18s %14s %14s %8s\n", "", "analytic ns", "triangles ns", "ratio");
+    std::printf("%-18s %14.1f %14.1f %8.2f\n", "per sample", x, y, x / y);
     std::fflush(stdout);
   }
 
