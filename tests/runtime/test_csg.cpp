@@ -398,3 +398,36 @@ TEST_CASE("csg: a closed mesh is a solid, answering as the box it bounds", "[csg
   }
   CHECK(hits > 200);
 }
+
+TEST_CASE("csg: a mirror lens reflects once, out of the result", "[csg][scene]") {
+  // A convex mirror (the lens, tinted 0.5) under a white sky: every ray that meets
+  // it reflects once and escapes (a convex surface never sees itself), so each
+  // pixel is 1 or 0.5 exactly (edges: a multiple of 1/8 of 4 samples), with both
+  // kernels. A reflected ray started on the wrong side of the leaf it hit (its
+  // offset or side from the CSG normal) would stay inside and reflect again off
+  // the far cap (0.25, or black at max_depth).
+  ir::Scene s = base_scene(48, 36, 4);
+  s.background = ir::Vec3{1, 1, 1};
+  s.settings.max_depth = 8;
+  std::uint32_t m = add_material(s, mirror({0.5, 0.5, 0.5}));
+  Csg c{s};
+  c.place(c.op(ir::CsgOp::Intersection,
+               {c.leaf(sphere({0, 0, 0.6}, 1), {}, m), c.leaf(sphere({0, 0, -0.6}, 1), {}, m)}),
+          ir::Transform::rotate_y(25) * ir::Transform::rotate_x(-20), m);
+  look(s, {0, 0, -4}, {0, 0, 0}, 30);
+  for (bool general : {false, true}) {
+    rt::RenderResult r = render_with(s, 1, general);
+    int lens = 0, other = 0;
+    for (std::uint32_t y = 0; y < 36; ++y)
+      for (std::uint32_t x = 0; x < 48; ++x) {
+        float v = r.image.at(x, y)[0];
+        // Edge pixels average lens and sky samples: 0.5 + k/8 for k of 4 samples.
+        bool ok = std::fabs(v * 8 - std::round(v * 8)) < 1e-4 && v >= 0.5f - 1e-5f;
+        if (std::fabs(v - 0.5f) < 1e-5f) ++lens;
+        if (!ok) ++other;
+      }
+    INFO("general kernel " << general);
+    CHECK(lens > 200);
+    CHECK(other == 0);
+  }
+}
