@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <iostream>
 #include <limits>
@@ -16,6 +17,7 @@
 #include "cli/progress.hpp"
 #include "cli/split.hpp"
 #include "language/parser.hpp"
+#include "runtime/image_format.hpp"
 #include "runtime/render.hpp"
 
 namespace snell::cli {
@@ -117,15 +119,28 @@ int compile_scene(const CliArgs& o, std::unique_ptr<compile::Compilation>& out) 
   return compile_scene(o, copts, out);
 }
 
-// An output whose folder is missing fails before the render, not after (exit 3).
+// An output that cannot be written fails before the render, not after (exit 3,
+// §10): its folder is missing, not a folder or not writable, or the path is a
+// folder or something other than a file. (A full disk is found when writing; the
+// writer then leaves the old file as it was.)
 int check_output_folder(const std::string& out) {
   fs::path dir = fs::path(out).parent_path();
   std::error_code ec;
-  if (!dir.empty() && !fs::is_directory(dir, ec)) {
-    std::cerr << "snell: error: cannot write " << out << ": the folder " << dir.string()
-              << (fs::exists(dir, ec) ? " is not a folder" : " does not exist") << "\n";
+  auto fail = [&](const std::string& why) {
+    std::cerr << "snell: error: cannot write " << out << ": " << why << "\n";
     return kExitIo;
-  }
+  };
+  if (!dir.empty() && !fs::is_directory(dir, ec))
+    return fail("the folder " + dir.string() +
+                (fs::exists(dir, ec) ? " is not a folder" : " does not exist"));
+  fs::file_status st = fs::status(out, ec);
+  if (st.type() == fs::file_type::directory) return fail("it is a folder");
+  if (fs::exists(st) && st.type() != fs::file_type::regular)
+    return fail("it exists and is not a regular file");
+  // The temporary beside it and the rename need the folder writable.
+  std::string folder = dir.empty() ? "." : dir.string();
+  if (::access(folder.c_str(), W_OK | X_OK) != 0)
+    return fail("the folder " + folder + " is not writable (" + std::strerror(errno) + ")");
   return -1;
 }
 
@@ -232,6 +247,15 @@ int render_frame(FrameJob& job) {
       std::cerr << "snell: error: cannot write images: " << err << "\n";
       return kExitIo;
     }
+    // A display-referred output needs the OCIO config's display transform.
+    for (const std::string& out : job.outputs)
+      if (rt::lower_extension(out) != ".exr") {
+        if (std::string err = rt::check_display_transform(o.ocio_config); !err.empty()) {
+          std::cerr << "snell: error: cannot write " << out << ": " << err << "\n";
+          return kExitIo;
+        }
+        break;
+      }
   }
   // §17: every image opens through the texture system before the render (exit 3).
   if (std::string err = rt::check_images(scene); !err.empty()) {

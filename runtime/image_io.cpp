@@ -150,3 +150,15 @@ extern "C" __attribute__((visibility("default"))) void snell_write_image_v1(
     error = fmt::format("cannot write {}: {}", path, e.what());
   }
 }
+
+// The display transform made once on one black pixel: what a PNG write would
+// report about the OCIO config, before any render.
+extern "C" __attribute__((visibility("default"))) void snell_check_display_v1(
+    const std::string& ocio_config, std::string& error) {
+  try {
+    float rgb[3] = {0, 0, 0};
+    error = snell::rt::apply_display_transform(ocio_config, rgb, 1);
+  } catch (const std::exception& e) {
+    error = e.what();
+  }
+}

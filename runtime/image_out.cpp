@@ -37,6 +37,16 @@ std::string preload_image_writer() {
   return writer().error;
 }
 
+std::string check_display_transform(const std::string& ocio_config) {
+  using CheckFn = void (*)(const std::string&, std::string&);
+  std::string error;
+  static const CheckFn check =
+      reinterpret_cast<CheckFn>(image_module_symbol("snell_check_display_v1", error));
+  if (!check) return error.empty() ? "no display transform in the image module" : error;
+  check(ocio_config, error);
+  return error;
+}
+
 std::string write_image(const std::string& path, const Image& image, const OutputInfo& info,
                         const std::string& ocio_config) {
   if (!is_supported_image_extension(path))

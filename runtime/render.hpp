@@ -136,6 +136,11 @@ std::string read_image(const std::string& path, ImageFile& out);
 // CLI calls it before the render, so a writer that cannot load fails early).
 // Returns an error message, or empty when the module is ready. Thread-safe.
 std::string preload_image_writer();
+// Whether the display transform of the PNG/JPEG/TIFF outputs can be made from the
+// OCIO config at `ocio_config` (as write_image takes it): the error message a write
+// would give, or empty. The CLI asks before the render, so a bad config loses no
+// render.
+std::string check_display_transform(const std::string& ocio_config);
 
 // §17: opens every image of the scene through the texture system (the CLI calls it
 // before the render, so an unreadable image fails with exit 3 before the work).

@@ -313,3 +313,53 @@ TEST_CASE("inputs that are not files, sizes and numbers are reported as they are
   CHECK(run_capture("check " + (tmp / "big.scn"), err, tmp) != 0);
   CHECK(err.find("the file is 1.5 GB") != std::string::npos);
 }
+
+TEST_CASE("outputs that cannot be written fail before the render (exit 3)", "[e2e]") {
+  // Each error comes before any ray: --stats, printed after a render, is absent.
+  Scratch tmp;
+  std::string err;
+  std::ofstream(tmp / "ok.scn") << "settings { resolution <8, 8> }\nsphere { }\n";
+  const std::string scene = tmp / "ok.scn";
+  fs::create_directories(tmp / "folder.png");
+  CHECK(run_capture("render " + scene + " --stats -o " + (tmp / "folder.png"), err, tmp) == 3);
+  CHECK(err.find("it is a folder") != std::string::npos);
+  CHECK(err.find("kernel:") == std::string::npos);
+  REQUIRE(::mkfifo((tmp / "pipe.png").c_str(), 0600) == 0);
+  CHECK(run_capture("render " + scene + " --stats -o " + (tmp / "pipe.png"), err, tmp) == 3);
+  CHECK(err.find("is not a regular file") != std::string::npos);
+  // A config that does not load, for a display-referred output: before the render;
+  // an EXR needs no display transform and is written.
+  CHECK(
+      run_capture("render " + scene + " --stats -o " + (tmp / "a.png") + " --ocio-config " + scene,
+                  err, tmp) == 3);
+  CHECK(err.find("OpenColorIO config") != std::string::npos);
+  CHECK(err.find("kernel:") == std::string::npos);
+  CHECK(!fs::exists(tmp / "a.png"));
+  CHECK(
+      run_capture("render " + scene + " --quiet -o " + (tmp / "a.exr") + " --ocio-config " + scene,
+                  err, tmp) == 0);
+  // A folder the user cannot write to (as a user without root's override).
+  if (::geteuid() == 0 && std::system("command -v setpriv > /dev/null") == 0) {
+    fs::create_directories(tmp / "ro");
+    fs::permissions(tmp / "ro", fs::perms::owner_read | fs::perms::owner_exec |
+                                    fs::perms::group_read | fs::perms::group_exec |
+                                    fs::perms::others_read | fs::perms::others_exec);
+    fs::permissions(tmp.dir, fs::perms::all);
+    std::ofstream(tmp / "ro/old.png") << "old";
+    std::string log = tmp / "ro-stderr.txt";
+    int status = std::system(("timeout 20 setpriv --reuid=65534 --regid=65534 --clear-groups " +
+                              kSnell + " render " + scene + " --stats -o " + (tmp / "ro/old.png") +
+                              " > /dev/null 2> " + log)
+                                 .c_str());
+    std::ifstream in(log);
+    err.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    INFO(err);
+    CHECK((WIFEXITED(status) ? WEXITSTATUS(status) : -1) == 3);
+    CHECK(err.find("is not writable") != std::string::npos);
+    CHECK(err.find("kernel:") == std::string::npos);
+    std::ifstream old(tmp / "ro/old.png");
+    CHECK(std::string(std::istreambuf_iterator<char>(old), std::istreambuf_iterator<char>()) ==
+          "old");
+    fs::permissions(tmp / "ro", fs::perms::owner_all);  // so the scratch folder is removed
+  }
+}
