@@ -319,8 +319,9 @@ std::unique_ptr<Compilation> compile_source(const std::string& path, std::string
         [&](const std::string& name, lang::Span span) { return driver.load_import(name, span); },
         options.step_budget);
     if (options.on_define) eval.set_define_observer(options.on_define);
-    eval.predeclare("clock", Value::number(options.clock));
-    eval.predeclare("frame", Value::number(options.frame));
+    static_assert(std::size(kPredeclared) == 2, "a predeclared name without its value here");
+    eval.predeclare(kPredeclared[0].name, Value::number(options.clock));
+    eval.predeclare(kPredeclared[1].name, Value::number(options.frame));
     // The main file counts as imported: importing it again is a cycle.
     eval.run_file(*program);
     if (c->diags.has_errors()) return;

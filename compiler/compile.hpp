@@ -36,6 +36,21 @@ struct CompileOptions {
   double frame = 0;
 };
 
+// §18: the names every file sees above its top level (compile_source predeclares
+// them from CompileOptions::clock and ::frame), with what editors show for them.
+struct PredeclaredName {
+  const char* name;
+  const char* doc;
+};
+inline constexpr PredeclaredName kPredeclared[] = {
+    {"clock",
+     "predeclared number (§18): 0 by default; `--clock X` sets it, and under "
+     "`--frames A..B` it is (frame - A) / (B - A)"},
+    {"frame",
+     "predeclared number (§18): the frame being rendered under `--frames A..B`, "
+     "0 otherwise"},
+};
+
 // Where `import "NAME";` written in the file `from` finds its file, searched as
 // the compiler does (§9: the importing file's folder, each -I folder, the standard
 // library; a file never imports itself); empty when nowhere. `searched` gets the

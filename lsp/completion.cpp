@@ -14,6 +14,7 @@
 #include <set>
 
 #include "compiler/builtins.hpp"
+#include "compiler/compile.hpp"
 #include "compiler/properties.hpp"
 #include "language/lexer.hpp"
 #include "lsp/features.hpp"
@@ -120,6 +121,8 @@ void add_values(const Analysis& a, std::uint32_t offset, json& out) {
   }
   out.push_back(item("true", kValue));
   out.push_back(item("false", kValue));
+  for (const compile::PredeclaredName& p : compile::kPredeclared)
+    out.push_back(item(p.name, kVariable, "predeclared", p.doc));
 }
 
 void add_statements(const Analysis& a, std::uint32_t offset, json& out) {

@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "compiler/builtins.hpp"
+#include "compiler/compile.hpp"
 #include "compiler/properties.hpp"
 #include "lsp/features.hpp"
 
@@ -151,6 +152,9 @@ json hover(const Locator& at, std::uint32_t offset) {
     if (r->def >= 0) return markdown(describe_definition(a, a.defs[r->def]), at.range(r->span));
     const lang::SourceFile& f = a.main_file();
     std::string name(f.text().substr(r->span.begin, r->span.end - r->span.begin));
+    for (const compile::PredeclaredName& p : compile::kPredeclared)
+      if (name == p.name)
+        return markdown("```snell\n" + name + "\n```\n" + p.doc, at.range(r->span));
     int b = compile::find_builtin(name);
     if (b >= 0)
       return markdown("```snell\n" + std::string(compile::builtin_info(b).signature) +

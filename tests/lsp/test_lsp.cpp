@@ -128,6 +128,31 @@ TEST_CASE("server: diagnostics, hover and definition in memory", "[lsp]") {
   CHECK(c.server.exit_code() == 0);
 }
 
+TEST_CASE("server: the predeclared clock and frame hover and complete (§18)", "[lsp]") {
+  Client c;
+  c.request("initialize", {{"capabilities", json::object()}});
+  c.notify("initialized", json::object());
+  c.notify("textDocument/didOpen",
+           {{"textDocument",
+             {{"uri", kUri},
+              {"languageId", "snell"},
+              {"version", 1},
+              {"text", "sphere { radius 1 + clock translate <frame, 0, 0> }\n"}}}});
+  CHECK(c.last_diagnostics()["diagnostics"].empty());
+  json hover = c.request("textDocument/hover",
+                         {{"textDocument", {{"uri", kUri}}}, {"position", pos(0, 22)}});
+  REQUIRE(hover["result"].is_object());
+  std::string text = hover["result"]["contents"]["value"];
+  CHECK(text.find("--frames") != std::string::npos);
+  json items = c.request("textDocument/completion",
+                         {{"textDocument", {{"uri", kUri}}}, {"position", pos(0, 20)}})["result"];
+  if (items.is_object()) items = items["items"];
+  bool clock = false, frame = false;
+  for (const json& i : items) clock |= i["label"] == "clock", frame |= i["label"] == "frame";
+  CHECK(clock);
+  CHECK(frame);
+}
+
 TEST_CASE("server: a 1000-line scene is analysed well under 100 ms", "[lsp]") {
   std::string text = "import \"colors.scn\";\nlet m = diffuse <0.8, 0.8, 0.8>;\n";
   for (int i = 0; i < 1000; ++i)
