@@ -100,6 +100,23 @@ WhittedIntegrator::WhittedIntegrator(const ir::Scene& scene, const EmbreeScene& 
     background_ = to_color(std::get<ir::Constant>(scene.background.pattern).color);
   else
     background_pattern_ = &scene.background;
+  // Only "uv" reads the hit's surface: without it no hit pays for its frame.
+  auto uv = [](const ir::Texture& t) {
+    const auto* im = std::get_if<ir::ImageTexture>(&t.pattern);
+    return im && im->mapping == ir::ImageMapping::Uv;
+  };
+  for (const ir::Material& m : scene.materials) {
+    maps_uv_ = maps_uv_ || uv(m.bump.pattern);
+    std::visit(
+        [&](const auto& model) {
+          ir::for_each_field(model, [&](const char*, const auto& v) {
+            if constexpr (std::is_same_v<std::decay_t<decltype(v)>, ir::Texture>)
+              maps_uv_ = maps_uv_ || uv(v);
+          });
+        },
+        m.model);
+  }
+  maps_uv_ = maps_uv_ && images_;
   max_depth_ = scene.settings.max_depth;
   min_weight_ = float(scene.settings.min_weight);
   fresnel_ = scene.settings.fresnel;
@@ -361,9 +378,9 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
       // §17: the footprint is the pixel's width at the hit's distance from the
       // camera (for mirrored and refracted rays too: an estimate, not their own
       // differentials).
-      // §17 "uv": the surface hit, found only when the scene has images.
+      // §17 "uv": the surface hit, found only when some image maps "uv".
       SurfaceFrame surface;
-      if (images_) {
+      if (maps_uv_) {
         surface = surface_frame(scene_, shape, hit.part, hit.outer, 0, double(node.ray.time));
         if (surface.leaf->kind() == ir::ShapeKind::Mesh) surface.tri = embree_.triangle_of(hit);
       }
@@ -376,7 +393,7 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
                              images_,
                              images_ ? normalize(d) : Vec3f{},  // only images read these
                              images_ ? pixel_angle_ * length(p) : 0.0f,
-                             images_ ? &surface : nullptr};
+                             maps_uv_ ? &surface : nullptr};
       // The lobes' normal: nf, or a smooth mesh's or a bump's (§16) shading normal made
       // valid for this viewer (hard case #20, shading/shading_normal.hpp).
       Vec3f ns_out = hit.ns;

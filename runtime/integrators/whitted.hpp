@@ -133,6 +133,7 @@ class WhittedIntegrator final : public Integrator {
   Color background_;                                 // a constant background
   const ir::Texture* background_pattern_ = nullptr;  // or a pattern one
   const ImageTextures* images_;                      // §17; null without images
+  bool maps_uv_ = false;   // some surface's image maps "uv": hits find their SurfaceFrame
   float pixel_angle_ = 0;  // radians per pixel: the footprint's width at distance 1
   std::uint32_t max_depth_;
   float min_weight_;
