@@ -129,6 +129,19 @@ ir::Scene compile_scene(const std::string& body, std::uint32_t res, std::uint32_
   return s;
 }
 
+// ns per camera sample of scenes a and b, rendered interleaved, 1 thread, median.
+std::pair<double, double> ns_per_sample(const ir::Scene& a, const ir::Scene& b, int repeats) {
+  rt::RenderOptions o;
+  o.threads = 1;
+  std::vector<double> ta, tb;
+  double samples = double(a.settings.width) * a.settings.height * a.settings.samples;
+  for (int r = 0; r < repeats; ++r) {
+    ta.push_back(rt::render(a, o).stats.render_seconds);
+    tb.push_back(rt::render(b, o).stats.render_seconds);
+  }
+  return {median(ta) / samples * 1e9, median(tb) / samples * 1e9};
+}
+
 struct Pair {
   const char* name;
   std::string plain, csg;
@@ -183,16 +196,8 @@ int main(int argc, char** argv) {
   std::printf("CSG: %ux%u, %u spp, 1 thread, median of %d\n", res, res * 3 / 4, spp, repeats);
   std::printf("%-18s %14s %14s %8s\n", "pair", "plain ns/spl", "CSG ns/spl", "ratio");
   for (const Pair& p : pairs) {
-    ir::Scene a = compile_scene(p.plain, res, spp), b = compile_scene(p.csg, res, spp);
-    rt::RenderOptions o;
-    o.threads = 1;
-    std::vector<double> ta, tb;
-    double samples = double(res) * (res * 3 / 4) * spp;
-    for (int r = 0; r < repeats; ++r) {
-      ta.push_back(rt::render(a, o).stats.render_seconds);
-      tb.push_back(rt::render(b, o).stats.render_seconds);
-    }
-    double x = median(ta) / samples * 1e9, y = median(tb) / samples * 1e9;
+    auto [x, y] =
+        ns_per_sample(compile_scene(p.plain, res, spp), compile_scene(p.csg, res, spp), repeats);
     std::printf("%-18s %14.1f %14.1f %8.2f\n", p.name, x, y, y / x);
     std::fflush(stdout);
   }
@@ -211,16 +216,8 @@ int main(int argc, char** argv) {
     std::string meshes = grid8 + "mesh { file " + ball + " scale 0.45 material diffuse 0.8" + at +
                          "mesh { file " + lens +
                          " material diffuse 0.8 translate <-1.8 + 1.2 * i, 0.9, 1.2 * j> } } }";
-    ir::Scene a = compile_scene(analytic, res, spp), b = compile_scene(meshes, res, spp);
-    rt::RenderOptions o;
-    o.threads = 1;
-    std::vector<double> ta, tb;
-    double samples = double(res) * (res * 3 / 4) * spp;
-    for (int r = 0; r < repeats; ++r) {
-      ta.push_back(rt::render(a, o).stats.render_seconds);
-      tb.push_back(rt::render(b, o).stats.render_seconds);
-    }
-    double x = median(ta) / samples * 1e9, y = median(tb) / samples * 1e9;
+    auto [x, y] =
+        ns_per_sample(compile_scene(analytic, res, spp), compile_scene(meshes, res, spp), repeats);
     std::printf("\nQuadrics and CSG against the same tessellated (12 spheres, 12 lenses):\n");
     std::printf("%-18s %14s %14s %8s\n", "", "analytic ns", "triangles ns", "ratio");
     std::printf("%-18s %14.1f %14.1f %8.2f\n", "per sample", x, y, x / y);
