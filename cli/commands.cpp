@@ -17,6 +17,7 @@
 #include "cli/progress.hpp"
 #include "cli/split.hpp"
 #include "language/parser.hpp"
+#include "runtime/atomic_file.hpp"
 #include "runtime/image_format.hpp"
 #include "runtime/render.hpp"
 
@@ -124,7 +125,9 @@ int compile_scene(const CliArgs& o, std::unique_ptr<compile::Compilation>& out) 
 // folder or something other than a file. (A full disk is found when writing; the
 // writer then leaves the old file as it was.)
 int check_output_folder(const std::string& out) {
-  fs::path dir = fs::path(out).parent_path();
+  // A symlink is written through (atomic_file.hpp): its target's folder counts.
+  const std::string target = rt::write_target(out);
+  fs::path dir = fs::path(target).parent_path();
   std::error_code ec;
   auto fail = [&](const std::string& why) {
     std::cerr << "snell: error: cannot write " << out << ": " << why << "\n";
@@ -133,7 +136,7 @@ int check_output_folder(const std::string& out) {
   if (!dir.empty() && !fs::is_directory(dir, ec))
     return fail("the folder " + dir.string() +
                 (fs::exists(dir, ec) ? " is not a folder" : " does not exist"));
-  fs::file_status st = fs::status(out, ec);
+  fs::file_status st = fs::status(target, ec);
   if (st.type() == fs::file_type::directory) return fail("it is a folder");
   if (fs::exists(st) && st.type() != fs::file_type::regular)
     return fail("it exists and is not a regular file");
@@ -142,6 +145,31 @@ int check_output_folder(const std::string& out) {
   if (::access(folder.c_str(), W_OK | X_OK) != 0)
     return fail("the folder " + folder + " is not writable (" + std::strerror(errno) + ")");
   return -1;
+}
+
+// An output never replaces a file the work reads (§10: nothing is lost): the
+// scene, an import, a mesh, an image, a piece being merged. The same file by
+// any name counts (a symlink, a hard link, "./a/../a"). Exit 2, before the render.
+int check_not_an_input(const std::vector<std::string>& outputs,
+                       const std::vector<std::string>& inputs) {
+  for (const std::string& out : outputs) {
+    std::error_code ec;
+    const std::string target = rt::write_target(out);
+    if (!fs::exists(target, ec)) continue;
+    for (const std::string& in : inputs)
+      if (fs::equivalent(target, in, ec))
+        return usage_error("the output " + out + " is " + (in == out ? "" : in + ", ") +
+                           "a file this command reads: writing it would destroy its input");
+  }
+  return -1;
+}
+
+// The files a compiled scene was made from.
+std::vector<std::string> scene_inputs(const ir::Scene& s) {
+  std::vector<std::string> files = s.files;
+  for (const ir::MeshData& m : s.meshes) files.push_back(m.path);
+  for (const ir::ImageFile& im : s.images) files.push_back(im.path);
+  return files;
 }
 
 }  // namespace
@@ -209,6 +237,7 @@ int render_frame(FrameJob& job) {
   rt::RenderOptions ropts;
   ropts.threads = o.threads;
   ropts.general_kernel = o.features == "all";
+  ropts.ocio_config = o.ocio_config;
   ropts.measure_cost = o.stats;
   const std::uint32_t W = scene.settings.width, H = scene.settings.height;
   const std::uint32_t spp = scene.settings.samples ? scene.settings.samples : 1;
@@ -235,9 +264,16 @@ int render_frame(FrameJob& job) {
     ropts.trace_pixel = {{x, y}};
   }
 
+  if (int code = check_not_an_input(job.outputs, scene_inputs(scene)); code >= 0) return code;
   if (job.first) {
-    for (const std::string& out : job.outputs)
+    for (const std::string& out : job.outputs) {
       if (int code = check_output_folder(out); code >= 0) return code;
+      const Window& w = piece.crop;
+      if (std::string why = rt::format_limit(out, w.x1 - w.x0, w.y1 - w.y0); !why.empty()) {
+        std::cerr << "snell: error: cannot write " << out << ": " << why << "\n";
+        return kExitIo;
+      }
+    }
     // The image writer (OIIO, ~0.25 s to load) loads before the render: a writer
     // that cannot load fails now, not after the render is done. Not on a thread
     // beside the render: its dlopen holds the loader lock, which Embree's and TBB's
@@ -250,7 +286,7 @@ int render_frame(FrameJob& job) {
     // A display-referred output needs the OCIO config's display transform.
     for (const std::string& out : job.outputs)
       if (rt::lower_extension(out) != ".exr") {
-        if (std::string err = rt::check_display_transform(o.ocio_config); !err.empty()) {
+        if (std::string err = rt::check_display_transform(o.display_view()); !err.empty()) {
           std::cerr << "snell: error: cannot write " << out << ": " << err << "\n";
           return kExitIo;
         }
@@ -258,7 +294,7 @@ int render_frame(FrameJob& job) {
       }
   }
   // §17: every image opens through the texture system before the render (exit 3).
-  if (std::string err = rt::check_images(scene); !err.empty()) {
+  if (std::string err = rt::check_images(scene, o.ocio_config); !err.empty()) {
     std::cerr << "snell: error: " << err << "\n";
     return kExitIo;
   }
@@ -276,7 +312,7 @@ int render_frame(FrameJob& job) {
   info.attributes = piece_attributes(scene, piece);
   int code = -1;
   for (const std::string& out : job.outputs) {
-    std::string err = rt::write_image(out, result.image, info, o.ocio_config);
+    std::string err = rt::write_image(out, result.image, info, o.display_view());
     if (!err.empty()) {
       std::cerr << "snell: error: " << err << "\n";
       code = kExitIo;
@@ -357,7 +393,13 @@ int run_merge(const CliArgs& o) {
   for (const std::string& p : o.pieces)
     if (rt::lower_extension(p) != ".exr")
       return usage_error("merge reads EXR pieces (linear radiance), not '" + p + "'");
+  if (int code = check_not_an_input({o.merge_out}, o.pieces); code >= 0) return code;
   if (int code = check_output_folder(o.merge_out); code >= 0) return code;
+  if (rt::lower_extension(o.merge_out) != ".exr")
+    if (std::string err = rt::check_display_transform(o.display_view()); !err.empty()) {
+      std::cerr << "snell: error: cannot write " << o.merge_out << ": " << err << "\n";
+      return kExitIo;
+    }
   std::vector<Piece> pieces(o.pieces.size());
   for (std::size_t i = 0; i < pieces.size(); ++i) {
     pieces[i].path = o.pieces[i];
@@ -379,7 +421,7 @@ int run_merge(const CliArgs& o) {
   for (const Piece& p : pieces)
     if (const std::string* s = p.file.attribute("snell:render_seconds"))
       info.render_seconds += std::atof(s->c_str());
-  if (std::string err = rt::write_image(o.merge_out, image, info, o.ocio_config); !err.empty()) {
+  if (std::string err = rt::write_image(o.merge_out, image, info, o.display_view()); !err.empty()) {
     std::cerr << "snell: error: " << err << "\n";
     return kExitIo;
   }

@@ -78,6 +78,8 @@ bool plan_farm(const CliArgs& o, const std::string& snell_exe, std::uint32_t wid
   if (o.features != "auto") r.insert(r.end(), {"--features", o.features});
   r.insert(r.end(), {"--max-steps", std::to_string(o.max_steps)});
   if (!o.ocio_config.empty()) r.insert(r.end(), {"--ocio-config", absolute(o.ocio_config)});
+  if (!o.display.empty()) r.insert(r.end(), {"--display", o.display});
+  if (!o.view.empty()) r.insert(r.end(), {"--view", o.view});
 
   std::vector<std::string> outputs;
   for (const std::string& out : o.outputs) outputs.push_back(in_dir(p.dir, out));
@@ -132,6 +134,8 @@ bool plan_farm(const CliArgs& o, const std::string& snell_exe, std::uint32_t wid
     for (const std::string& out : outputs) {
       std::vector<std::string> m = {p.snell, "merge", out};
       if (!o.ocio_config.empty()) m.insert(m.end(), {"--ocio-config", absolute(o.ocio_config)});
+      if (!o.display.empty()) m.insert(m.end(), {"--display", o.display});
+      if (!o.view.empty()) m.insert(m.end(), {"--view", o.view});
       m.insert(m.end(), pieces.begin(), pieces.end());
       p.merges.push_back(m);
       p.results.push_back(out);

@@ -12,6 +12,7 @@
 #include "cli/sweep.hpp"
 #include "compiler/compile.hpp"
 #include "lsp/server.hpp"
+#include "runtime/atomic_file.hpp"
 
 namespace {
 
@@ -63,6 +64,9 @@ int dispatch(unsigned command, const cli::CliArgs& o) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // SIGINT/SIGTERM while an output is being written removes its temporary (§10:
+  // nothing half-written is left, not even hidden).
+  rt::remove_temporaries_on_signals();
   CLI::App app{"snell: a scene language and ray tracer", "snell"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "snell 0.1.0");

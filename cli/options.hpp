@@ -12,6 +12,7 @@
 
 #include "cli/sweep.hpp"
 #include "compiler/compile.hpp"
+#include "runtime/image_format.hpp"  // rt::DisplayView
 
 namespace CLI {
 class App;
@@ -133,6 +134,9 @@ struct CliArgs {
   std::string pixel;
   std::string features = "auto";
   std::string ocio_config;
+  std::string display;  // OCIO display and view of display-referred outputs
+  std::string view;
+  rt::DisplayView display_view() const { return {ocio_config, display, view}; }
   // §18 animation and split renders (render; cli/animation.hpp, cli/split.hpp).
   std::string frames;                 // "A..B"
   std::optional<std::int64_t> frame;  // --frame F: one frame of --frames

@@ -277,7 +277,7 @@ class Sweeper {
           info.samples = j.scene.settings.samples;
           info.seed = j.scene.settings.seed;
           std::string e =
-              rt::write_image((fs::path(o_.out_dir) / row.image).string(), img, info, "");
+              rt::write_image((fs::path(o_.out_dir) / row.image).string(), img, info, {});
           if (!e.empty()) {
             std::cerr << "snell sweep: error: " << e << "\n";
             return kExitIo;

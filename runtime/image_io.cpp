@@ -1,22 +1,23 @@
-// Image output: the only translation unit that includes OpenImageIO. It is built
-// into a module (libsnell_image_io.so) that image_out.cpp loads on first use:
-// OpenImageIO pulls in ~260 shared libraries whose symbol binding costs ~0.3 s
-// at start-up, which `snell check`, scene errors and tests that never write an
-// image should not pay.
-// EXR: linear float32 RGB radiance with metadata. PNG/JPEG/TIFF: 8-bit sRGB made
-// through the OCIO display transform (color.cpp), clamped to [0, 1] and rounded.
-// Every file is written to a temporary name beside the target and renamed into
-// place, so an existing file is never left half-written; on failure the temporary
-// is removed and the target is untouched.
+// Image encoding: the only translation unit that includes OpenImageIO's writers.
+// It is built into a module (libsnell_image_io.so) that image_out.cpp loads on
+// first use: OpenImageIO pulls in ~260 shared libraries whose symbol binding
+// costs ~0.3 s at start-up, which `snell check`, scene errors and tests that
+// never write an image should not pay.
+// EXR: linear float32 RGB radiance with metadata. PNG/JPEG/TIFF: 8-bit codes made
+// through an OCIO display transform (color.cpp), clamped to [0, 1] and rounded.
+// Every file is encoded whole into memory (OIIO's IOVecOutput proxy) and nothing
+// touches the disk here: image_out.cpp then writes the bytes with every step
+// checked (atomic_file.cpp). So a full disk can never reach a codec: libjpeg's
+// default error handler ends the process, libpng's writer reported success on
+// a short write.
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
-#include <unistd.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cctype>
 #include <cstdio>
-#include <filesystem>
+#include <memory>
 
 #include "runtime/color.hpp"
 #include "runtime/image_format.hpp"
@@ -26,20 +27,15 @@ namespace snell::rt {
 
 namespace {
 
-// A hidden sibling of the target that keeps its extension (OIIO picks the format
-// from it) and is unique per process and call.
-std::string temp_name(const std::string& path) {
-  static std::atomic<unsigned> counter{0};
-  std::filesystem::path p(path);
-  std::string name = fmt::format(".{}.snell-tmp-{}-{}{}", p.stem().string(), ::getpid(), counter++,
-                                 p.extension().string());
-  return (p.parent_path() / name).string();
-}
+// Rows converted to display codes at a time: the PNG/JPEG/TIFF path holds one
+// strip of float and 8-bit pixels besides the film, never a copy of the image
+// (a 16384² film is 3.2 GB; a float copy of it was another 3.2 GB).
+constexpr std::uint32_t kStripRows = 64;
 
 }  // namespace
 
-std::string write_image_oiio(const std::string& path, const Image& image, const OutputInfo& info,
-                             const std::string& ocio_config) {
+std::string encode_image_oiio(const std::string& path, const Image& image, const OutputInfo& info,
+                              const DisplayView& display, std::vector<unsigned char>& bytes) {
   if (!is_supported_image_extension(path))
     return fmt::format("{}: unsupported image format (use .exr, .png, .jpg, .tif)", path);
   if (image.width == 0 || image.height == 0) return fmt::format("{}: empty image", path);
@@ -47,7 +43,7 @@ std::string write_image_oiio(const std::string& path, const Image& image, const 
   bool exr = ext == ".exr";
 
   OIIO::ImageSpec spec;
-  std::vector<unsigned char> bytes;
+  std::unique_ptr<ColorTransform> to_display;
   if (exr) {
     spec = OIIO::ImageSpec(int(image.width), int(image.height), 3, OIIO::TypeDesc::FLOAT);
     // §18: a crop is its data window at its place in the full display window.
@@ -59,13 +55,14 @@ std::string write_image_oiio(const std::string& path, const Image& image, const 
     spec.attribute("compression", "zip");
     spec.attribute("oiio:ColorSpace", "Linear Rec.709 (sRGB)");
   } else {
-    std::vector<float> disp = image.rgb;
-    std::string err = apply_display_transform(ocio_config, disp.data(), disp.size() / 3);
-    if (!err.empty()) return fmt::format("{}: {}", path, err);
-    bytes.resize(disp.size());
-    for (std::size_t i = 0; i < disp.size(); ++i) bytes[i] = quantize8(disp[i]);
+    std::string err;
+    to_display = ColorTransform::to_display(display, err);
+    if (!to_display) return fmt::format("cannot write {}: {}", path, err);
     spec = OIIO::ImageSpec(int(image.width), int(image.height), 3, OIIO::TypeDesc::UINT8);
-    spec.attribute("oiio:ColorSpace", "sRGB");
+    // Tagged sRGB only when that is the display; another display's codes are not.
+    const std::string& view = to_display->name();
+    if (view.find("sRGB") != std::string::npos) spec.attribute("oiio:ColorSpace", "sRGB");
+    spec.attribute("snell:display", view);
     if (ext == ".jpg" || ext == ".jpeg") spec.attribute("CompressionQuality", 95);
   }
   spec.attribute("Software", "snell 0.1");
@@ -75,27 +72,40 @@ std::string write_image_oiio(const std::string& path, const Image& image, const 
   spec.attribute("snell:render_seconds", float(info.render_seconds));
   for (const auto& [key, value] : info.attributes) spec.attribute(key, value);
 
-  std::string tmp = temp_name(path);
-  auto fail = [&](const std::string& why) {
-    std::error_code ec;
-    std::filesystem::remove(tmp, ec);
-    return fmt::format("cannot write {}: {}", path, why);
-  };
-  auto out = OIIO::ImageOutput::create(tmp);
+  auto fail = [&](const std::string& why) { return fmt::format("cannot write {}: {}", path, why); };
+  bytes.clear();
+  OIIO::Filesystem::IOVecOutput memory(bytes);
+  auto out = OIIO::ImageOutput::create(path);
   if (!out) return fail(OIIO::geterror());
-  if (!out->open(tmp, spec)) return fail(out->geterror());
-  bool ok = exr ? out->write_image(OIIO::TypeDesc::FLOAT, image.rgb.data())
-                : out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
+  if (!out->supports("ioproxy")) return fail("this OpenImageIO cannot encode it in memory");
+  out->set_ioproxy(&memory);
+  if (!out->open(path, spec)) return fail(out->geterror());
+  bool ok = true;
+  if (exr) {
+    ok = out->write_image(OIIO::TypeDesc::FLOAT, image.rgb.data());
+  } else {
+    const std::size_t row = std::size_t(image.width) * 3;
+    std::vector<float> strip(row * kStripRows);
+    std::vector<unsigned char> codes(row * kStripRows);
+    for (std::uint32_t y0 = 0; ok && y0 < image.height; y0 += kStripRows) {
+      std::uint32_t n = std::min(kStripRows, image.height - y0);
+      std::copy_n(image.rgb.begin() + std::ptrdiff_t(y0 * row), n * row, strip.begin());
+      to_display->apply(strip.data(), std::size_t(n) * image.width);
+      for (std::size_t i = 0; i < n * row; ++i) codes[i] = quantize8(strip[i]);
+      ok = out->write_scanlines(spec.y + int(y0), spec.y + int(y0 + n), 0, OIIO::TypeDesc::UINT8,
+                                codes.data());
+    }
+  }
   if (!ok) {
     std::string e = out->geterror();
     out->close();
     return fail(e);
   }
   if (!out->close()) return fail(out->geterror());
-  out.reset();
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) return fail(ec.message());
+  // OIIO 2.4's TIFF writer reports an Exif directory it cannot write to a proxy
+  // (there is no Exif data to write) while the file itself is whole: the pending
+  // message is dropped, not shown.
+  (void)out->geterror();
   return {};
 }
 
@@ -138,26 +148,26 @@ extern "C" __attribute__((visibility("default"))) void snell_read_image_v1(
   }
 }
 
-// The module's entry point (image_out.cpp resolves it by name). The caller is the
-// same build of Snell, so C++ types cross safely; the version in the name guards
-// against a stale module from another build layout.
-extern "C" __attribute__((visibility("default"))) void snell_write_image_v1(
+// The module's entry points (image_out.cpp resolves them by name). The caller is
+// the same build of Snell, so C++ types cross safely; the version in the name
+// guards against a stale module from another build layout.
+extern "C" __attribute__((visibility("default"))) void snell_encode_image_v2(
     const std::string& path, const snell::rt::Image& image, const snell::rt::OutputInfo& info,
-    const std::string& ocio_config, std::string& error) {
+    const snell::rt::DisplayView& display, std::vector<unsigned char>& bytes, std::string& error) {
   try {
-    error = snell::rt::write_image_oiio(path, image, info, ocio_config);
+    error = snell::rt::encode_image_oiio(path, image, info, display, bytes);
   } catch (const std::exception& e) {
     error = fmt::format("cannot write {}: {}", path, e.what());
   }
 }
 
-// The display transform made once on one black pixel: what a PNG write would
-// report about the OCIO config, before any render.
-extern "C" __attribute__((visibility("default"))) void snell_check_display_v1(
-    const std::string& ocio_config, std::string& error) {
+// The display transform made once: what a PNG write would report about the OCIO
+// config, display and view, before any render.
+extern "C" __attribute__((visibility("default"))) void snell_check_display_v2(
+    const snell::rt::DisplayView& display, std::string& error) {
   try {
-    float rgb[3] = {0, 0, 0};
-    error = snell::rt::apply_display_transform(ocio_config, rgb, 1);
+    error.clear();
+    (void)snell::rt::ColorTransform::to_display(display, error);
   } catch (const std::exception& e) {
     error = e.what();
   }

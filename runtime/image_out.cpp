@@ -1,11 +1,15 @@
-// write_image() and read_image() without linking OpenImageIO: the writer (image_io.cpp, OIIO and
-// OCIO) is in the image module (image_module.cpp), loaded on first use; `snell
-// render` loads it just before the render (preload_image_writer), so a missing
-// module fails before the work.
+// write_image() and read_image() without linking OpenImageIO: the encoder and
+// reader (image_io.cpp, OIIO and OCIO) are in the image module (image_module.cpp),
+// loaded on first use; `snell render` loads it just before the render
+// (preload_image_writer), so a missing module fails before the work. The module
+// only encodes into memory; the file itself is written here, all or nothing
+// (atomic_file.cpp), so the signal handler and the fault tests see one writer.
 #include <fmt/format.h>
 
 #include <string>
+#include <vector>
 
+#include "runtime/atomic_file.hpp"
 #include "runtime/image_format.hpp"
 #include "runtime/image_module.hpp"
 #include "runtime/render.hpp"
@@ -14,49 +18,51 @@ namespace snell::rt {
 
 namespace {
 
-using WriteFn = void (*)(const std::string&, const Image&, const OutputInfo&, const std::string&,
-                         std::string&);
+using EncodeFn = void (*)(const std::string&, const Image&, const OutputInfo&, const DisplayView&,
+                          std::vector<unsigned char>&, std::string&);
 
-struct Writer {
-  WriteFn write = nullptr;
+struct Encoder {
+  EncodeFn encode = nullptr;
   std::string error;  // why the module could not be loaded
 };
 
-const Writer& writer() {
-  static const Writer w = [] {
-    Writer r;
-    r.write = reinterpret_cast<WriteFn>(image_module_symbol("snell_write_image_v1", r.error));
+const Encoder& encoder() {
+  static const Encoder e = [] {
+    Encoder r;
+    r.encode = reinterpret_cast<EncodeFn>(image_module_symbol("snell_encode_image_v2", r.error));
     return r;
   }();
-  return w;
+  return e;
 }
 
 }  // namespace
 
 std::string preload_image_writer() {
-  return writer().error;
+  return encoder().error;
 }
 
-std::string check_display_transform(const std::string& ocio_config) {
-  using CheckFn = void (*)(const std::string&, std::string&);
+std::string check_display_transform(const DisplayView& display) {
+  using CheckFn = void (*)(const DisplayView&, std::string&);
   std::string error;
   static const CheckFn check =
-      reinterpret_cast<CheckFn>(image_module_symbol("snell_check_display_v1", error));
+      reinterpret_cast<CheckFn>(image_module_symbol("snell_check_display_v2", error));
   if (!check) return error.empty() ? "no display transform in the image module" : error;
-  check(ocio_config, error);
+  check(display, error);
   return error;
 }
 
 std::string write_image(const std::string& path, const Image& image, const OutputInfo& info,
-                        const std::string& ocio_config) {
+                        const DisplayView& display) {
   if (!is_supported_image_extension(path))
     return fmt::format("{}: unsupported image format (use .exr, .png, .jpg, .tif)", path);
   if (image.width == 0 || image.height == 0) return fmt::format("{}: empty image", path);
-  const Writer& w = writer();
-  if (!w.write) return fmt::format("cannot write {}: {}", path, w.error);
+  const Encoder& e = encoder();
+  if (!e.encode) return fmt::format("cannot write {}: {}", path, e.error);
+  std::vector<unsigned char> bytes;
   std::string error;
-  w.write(path, image, info, ocio_config, error);
-  return error;
+  e.encode(path, image, info, display, bytes, error);
+  if (!error.empty()) return error;
+  return write_file_atomically(path, bytes.data(), bytes.size());
 }
 
 std::string read_image(const std::string& path, ImageFile& out) {

@@ -118,7 +118,7 @@ RenderResult render(const ir::Scene& scene, const RenderOptions& options) {
   std::unique_ptr<ImageTextures> images;
   if (!scene.images.empty()) {
     std::string err;
-    images = ImageTextures::open(scene, err);
+    images = ImageTextures::open(scene, options.ocio_config, err);
     if (!images) result.texture_stats = "images: " + err + "\n";
   }
   std::unique_ptr<Integrator> integrator = make_integrator(scene, embree, images.get());

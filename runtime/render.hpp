@@ -37,6 +37,9 @@ struct RenderOptions {
   // SNELL_KERNEL_AXES): for measuring what one effect costs a scene without it
   // (bench_kernels --with AXIS). The picture must not change.
   unsigned extra_axes = 0;
+  // The OCIO config whose colour spaces §17 images tagged with one are in (a path;
+  // empty: $OCIO, else Snell's), as --ocio-config gives it.
+  std::string ocio_config;
   // Called from the render loop with the fraction done (0..1); may be empty.
   std::function<void(double)> progress;
   // --pixel X,Y: print that pixel's ray tree to `trace_out` (stderr in the CLI).
@@ -108,14 +111,15 @@ struct OutputInfo {
 };
 
 // Writes `image` to `path`; the format follows the extension: .exr holds linear
-// float32 radiance, .png/.jpg/.jpeg/.tif/.tiff display-referred sRGB made through
-// the OCIO config at `ocio_config` (a path; empty: $OCIO, else the shipped one).
-// The file is written to a temporary name beside the target and renamed into
-// place, so an existing file is never left half-written. Returns an error message,
-// or an empty string on success. The writer lives in a module loaded on first use
-// (image_out.cpp); a missing module is an error message, like a failed write.
+// float32 radiance, .png/.jpg/.jpeg/.tif/.tiff display-referred codes made through
+// `display` (an OCIO config, display and view; empty fields take the defaults).
+// The image is encoded whole in memory, then written by write_file_atomically
+// (atomic_file.hpp): an existing file is replaced whole or left untouched, a
+// symlink is written through. Returns an error message, or an empty string on
+// success. The encoder lives in a module loaded on first use (image_out.cpp); a
+// missing module is an error message, like a failed write.
 std::string write_image(const std::string& path, const Image& image, const OutputInfo& info,
-                        const std::string& ocio_config);
+                        const DisplayView& display);
 
 // An image file read back (snell merge): its pixels as linear float RGB (the
 // first three channels), its data window at its place in the display window,
@@ -136,16 +140,16 @@ std::string read_image(const std::string& path, ImageFile& out);
 // CLI calls it before the render, so a writer that cannot load fails early).
 // Returns an error message, or empty when the module is ready. Thread-safe.
 std::string preload_image_writer();
-// Whether the display transform of the PNG/JPEG/TIFF outputs can be made from the
-// OCIO config at `ocio_config` (as write_image takes it): the error message a write
-// would give, or empty. The CLI asks before the render, so a bad config loses no
-// render.
-std::string check_display_transform(const std::string& ocio_config);
+// Whether the display transform of the PNG/JPEG/TIFF outputs can be made (`display`
+// as write_image takes it): the error message a write would give, or empty. The
+// CLI asks before the render, so a bad config, display or view loses no render.
+std::string check_display_transform(const DisplayView& display);
 
-// §17: opens every image of the scene through the texture system (the CLI calls it
+// §17: opens every image of the scene through the texture system (colour spaces
+// by name from `ocio_config`, as RenderOptions::ocio_config) (the CLI calls it
 // before the render, so an unreadable image fails with exit 3 before the work).
 // Returns an error message, or empty. Defined in shading/image_texture.cpp.
-std::string check_images(const ir::Scene& scene);
+std::string check_images(const ir::Scene& scene, const std::string& ocio_config = {});
 
 // One-line descriptions for logs and test failures.
 std::string to_string(const Image& image);

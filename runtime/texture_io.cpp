@@ -9,13 +9,17 @@
 // - The cache is bounded (max_memory_MB) and untiled files are read in 64² tiles
 //   (autotile) and MIP-mapped in the cache (automip), so a huge image is not held
 //   whole in memory.
-// - Colour: OIIO 2.4 applies no colour transform at lookup, so 8- and 16-bit files
-//   (taken as sRGB-encoded unless their oiio:ColorSpace says linear) are decoded
-//   once to linear half floats and made into a tiled, MIP-mapped .tx in the
-//   user's temporary folder, named by the source's path, size and time; filtering
-//   then averages linear radiance, as it must (a black-and-white checker far away
-//   is 0.5, not sRGB's 0.21). Float files are read as they are (linear). Limit: the
-//   decode reads an 8-bit image whole once.
+// - Colour: OIIO 2.4 applies no colour transform at lookup, so a file that is not
+//   linear already is decoded once to linear and made into a tiled, MIP-mapped
+//   .tx in the user's temporary folder, named by the source's path, size, time
+//   and the decoding; filtering then averages linear radiance, as it must (a
+//   black-and-white checker far away is 0.5, not sRGB's 0.21). The file's own
+//   colour space (its oiio:ColorSpace) decides, as source_colour() says: none on
+//   8- and 16-bit files is sRGB and none on float files linear; a name the OCIO
+//   config (--ocio-config, else $OCIO, else Snell's) knows is converted from that
+//   space to the config's scene_linear role; of the rest, OIIO's own names
+//   ("sRGB", any "linear" one, "GammaG" for a PNG gAMA chunk) mean what they say
+//   and anything else is an error. Limit: the decode reads the image whole once.
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imagecache.h>
@@ -30,6 +34,8 @@
 #include <string>
 #include <vector>
 
+#include "runtime/color.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -39,19 +45,70 @@ float srgb_to_linear(float c) {
   return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
 }
 
-bool linear_by_metadata(const OIIO::ImageSpec& spec) {
-  std::string cs = spec.get_string_attribute("oiio:ColorSpace");
-  for (char& c : cs) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return cs.find("linear") != std::string::npos || cs == "scene_linear";
+std::string lower(std::string s) {
+  for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return s;
 }
 
-// The linear .tx made from an sRGB-encoded file, made once (reused while the
-// source's size and time are unchanged). Empty, with `error`, on failure.
-std::string linear_texture(const std::string& path, std::string& error) {
+// How a file's values become linear radiance.
+struct SourceColour {
+  enum Kind { Linear, Srgb, Gamma, Ocio } kind = Linear;
+  float gamma = 1;                                  // Gamma: linear = value^gamma
+  std::unique_ptr<snell::rt::ColorTransform> ocio;  // Ocio: to scene_linear
+  std::string key;                                  // names the decoding in the .tx's name
+};
+
+// The decoding of a file with `spec`, or false with `error` (a colour space the
+// OCIO config lacks).
+bool source_colour(const OIIO::ImageSpec& spec, const std::string& ocio_config, SourceColour& out,
+                   std::string& error) {
+  const std::string name = spec.get_string_attribute("oiio:ColorSpace");
+  const std::string cs = lower(name);
+  const float gamma = spec.get_float_attribute("oiio:Gamma", 0);
+  std::string why;
+  if (cs.empty()) {
+    out.kind = spec.format.is_floating_point() ? SourceColour::Linear : SourceColour::Srgb;
+  } else if ((out.ocio = snell::rt::ColorTransform::to_scene_linear(ocio_config, name, why))) {
+    // A name the config knows means what the config says.
+    out.kind = out.ocio->is_identity() ? SourceColour::Linear : SourceColour::Ocio;
+  } else if (cs.find("linear") != std::string::npos || cs == "scene_linear" || cs == "raw") {
+    out.kind = SourceColour::Linear;  // OIIO's own names, which configs seldom list
+  } else if (cs == "srgb") {
+    out.kind = SourceColour::Srgb;
+  } else if (cs.rfind("gamma", 0) == 0 && std::isfinite(gamma) && gamma > 0) {
+    out.kind = SourceColour::Gamma;  // OIIO's "Gamma2.2" for a PNG gAMA chunk
+    out.gamma = gamma;
+  } else {
+    error = "its colour space (oiio:ColorSpace) is '" + name + "', and the " + why +
+            " (retag the file, or choose the config with --ocio-config or $OCIO)";
+    return false;
+  }
+  switch (out.kind) {
+    case SourceColour::Linear:
+      break;
+    case SourceColour::Srgb:
+      out.key = "srgb";
+      break;
+    case SourceColour::Gamma:
+      out.key = fmt::format("gamma{}", out.gamma);
+      break;
+    case SourceColour::Ocio:
+      out.key = "ocio " + out.ocio->to_string();
+      break;
+  }
+  return true;
+}
+
+// The linear .tx made from a file that needs decoding, made once (reused while
+// the source's size and time and the decoding are unchanged). Empty, with
+// `error`, on failure.
+std::string linear_texture(const std::string& path, const SourceColour& colour,
+                           std::string& error) {
   std::error_code ec;
   auto size = fs::file_size(path, ec);
   auto time = fs::last_write_time(path, ec).time_since_epoch().count();
-  std::size_t key = std::hash<std::string>{}(fmt::format("{}|{}|{}", path, size, time));
+  std::size_t key =
+      std::hash<std::string>{}(fmt::format("{}|{}|{}|{}", path, size, time, colour.key));
   fs::path dir = fs::temp_directory_path(ec) / fmt::format("snell-textures-{}", ::getuid());
   fs::create_directories(dir, ec);
   fs::path out = dir / fmt::format("{:016x}.tx", key);
@@ -62,17 +119,34 @@ std::string linear_texture(const std::string& path, std::string& error) {
     return {};
   }
   OIIO::ImageSpec spec = src.spec();
+  const bool was_float = spec.format.is_floating_point();
   spec.set_format(OIIO::TypeDesc::FLOAT);
   std::vector<float> px(std::size_t(spec.width) * spec.height * spec.nchannels);
   src.get_pixels(src.roi(), OIIO::TypeDesc::FLOAT, px.data());
-  int colour = std::min(spec.nchannels, 3);  // alpha stays as it is
-  if (spec.alpha_channel >= 0 && spec.alpha_channel < 3) colour = spec.alpha_channel;
-  for (std::size_t i = 0; i < px.size(); i += std::size_t(spec.nchannels))
-    for (int c = 0; c < colour; ++c)
-      px[i + std::size_t(c)] = srgb_to_linear(px[i + std::size_t(c)]);
+  int colours = std::min(spec.nchannels, 3);  // alpha stays as it is
+  if (spec.alpha_channel >= 0 && spec.alpha_channel < 3) colours = spec.alpha_channel;
+  const std::size_t nc = std::size_t(spec.nchannels), pixels = px.size() / nc;
+  if (colour.kind == SourceColour::Ocio) {
+    // OCIO takes packed RGB: grey is spread to three channels and back.
+    std::vector<float> rgb(pixels * 3);
+    for (std::size_t i = 0; i < pixels; ++i)
+      for (int c = 0; c < 3; ++c)
+        rgb[3 * i + c] = px[i * nc + std::size_t(std::min(c, colours - 1))];
+    colour.ocio->apply(rgb.data(), pixels);
+    for (std::size_t i = 0; i < pixels; ++i)
+      for (int c = 0; c < colours; ++c) px[i * nc + std::size_t(c)] = rgb[3 * i + c];
+  } else {
+    for (std::size_t i = 0; i < pixels; ++i)
+      for (int c = 0; c < colours; ++c) {
+        float& v = px[i * nc + std::size_t(c)];
+        v = colour.kind == SourceColour::Srgb ? srgb_to_linear(v)
+                                              : std::pow(std::max(v, 0.0f), colour.gamma);
+      }
+  }
   OIIO::ImageBuf lin(spec, px.data());
   OIIO::ImageSpec config;
-  config.set_format(OIIO::TypeDesc::HALF);
+  // Half holds 8- and 16-bit codes decoded exactly enough; float sources stay float.
+  config.set_format(was_float ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::HALF);
   config.attribute("oiio:ColorSpace", "Linear");
   // Written beside its final name and renamed, so a concurrent render never reads
   // half a file.
@@ -113,10 +187,11 @@ extern "C" __attribute__((visibility("default"))) void snell_texture_destroy_v1(
   OIIO::ImageCache::destroy(cache, /*teardown=*/true);
 }
 
-// Opens `path` (decoding it to linear first when it is sRGB-encoded) and returns
-// its handle, or null with `error`.
-extern "C" __attribute__((visibility("default"))) void* snell_texture_open_v1(
-    void* tsp, const std::string& path, std::string& error) {
+// Opens `path` (decoding it to linear first when it is not linear; colour spaces
+// by name from the OCIO config `ocio_config`, as resolve_ocio_config takes it) and
+// returns its handle, or null with `error`.
+extern "C" __attribute__((visibility("default"))) void* snell_texture_open_v2(
+    void* tsp, const std::string& path, const std::string& ocio_config, std::string& error) {
   try {
     auto* ts = static_cast<OIIO::TextureSystem*>(tsp);
     auto in = OIIO::ImageInput::open(path);
@@ -126,12 +201,13 @@ extern "C" __attribute__((visibility("default"))) void* snell_texture_open_v1(
     }
     const OIIO::ImageSpec& spec = in->spec();
     std::string file = path;
-    if (!spec.format.is_floating_point() && !linear_by_metadata(spec)) {
-      in.reset();
-      file = linear_texture(path, error);
+    SourceColour colour;
+    if (!source_colour(spec, ocio_config, colour, error)) return nullptr;
+    in.reset();
+    if (colour.kind != SourceColour::Linear) {
+      file = linear_texture(path, colour, error);
       if (file.empty()) return nullptr;
     }
-    in.reset();
     OIIO::TextureSystem::TextureHandle* h = ts->get_texture_handle(OIIO::ustring(file));
     int res[2] = {0, 0};
     if (!h || !ts->get_texture_info(h, nullptr, 0, OIIO::ustring("resolution"),

@@ -19,7 +19,7 @@ const ImageTextures::Api& api() {
     };
     sym(r.create, "snell_texture_create_v1");
     sym(r.destroy, "snell_texture_destroy_v1");
-    sym(r.open, "snell_texture_open_v1");
+    sym(r.open, "snell_texture_open_v2");
     sym(r.lookup, "snell_texture_lookup_v1");
     sym(r.stats, "snell_texture_stats_v1");
     return r;
@@ -29,7 +29,9 @@ const ImageTextures::Api& api() {
 
 }  // namespace
 
-std::unique_ptr<ImageTextures> ImageTextures::open(const ir::Scene& scene, std::string& error) {
+std::unique_ptr<ImageTextures> ImageTextures::open(const ir::Scene& scene,
+                                                   const std::string& ocio_config,
+                                                   std::string& error) {
   const Api& a = api();
   if (!a.error.empty()) {
     error = "cannot read images: " + a.error;
@@ -40,7 +42,7 @@ std::unique_ptr<ImageTextures> ImageTextures::open(const ir::Scene& scene, std::
   t->ts_ = a.create(kTextureCacheMB);
   for (const ir::ImageFile& f : scene.images) {
     std::string why;
-    void* h = a.open(t->ts_, f.path, why);
+    void* h = a.open(t->ts_, f.path, ocio_config, why);
     if (!h) {
       std::string where = f.src.line > 0 ? ir::to_string(f.src, scene) + ": " : "";
       error = fmt::format("{}cannot read image '{}': {}", where, f.path, why);
@@ -61,10 +63,10 @@ std::string ImageTextures::stats() const {
   return s;
 }
 
-std::string check_images(const ir::Scene& scene) {
+std::string check_images(const ir::Scene& scene, const std::string& ocio_config) {
   if (scene.images.empty()) return {};
   std::string error;
-  ImageTextures::open(scene, error);
+  ImageTextures::open(scene, ocio_config, error);
   return error;
 }
 

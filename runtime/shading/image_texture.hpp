@@ -55,7 +55,10 @@ class ImageTextures {
  public:
   // Opens every image of scene.images; null with `error` ("FILE:LINE:COL: cannot
   // read image ...") when one cannot be read or the image module cannot load.
-  static std::unique_ptr<ImageTextures> open(const ir::Scene& scene, std::string& error);
+  // Images tagged with a colour space are converted from it through the OCIO
+  // config `ocio_config` (empty: $OCIO, else Snell's).
+  static std::unique_ptr<ImageTextures> open(const ir::Scene& scene, const std::string& ocio_config,
+                                             std::string& error);
   ~ImageTextures();
   ImageTextures(const ImageTextures&) = delete;
   ImageTextures& operator=(const ImageTextures&) = delete;
@@ -84,7 +87,7 @@ class ImageTextures {
   struct Api {
     void* (*create)(int) = nullptr;
     void (*destroy)(void*) = nullptr;
-    void* (*open)(void*, const std::string&, std::string&) = nullptr;
+    void* (*open)(void*, const std::string&, const std::string&, std::string&) = nullptr;
     void (*lookup)(void*, void*, int, const float*, float*) = nullptr;
     void (*stats)(void*, std::string&) = nullptr;
     std::string error;

@@ -83,7 +83,9 @@ TEST_CASE("each subcommand takes exactly the options it took before the table", 
         "-q,--quiet", "--max-errors", "--max-steps", "--dump-ast", "--dump-ir", "--pixel",
         "--features", "--ocio-config",
         // §18, added with animation and split renders.
-        "--frames", "--frame", "--clock", "--crop", "--sample-range"}},
+        "--frames", "--frame", "--clock", "--crop", "--sample-range",
+        // #18: any studio OCIO config's display and view.
+        "--display", "--view"}},
       {"check", {"scene", "-I", "--set", "--max-errors", "--max-steps"}},
       {"sweep",
        {"scene", "--vary", "--series", "--repeats", "--reference-spp", "--out", "--markdown",
@@ -91,12 +93,13 @@ TEST_CASE("each subcommand takes exactly the options it took before the table", 
       {"dump-ast", {"scene"}},
       {"lsp", {"-I", "--max-steps"}},
       // §18: added with split renders.
-      {"merge", {"out", "pieces", "-q,--quiet", "--ocio-config"}},
+      {"merge", {"out", "pieces", "-q,--quiet", "--ocio-config", "--display", "--view"}},
       // §18: the farm forwards render options to its tasks.
       {"farm",
-       {"backend", "scene", "--tiles", "--passes", "--frames", "--dir", "--sbatch", "--dry-run",
-        "-o,--output", "--spp", "--res", "--threads", "--seed", "--set", "-I", "--clock",
-        "--max-steps", "--features", "--ocio-config"}},
+       {"backend",       "scene",     "--tiles",     "--passes", "--frames",    "--dir",
+        "--sbatch",      "--dry-run", "-o,--output", "--spp",    "--res",       "--threads",
+        "--seed",        "--set",     "-I",          "--clock",  "--max-steps", "--features",
+        "--ocio-config", "--display", "--view"}},
   };
   Line line;
   std::set<std::string> subcommands;

@@ -363,3 +363,42 @@ TEST_CASE("outputs that cannot be written fail before the render (exit 3)", "[e2
     fs::permissions(tmp / "ro", fs::perms::owner_all);  // so the scratch folder is removed
   }
 }
+
+TEST_CASE("any studio OCIO config works: its default display and view, or --display/--view",
+          "[e2e]") {
+  // tests/ocio/studio.ocio has no "sRGB - Display" / "Standard" (the names Snell's
+  // own config uses): its default is a gamma-2.2 display, Rec.1886 is gamma 2.4.
+  Scratch tmp;
+  std::string err;
+  const std::string studio = kSrc + "/tests/ocio/studio.ocio";
+  // A flat grey: background 0.18 straight through a lens-less camera.
+  std::ofstream(tmp / "grey.scn") << "settings { resolution <4, 4> samples 1 }\n"
+                                     "background <0.18, 0.18, 0.18>\n";
+  const std::string scene = tmp / "grey.scn";
+  auto code_of = [&](const std::string& png) {
+    int w = 0, h = 0;
+    std::vector<float> px = read_rgb(png, w, h);
+    return int(std::lround(px[0] * 255));
+  };
+  int as_env = std::system(("OCIO=" + studio + " " + kSnell + " render " + scene + " --quiet -o " +
+                            (tmp / "env.png") + " > /dev/null 2>&1")
+                               .c_str());
+  REQUIRE((WIFEXITED(as_env) ? WEXITSTATUS(as_env) : -1) == 0);
+  CHECK(code_of(tmp / "env.png") == int(std::lround(std::pow(0.18, 1 / 2.2) * 255)));
+  CHECK(run_capture("render " + scene + " --quiet --ocio-config " + studio +
+                        " --display Rec.1886 -o " + (tmp / "rec.png"),
+                    err, tmp) == 0);
+  INFO(err);
+  CHECK(code_of(tmp / "rec.png") == int(std::lround(std::pow(0.18, 1 / 2.4) * 255)));
+  CHECK(run_capture("render " + scene + " --quiet --ocio-config " + studio +
+                        " --display Rec.1886 --view Raw -o " + (tmp / "raw.png"),
+                    err, tmp) == 0);
+  CHECK(code_of(tmp / "raw.png") == int(std::lround(0.18 * 255)));
+  // A view the display lacks: exit 3 before the render, naming what it has.
+  CHECK(run_capture("render " + scene + " --stats --ocio-config " + studio +
+                        " --view Standard -o " + (tmp / "bad.png"),
+                    err, tmp) == 3);
+  CHECK(err.find("has no view 'Standard' (it has 'Display Gamma' and 'Raw')") != std::string::npos);
+  CHECK(err.find("kernel:") == std::string::npos);
+  CHECK(!fs::exists(tmp / "bad.png"));
+}

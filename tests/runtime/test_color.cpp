@@ -1,5 +1,6 @@
 // sRGB codes through the OCIO path (robustness.md §3.8) and image writing.
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -14,13 +15,69 @@ TEST_CASE("OCIO sRGB display transform gives the reference 8-bit codes", "[color
   const int code[] = {0, 10, 25, 118, 127, 188, 243, 255, 255, 0};
   std::vector<float> rgb;
   for (float v : lin) rgb.insert(rgb.end(), {v, v, v});
-  REQUIRE(apply_display_transform("", rgb.data(), rgb.size() / 3) == "");
+  std::string error;
+  auto srgb = ColorTransform::to_display({}, error);
+  REQUIRE(srgb);
+  CHECK(error == "");
+  srgb->apply(rgb.data(), rgb.size() / 3);
   for (std::size_t i = 0; i < std::size(lin); ++i) {
     INFO("linear " << lin[i]);
     CHECK(int(quantize8(rgb[3 * i])) == code[i]);
     CHECK(int(quantize8(rgb[3 * i + 1])) == code[i]);
   }
   CHECK(quantize8(NAN) == 0);
+}
+
+TEST_CASE("a studio OCIO config: its default display and view, or the ones named", "[color]") {
+  // tests/ocio/studio.ocio: codes follow by formula (its header says which).
+  const float lin[] = {0.0f, 0.01f, 0.18f, 0.5f, 1.0f};
+  auto codes_of = [&](const DisplayView& dv, std::string& error) {
+    std::vector<int> codes;
+    auto t = ColorTransform::to_display(dv, error);
+    if (!t) return codes;
+    std::vector<float> rgb;
+    for (float v : lin) rgb.insert(rgb.end(), {v, v, v});
+    t->apply(rgb.data(), rgb.size() / 3);
+    for (std::size_t i = 0; i < std::size(lin); ++i) codes.push_back(quantize8(rgb[3 * i + 1]));
+    return codes;
+  };
+  auto expected = [&](double gamma) {
+    std::vector<int> codes;
+    for (float v : lin) codes.push_back(int(std::lround(std::pow(double(v), 1 / gamma) * 255)));
+    return codes;
+  };
+  std::string error;
+  CHECK(codes_of({SNELL_STUDIO_OCIO, "", ""}, error) == expected(2.2));
+  CHECK(error == "");
+  CHECK(codes_of({SNELL_STUDIO_OCIO, "Rec.1886", ""}, error) == expected(2.4));
+  CHECK(codes_of({SNELL_STUDIO_OCIO, "Rec.1886", "Raw"}, error) == expected(1.0));
+  CHECK(error == "");
+  // What does not exist is named, with what does.
+  CHECK(codes_of({SNELL_STUDIO_OCIO, "sRGB - Display", ""}, error).empty());
+  CHECK(error.find("has no display 'sRGB - Display' (it has 'Gamma 2.2 Monitor' and "
+                   "'Rec.1886')") != std::string::npos);
+  CHECK(codes_of({SNELL_STUDIO_OCIO, "", "Standard"}, error).empty());
+  CHECK(error.find("the display 'Gamma 2.2 Monitor' has no view 'Standard' (it has 'Display "
+                   "Gamma' and 'Raw')") != std::string::npos);
+  // Snell's own config: its defaults are the sRGB display's Standard view.
+  auto own = ColorTransform::to_display({}, error);
+  REQUIRE(own);
+  CHECK(own->name() == "sRGB - Display / Standard");
+}
+
+TEST_CASE("a file's colour space converts to scene_linear through the config", "[color]") {
+  std::string error;
+  auto x2 = ColorTransform::to_scene_linear(SNELL_STUDIO_OCIO, "scaled linear X2", error);
+  REQUIRE(x2);  // names are matched without regard to case
+  float rgb[3] = {0.25f, 0.5f, 1.5f};
+  x2->apply(rgb, 1);
+  CHECK(rgb[0] == Approx(0.5f));
+  CHECK(rgb[1] == Approx(1.0f));
+  CHECK(rgb[2] == Approx(3.0f));
+  CHECK_FALSE(ColorTransform::to_scene_linear(SNELL_STUDIO_OCIO, "ACEScg", error));
+  CHECK(error.find("has no colour space 'ACEScg'") != std::string::npos);
+  // Snell's config has the ACES working spaces.
+  CHECK(ColorTransform::to_scene_linear("", "ACEScg", error));
 }
 
 TEST_CASE("write_image writes EXR and PNG atomically", "[color][io]") {
@@ -33,15 +90,16 @@ TEST_CASE("write_image writes EXR and PNG atomically", "[color][io]") {
   im.height = 2;
   im.rgb.assign(4 * 2 * 3, 0.18f);
   OutputInfo info{"test.scn", 4, 1, 0.5, {}};
-  CHECK(write_image((dir / "a.exr").string(), im, info, "") == "");
-  CHECK(write_image((dir / "a.png").string(), im, info, "") == "");
+  CHECK(write_image((dir / "a.exr").string(), im, info, {}) == "");
+  CHECK(write_image((dir / "a.png").string(), im, info, {}) == "");
   CHECK(fs::file_size(dir / "a.exr") > 0);
   CHECK(fs::file_size(dir / "a.png") > 0);
   // A failing write leaves the old file untouched and no temporary behind.
   { std::ofstream(dir / "b.png") << "old"; }
-  CHECK(write_image((dir / "b.png").string(), im, info, "/nonexistent/config.ocio") != "");
+  CHECK(write_image((dir / "b.png").string(), im, info, {"/nonexistent/config.ocio", "", ""}) !=
+        "");
   CHECK(fs::file_size(dir / "b.png") == 3);
-  CHECK(write_image((dir / "missing" / "c.exr").string(), im, info, "") != "");
+  CHECK(write_image((dir / "missing" / "c.exr").string(), im, info, {}) != "");
   int files = 0;
   for (auto& e : fs::directory_iterator(dir)) (void)e, ++files;
   CHECK(files == 3);

@@ -125,7 +125,7 @@ TEST_CASE("image lookups at texel centres through each mapping", "[images]") {
   Images im;
   ir::Scene s = scene_with(im);
   std::string err;
-  auto tex = rt::ImageTextures::open(s, err);
+  auto tex = rt::ImageTextures::open(s, "", err);
   REQUIRE(tex);
   for (std::uint32_t image = 0; image < 2; ++image)
     for (int row = 0; row < kH; ++row)
@@ -149,7 +149,7 @@ TEST_CASE("repeat false is black outside [0, 1]", "[images]") {
   Images im;
   ir::Scene s = scene_with(im);
   std::string err;
-  auto tex = rt::ImageTextures::open(s, err);
+  auto tex = rt::ImageTextures::open(s, "", err);
   REQUIRE(tex);
   ir::Texture t = image_texture(1, ir::ImageMapping::Planar, false);
   check_texel(at(*tex, t, {u_of(2), v_of(0), 0}), 1, 2, 0);  // inside: the texel
@@ -180,6 +180,69 @@ TEST_CASE("a latlong background is the image at the escaping ray's direction", "
       check_texel(Color{px[0], px[1], px[2]}, 1, i, row);
       CHECK(r.texture_stats.find("OpenImageIO") != std::string::npos);
     }
+}
+
+TEST_CASE("an image's colour space tag decides how it becomes linear", "[images]") {
+  // The same texels as Images, tagged (oiio:ColorSpace): OIIO's name for a PNG
+  // gAMA chunk, colour spaces of the studio test config (tests/ocio/studio.ocio),
+  // and one it does not have.
+  Images im;
+  std::vector<unsigned char> b;
+  std::vector<float> f;
+  for (int row = 0; row < kH; ++row)
+    for (int i = 0; i < kW; ++i)
+      for (int c = 0; c < 3; ++c) {
+        b.push_back(code(i, row, c));
+        f.push_back(exr_value(i, row, c));
+      }
+  auto write = [&](const std::string& name, const std::string& space, bool floats = false) {
+    std::string path = (im.dir / name).string();
+    auto out = OIIO::ImageOutput::create(path);
+    REQUIRE(out);
+    OIIO::ImageSpec spec(kW, kH, 3, floats ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
+    spec.attribute("oiio:ColorSpace", space);
+    if (space == "Gamma2.2") spec.attribute("oiio:Gamma", 2.2f);
+    REQUIRE(out->open(path, spec));
+    REQUIRE(out->write_image(spec.format, floats ? (const void*)f.data() : b.data()));
+    REQUIRE(out->close());
+    return path;
+  };
+  ir::Scene s = base_scene(1, 1, 1);
+  s.images.push_back({write("gamma.png", "Gamma2.2", false), {}});
+  s.images.push_back({write("ocio-gamma.png", "Gamma 2.2 Encoded", false), {}});
+  // (Not an EXR: OIIO 2.4 reads every EXR as "Linear", whatever it was tagged.)
+  s.images.push_back({write("x2.png", "Scaled Linear x2", false), {}});
+  s.images.push_back({write("linear.png", "Linear", false), {}});
+  std::string err;
+  auto tex = rt::ImageTextures::open(s, SNELL_STUDIO_OCIO, err);
+  INFO(err);
+  REQUIRE(tex);
+  for (int row = 0; row < kH; ++row)
+    for (int i = 0; i < kW; ++i) {
+      ir::Vec3 q{u_of(i), v_of(row), 0};
+      Color g = at(*tex, image_texture(0, ir::ImageMapping::Planar), q);
+      Color o = at(*tex, image_texture(1, ir::ImageMapping::Planar), q);
+      Color x = at(*tex, image_texture(2, ir::ImageMapping::Planar), q);
+      Color l = at(*tex, image_texture(3, ir::ImageMapping::Planar), q);
+      for (int c = 0; c < 3; ++c) {
+        INFO("texel " << i << "," << row << " channel " << c);
+        float v = code(i, row, c) / 255.0f;
+        // Half floats: 2^-11 relative (see check_texel).
+        CHECK(g[c] == Approx(std::pow(v, 2.2f)).epsilon(1e-3));
+        CHECK(o[c] == Approx(std::pow(v, 2.2f)).epsilon(1e-3));
+        CHECK(x[c] == Approx(2 * v).epsilon(1e-3));
+        CHECK(l[c] == Approx(v).epsilon(1e-3));
+      }
+    }
+  // A colour space the config does not have: an error naming the file, the space
+  // and the config, before the render.
+  ir::Scene bad = base_scene(1, 1, 1);
+  bad.images.push_back({write("odd.png", "Filmic Log Encoding", false), {}});
+  err = rt::check_images(bad, SNELL_STUDIO_OCIO);
+  INFO(err);
+  CHECK(err.find("odd.png") != std::string::npos);
+  CHECK(err.find("'Filmic Log Encoding'") != std::string::npos);
+  CHECK(err.find("studio.ocio") != std::string::npos);
 }
 
 TEST_CASE("an unreadable image is an error naming it", "[images]") {

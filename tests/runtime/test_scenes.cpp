@@ -135,7 +135,7 @@ TEST_CASE("demo picture", "[.][demo]") {
   rt::RenderOptions opt;
   opt.trace_pixel = std::pair<std::uint32_t, std::uint32_t>{100, 120};
   rt::RenderResult r = rt::render(s, opt);
-  CHECK(rt::write_image("/tmp/snell_demo.png", r.image, {"demo", 16, 0, 0, {}}, "") == "");
+  CHECK(rt::write_image("/tmp/snell_demo.png", r.image, {"demo", 16, 0, 0, {}}, {}) == "");
   WARN(r.stats.to_string() << r.trace);
 }
 

@@ -1,0 +1,195 @@
+#!/usr/bin/env bash
+# The fault-injection tests (spec §10: "an output file is either written whole or
+# not touched"; issue #18). Each case gives snell an old output file, makes the
+# write fail in one way, and asserts the exit status, the message, the old file's
+# bytes and that no temporary is left beside it.
+#   faults.sh SNELL FAULT_SHIM SOURCE_DIR
+# Faults: the LD_PRELOAD shim (fault_shim.cpp) for write/fsync/close/rename errors,
+# short writes and signals in the write phase; a real full disk (a small tmpfs in
+# a private mount namespace, when this runs as root and may mount); SIGTERM and
+# SIGINT during the render; symlinks and modes; outputs that are inputs.
+set -uo pipefail
+snell="$1"
+shim="$2"
+src="$3"
+tmp="$(mktemp -d /tmp/snell-faults.XXXXXX)"
+trap 'rm -rf "$tmp"' EXIT
+failures=0
+fail() {
+  echo "FAIL: $*"
+  failures=$((failures + 1))
+}
+scene="$src/examples/showcase.scn"
+small=(--res 96x64 --spp 1 --quiet)
+
+# old_file DIR NAME: an old output with known bytes.
+old_file() { printf 'old bytes of %s\n' "$2" > "$1/$2"; }
+# untouched DIR NAME: its bytes are still the old ones.
+untouched() {
+  printf 'old bytes of %s\n' "$2" | cmp -s - "$1/$2" || fail "$CASE: $1/$2 was changed"
+}
+# no_leftovers DIR: no temporary of Snell's is left in DIR.
+no_leftovers() {
+  local left
+  left="$(ls -A "$1" | grep -F .snell-tmp- || true)"
+  [ -z "$left" ] || fail "$CASE: temporaries left in $1: $left"
+}
+# expect_status WANT GOT
+expect_status() { [ "$2" = "$1" ] || fail "$CASE: exit status $2, expected $1 ($(head -c 300 "$tmp/err"))"; }
+expect_message() { grep -qF -- "$1" "$tmp/err" || fail "$CASE: no '$1' in: $(head -c 300 "$tmp/err")"; }
+
+# 1. Each libc step of the write fails (for PNG), and a failed write for each format.
+for fault in write-eio fsync-eio close-eio rename-eio; do
+  for ext in png jpg tif exr; do
+    [ $fault != write-eio ] && [ $ext != png ] && continue
+    CASE="$fault .$ext"
+    d="$tmp/shim-$fault-$ext"
+    mkdir -p "$d"
+    old_file "$d" "out.$ext"
+    SNELL_FAULT=$fault LD_PRELOAD="$shim" "$snell" render "$scene" "${small[@]}" \
+      -o "$d/out.$ext" 2> "$tmp/err"
+    expect_status 3 $?
+    expect_message "cannot write $d/out.$ext: Input/output error"
+    untouched "$d" "out.$ext"
+    no_leftovers "$d"
+  done
+done
+
+# 2. Short and interrupted writes: the file is still whole, byte for byte the same.
+CASE="short writes"
+mkdir -p "$tmp/short"
+"$snell" render "$scene" "${small[@]}" -o "$tmp/short/ref.png" -o "$tmp/short/ref.exr" 2> "$tmp/err"
+expect_status 0 $?
+SNELL_FAULT=short-writes LD_PRELOAD="$shim" "$snell" render "$scene" "${small[@]}" \
+  -o "$tmp/short/a.png" -o "$tmp/short/a.exr" 2> "$tmp/err"
+expect_status 0 $?
+cmp -s "$tmp/short/ref.png" "$tmp/short/a.png" || fail "$CASE: the PNG differs"
+# (The EXR's header holds the render time: its pixels are compared.)
+idiff -fail 0 -failpercent 0 "$tmp/short/ref.exr" "$tmp/short/a.exr" > /dev/null ||
+  fail "$CASE: the EXR's pixels differ"
+
+# 3. A signal in the write phase: the process ends by it, nothing is left.
+for sig in sigterm sigint; do
+  CASE="$sig while writing"
+  d="$tmp/$sig"
+  mkdir -p "$d"
+  old_file "$d" out.png
+  SNELL_FAULT=$sig LD_PRELOAD="$shim" "$snell" render "$scene" "${small[@]}" -o "$d/out.png" \
+    2> "$tmp/err"
+  status=$?
+  want=$([ $sig = sigterm ] && echo 143 || echo 130)
+  expect_status "$want" "$status"
+  untouched "$d" out.png
+  no_leftovers "$d"
+done
+
+# 4. A signal during the render.
+for sig in TERM INT; do
+  CASE="SIG$sig while rendering"
+  d="$tmp/render-$sig"
+  mkdir -p "$d"
+  old_file "$d" out.png
+  # A non-interactive shell starts background jobs with SIGINT ignored (and an
+  # ignored signal cannot be reset by trap): python restores the default first.
+  python3 -c 'import os, signal, sys
+signal.signal(signal.SIGINT, signal.SIG_DFL)
+os.execv(sys.argv[1], sys.argv[1:])' "$snell" render "$scene" --res 640x360 --spp 64 --quiet \
+    -o "$d/out.png" 2> "$tmp/err" &
+  pid=$!
+  sleep 0.7
+  kill -s "$sig" "$pid"
+  wait "$pid"
+  status=$?
+  want=$([ $sig = TERM ] && echo 143 || echo 130)
+  expect_status "$want" "$status"
+  untouched "$d" out.png
+  no_leftovers "$d"
+done
+
+# 5. A real full disk: a 256 KB tmpfs, filled, in a mount namespace of its own
+#    (gone with the process). A later output on another disk is still written.
+if [ "$(id -u)" = 0 ] && unshare -m true 2> /dev/null; then
+  for ext in png jpg tif exr; do
+    CASE="full disk .$ext"
+    d="$tmp/full-$ext"
+    mkdir -p "$d/disk" "$d/other"
+    # The checks run inside the namespace, where the tmpfs is mounted.
+    unshare -m --propagation private bash -c '
+      set -u
+      d="$1"; ext="$2"; snell="$3"; scene="$4"
+      mount -t tmpfs -o size=256k snell-full "$d/disk" || exit 90
+      printf "old bytes of out.%s\n" "$ext" > "$d/disk/out.$ext"
+      dd if=/dev/zero of="$d/disk/fill" bs=4k 2> /dev/null
+      "$snell" render "$scene" --res 200x150 --spp 1 --quiet \
+        -o "$d/disk/out.$ext" -o "$d/other/later.$ext" 2> "$d/err"
+      echo $? > "$d/status"
+      cp "$d/disk/out.$ext" "$d/old-after"
+      ls -A "$d/disk" > "$d/listing"
+    ' _ "$d" "$ext" "$snell" "$scene"
+    if [ "$(cat "$d/status" 2> /dev/null)" = "" ]; then
+      fail "$CASE: the tmpfs could not be set up"
+      continue
+    fi
+    cp "$d/err" "$tmp/err"
+    expect_status 3 "$(cat "$d/status")"
+    expect_message "cannot write $d/disk/out.$ext: No space left on device"
+    [ "$(cat "$d/old-after")" = "old bytes of out.$ext" ] || fail "$CASE: the old file was changed"
+    if grep -qF .snell-tmp- "$d/listing"; then fail "$CASE: a temporary was left"; fi
+    [ -s "$d/other/later.$ext" ] || fail "$CASE: the later output was not written"
+  done
+else
+  echo "skip: the full-disk cases need root and unshare -m"
+fi
+
+# 6. A symlink is written through (the link stays, its target is replaced) and an
+#    existing file keeps its mode.
+CASE="symlink and mode"
+d="$tmp/link"
+mkdir -p "$d/real"
+old_file "$d/real" target.png
+chmod 640 "$d/real/target.png"
+ln -s real/target.png "$d/link.png"
+"$snell" render "$scene" "${small[@]}" -o "$d/link.png" 2> "$tmp/err"
+expect_status 0 $?
+[ -L "$d/link.png" ] || fail "$CASE: the symlink was replaced"
+[ "$(stat -c %a "$d/real/target.png")" = 640 ] || fail "$CASE: the mode is $(stat -c %a "$d/real/target.png")"
+[ "$(head -c 4 "$d/real/target.png" | tail -c 3)" = PNG ] || fail "$CASE: the target is not the new PNG"
+no_leftovers "$d"
+no_leftovers "$d/real"
+
+# 7. An output that is a file the scene reads: refused before the render (exit 2).
+CASE="output is an input"
+d="$tmp/inputs"
+mkdir -p "$d"
+cp "$src/tests/conformance/image/texels.png" "$d/texels.png"
+cat > "$d/scene.scn" << 'SCN'
+settings { resolution <16, 16> samples 1 }
+plane { normal <0, 1, 0> material diffuse image { file "texels.png" rotate <90, 0, 0> } }
+point_light { position <0, 5, 0> intensity 50 }
+SCN
+sum="$(md5sum < "$d/texels.png")"
+"$snell" render "$d/scene.scn" --quiet -o "$d/texels.png" 2> "$tmp/err"
+expect_status 2 $?
+expect_message "a file this command reads"
+[ "$(md5sum < "$d/texels.png")" = "$sum" ] || fail "$CASE: the image the scene reads was changed"
+ln "$d/scene.scn" "$d/same-inode.png"
+"$snell" render "$d/scene.scn" --quiet -o "$d/same-inode.png" 2> "$tmp/err"
+expect_status 2 $?
+cmp -s "$d/scene.scn" "$d/same-inode.png" || fail "$CASE: the scene was overwritten"
+
+# 8. An image libjpeg cannot hold: an error before the render, not libjpeg's exit(1).
+CASE="JPEG too wide"
+d="$tmp/wide"
+mkdir -p "$d"
+printf 'settings { resolution <70000, 2> samples 1 }\nsphere { }\n' > "$d/wide.scn"
+"$snell" render "$d/wide.scn" --stats -o "$d/w.png" -o "$d/w.jpg" 2> "$tmp/err"
+expect_status 3 $?
+expect_message "a JPEG holds at most 65500 pixels a side"
+grep -qF "kernel:" "$tmp/err" && fail "$CASE: it rendered first"
+[ -e "$d/w.png" ] && fail "$CASE: an output was written although the command failed before the render"
+
+if [ "$failures" -gt 0 ]; then
+  echo "$failures failure(s)"
+  exit 1
+fi
+echo "all fault cases passed"
