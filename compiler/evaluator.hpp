@@ -47,6 +47,10 @@ struct Env {
 };
 
 inline constexpr int kMaxCallDepth = 10000;
+// The longest string a program may make (by `+`): far beyond any file name or
+// label, and small enough that a loop of doublings stops in megabytes, not in
+// the machine's whole memory (the step budget counts operations, not bytes).
+inline constexpr std::size_t kMaxStringLength = 1 << 20;
 inline constexpr std::uint64_t kDefaultStepBudget = 400'000'000;
 
 // Resolves and loads `import "path";` (compile.cpp implements it): returns the

@@ -201,8 +201,16 @@ Value Evaluator::eval_binary(const Expr& e, const std::shared_ptr<Env>& env) {
     return Value::error();
   };
   if (is_arith(op)) {
-    if (a.type == Type::String && b.type == Type::String && op == TokenKind::Plus)
-      return Value::string(a.str() + b.str());  // extension: string concatenation
+    if (a.type == Type::String && b.type == Type::String && op == TokenKind::Plus) {
+      // extension: string concatenation
+      if (a.str().size() + b.str().size() > kMaxStringLength) {
+        error(DiagKind::StringTooLong, e.span,
+              "this string would be " + std::to_string(a.str().size() + b.str().size()) +
+                  " characters long; strings hold at most " + std::to_string(kMaxStringLength));
+        return Value::error();
+      }
+      return Value::string(a.str() + b.str());
+    }
     bool an = a.type == Type::Number, bn = b.type == Type::Number;
     if ((!an && !a.is_vector()) || (!bn && !b.is_vector()))
       return mismatch("needs numbers or vectors");
