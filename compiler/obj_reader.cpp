@@ -30,11 +30,23 @@ std::string_view next_token(std::string_view& s) {
   return tok;
 }
 
+// A token as a message shows it: at most 40 bytes (a 7 MB token is not repeated),
+// bytes outside printable ASCII as \xNN — a binary file named as a mesh must not
+// put control characters on the terminal or invalid UTF-8 into the LSP's JSON.
 std::string quoted(std::string_view tok) {
-  constexpr std::size_t kShown = 40;  // a 7 MB token is not repeated in full
-  std::string s(tok.substr(0, kShown));
+  constexpr std::size_t kShown = 40;
+  std::string s = "'";
+  for (char c : tok.substr(0, kShown)) {
+    auto u = static_cast<unsigned char>(c);
+    if (u >= 0x20 && u < 0x7f) {
+      s += c;
+    } else {
+      const char* hex = "0123456789abcdef";
+      s += {'\\', 'x', hex[u >> 4], hex[u & 15]};
+    }
+  }
   if (tok.size() > kShown) s += "...";
-  return "'" + s + "'";
+  return s + "'";
 }
 
 }  // namespace
@@ -202,16 +214,17 @@ bool ObjParser::index(std::string_view tok, int kind, std::uint32_t& out) {
     return false;
   };
   if (ec == std::errc::result_out_of_range)
-    return fail(std::string(tok.substr(0, 40)) + " is out of range");
+    return fail(std::string(tok.substr(0, 40)) + " is out of range");  // digits only
   if (k == 0) {
     error(tok,
           std::string(kKindName[kind]) + " index 0: OBJ indices start at 1 (-1 is the latest)");
     return false;
   }
   if (k < 0) {
-    if (static_cast<std::uint64_t>(-k) > n)
-      return fail(std::to_string(k) + " counts back past the first one");
-    out = static_cast<std::uint32_t>(n - static_cast<std::uint64_t>(-k));
+    // |k| in unsigned arithmetic: -k overflows for INT64_MIN (found by fuzz_obj).
+    std::uint64_t back = 0 - static_cast<std::uint64_t>(k);
+    if (back > n) return fail(std::to_string(k) + " counts back past the first one");
+    out = static_cast<std::uint32_t>(n - back);
     return true;
   }
   if (static_cast<std::uint64_t>(k) > kMaxElements)

@@ -210,6 +210,7 @@ TEST_CASE("each malformed OBJ line is an error at its line and column", "[compil
       {"v 1 2 3 4 5", 1, "'v' takes x y z [w] or x y z r g b [a], found 5 numbers"},
       {"v 1e39 0 0", 3, "'1e39' is beyond float range (3.4e38)"},
       {"v 0x10 0 0", 3, "'0x10' is not a number"},
+      {"v 0 \x01\xff 0", 5, "'\\x01\\xff' is not a number"},  // bytes shown escaped
       {"vn 0 1", 7, "'vn' needs 3 coordinates (x y z), found 2"},
       {"vt", 3, "'vt' needs a u coordinate, found 0"},
       {"vt 0 0 0 0", 1, "'vt' takes u [v [w]], found 4 numbers"},
@@ -222,6 +223,7 @@ TEST_CASE("each malformed OBJ line is an error at its line and column", "[compil
       {"f 1 2 99999999999999999999", 7,
        "v index 99999999999999999999 is out of range (the file has 3 'v' lines so far)"},
       {"f 1 2 -99999999999999999999", 7, "v index -99999999999999999999 is out of range"},
+      {"f 1 2 -9223372036854775808", 7, "v index -9223372036854775808 counts back past the first"},
       {"f -4 -2 -1", 3, "v index -4 counts back past the first one (the file has 3 'v' lines"},
       {"f 1/ 2 3", 3, "corner '1/' is not v, v/vt, v//vn or v/vt/vn"},
       {"f 1// 2 3", 3, "corner '1//' is not v, v/vt, v//vn or v/vt/vn"},
