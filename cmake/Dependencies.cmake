@@ -6,7 +6,6 @@ find_package(TBB REQUIRED)               # TBB::tbb
 find_package(OpenImageIO 2.4 REQUIRED)   # needs openimageio-tools installed (Debian bug 1)
 find_package(fmt REQUIRED)
 find_package(CLI11 REQUIRED)
-find_package(tinyobjloader REQUIRED)
 find_package(nlohmann_json 3.11 REQUIRED) # nlohmann_json::nlohmann_json (snell lsp)
 
 # Debian bug 2: the OIIO target lists /usr/include/opencv4, which does not exist

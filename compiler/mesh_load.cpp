@@ -1,10 +1,9 @@
 #include "compiler/mesh_load.hpp"
 
-#include <tiny_obj_loader.h>
-
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <fstream>
 
 #include "compiler/compile.hpp"
 #include "compiler/lower.hpp"
@@ -16,68 +15,71 @@ using lang::DiagKind;
 using lang::Span;
 
 bool read_obj(const std::string& path, ir::MeshData& mesh, ObjReport& report) {
-  tinyobj::ObjReaderConfig cfg;
-  cfg.triangulate = true;
-  cfg.vertex_color = false;
-  cfg.mtl_search_path = "";
-  tinyobj::ObjReader reader;
-  if (!reader.ParseFromFile(path, cfg)) {
-    report.error = reader.Error();
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    report.error = "cannot open it";
+    return false;
+  }
+  // Line by line: the file is never held whole (a mesh may be gigabytes).
+  ObjParser parser;
+  std::string line;
+  while (std::getline(in, line)) parser.line(line);
+  if (in.bad()) {
+    report.error = "reading it failed";
+    return false;
+  }
+  ObjData obj = parser.finish();
+  report.ignored_geometry = obj.ignored_geometry;
+  report.first_ignored_line = obj.first_ignored_line;
+  if (obj.error_count > 0) {
+    report.errors = std::move(obj.errors);
+    report.error_count = obj.error_count;
     return false;
   }
   mesh.path = path;
-  const tinyobj::attrib_t& attrib = reader.GetAttrib();
-  const auto& verts = attrib.vertices;
-  for (std::size_t i = 0; i + 2 < verts.size(); i += 3)
-    mesh.positions.push_back({verts[i], verts[i + 1], verts[i + 2]});
+  build_mesh(std::move(obj), mesh, report);
+  return true;
+}
+
+void build_mesh(ObjData&& obj, ir::MeshData& mesh, ObjReport& report) {
+  mesh.positions = std::move(obj.positions);
   // Normals: each usable vn once, normalised in double; kNoNormal for the unusable.
-  const auto& vn = attrib.normals;
-  std::vector<std::uint32_t> normal_id(vn.size() / 3, ir::MeshData::kNoNormal);
-  for (std::size_t i = 0; i + 2 < vn.size(); i += 3) {
-    ir::Vec3 n{vn[i], vn[i + 1], vn[i + 2]};
+  std::vector<std::uint32_t> normal_id(obj.normals.size(), ir::MeshData::kNoNormal);
+  for (std::size_t i = 0; i < obj.normals.size(); ++i) {
+    ir::Vec3 n = obj.normals[i];
     double len = ir::length(n);
     if (!ir::is_finite(n) || !(len > 0) || !std::isfinite(len)) continue;
-    normal_id[i / 3] = static_cast<std::uint32_t>(mesh.normals.size());
+    normal_id[i] = static_cast<std::uint32_t>(mesh.normals.size());
     mesh.normals.push_back(n / len);
   }
-  const auto& vt = attrib.texcoords;
-  for (std::size_t i = 0; i + 1 < vt.size(); i += 2)
-    mesh.texcoords.push_back({vt[i], vt[i + 1], 0});
+  mesh.texcoords = std::move(obj.texcoords);
   std::vector<std::uint32_t> corner_normals;  // three per kept triangle
   std::vector<std::uint32_t> corner_uvs;
   bool all_uv = !mesh.texcoords.empty();
   bool any_smooth = false;
-  for (const tinyobj::shape_t& sh : reader.GetShapes()) {
-    const auto& idx = sh.mesh.indices;
+  {
+    // The reader checked every index against its array.
+    const std::vector<ObjCorner>& idx = obj.corners;
     for (std::size_t i = 0; i + 2 < idx.size(); i += 3) {
-      int a = idx[i].vertex_index, b = idx[i + 1].vertex_index, c = idx[i + 2].vertex_index;
-      auto valid = [&](int k) {
-        return k >= 0 && static_cast<std::size_t>(k) < mesh.positions.size();
-      };
-      if (!valid(a) || !valid(b) || !valid(c)) {
-        ++report.dropped;
-        continue;
-      }
+      std::uint32_t a = idx[i].v, b = idx[i + 1].v, c = idx[i + 2].v;
       ir::Vec3 pa = mesh.positions[a], pb = mesh.positions[b], pc = mesh.positions[c];
       if (!ir::is_finite(pa) || !ir::is_finite(pb) || !ir::is_finite(pc) ||
           ir::length(ir::cross(pb - pa, pc - pa)) == 0) {
         ++report.dropped;
         continue;
       }
-      mesh.indices.insert(mesh.indices.end(),
-                          {std::uint32_t(a), std::uint32_t(b), std::uint32_t(c)});
+      mesh.indices.insert(mesh.indices.end(), {a, b, c});
       std::uint32_t n[3];
       bool named = true, usable = true;
       for (int k = 0; k < 3; ++k) {
-        int ni = idx[i + k].normal_index;
-        named &= ni >= 0 && static_cast<std::size_t>(ni) < normal_id.size();
+        std::uint32_t ni = idx[i + k].vn;
+        named &= ni < normal_id.size();
         n[k] = named ? normal_id[ni] : ir::MeshData::kNoNormal;
         usable &= n[k] != ir::MeshData::kNoNormal;
       }
       for (int k = 0; k < 3; ++k) {
-        int ti = idx[i + k].texcoord_index;
-        bool ok = ti >= 0 && static_cast<std::size_t>(ti) < mesh.texcoords.size() &&
-                  ir::is_finite(mesh.texcoords[std::size_t(ti)]);
+        std::uint32_t ti = idx[i + k].vt;
+        bool ok = ti < mesh.texcoords.size() && ir::is_finite(mesh.texcoords[ti]);
         all_uv &= ok;
         corner_uvs.push_back(ok ? std::uint32_t(ti) : 0);
       }
@@ -99,7 +101,6 @@ bool read_obj(const std::string& path, ir::MeshData& mesh, ObjReport& report) {
   ir::MeshClosure closure = ir::mesh_closure(mesh);
   mesh.closed = closure.closed;
   mesh.open_reason = closure.reason;
-  return true;
 }
 
 bool SceneBuilder::load_mesh(const std::string& file, Span span, std::uint32_t& index) {
@@ -119,14 +120,36 @@ bool SceneBuilder::load_mesh(const std::string& file, Span span, std::uint32_t& 
   ir::MeshData mesh;
   ObjReport report;
   if (!read_obj(key, mesh, report)) {
-    diags_.report(DiagKind::FileUnreadable, span,
-                  "cannot read mesh '" + key + "': " + report.error);
+    if (!report.error.empty()) {
+      diags_.report(DiagKind::FileUnreadable, span,
+                    "cannot read mesh '" + key + "': " + report.error);
+      return false;
+    }
+    // One error at the `file` property; each malformed line a note at its place
+    // in the OBJ file (file:line:col, as editors jump to), the first
+    // kMaxObjErrors of them.
+    std::size_t n = report.error_count;
+    // MalformedMesh, not FileUnreadable: the file was read, its content is wrong —
+    // an error in the scene (exit 1), not a file that could not be read (exit 3).
+    auto b = diags_.report(DiagKind::MalformedMesh, span,
+                           "mesh '" + key + "' is not a valid OBJ file: " + std::to_string(n) +
+                               " malformed line" + (n == 1 ? "" : "s"));
+    for (const ObjError& e : report.errors)
+      b.note(key + ":" + std::to_string(e.line) + ":" + std::to_string(e.col) + ": " + e.message);
+    if (n > report.errors.size())
+      b.note("and " + std::to_string(n - report.errors.size()) + " more");
     return false;
   }
+  if (report.ignored_geometry > 0)
+    diags_.report(
+        DiagKind::DegenerateGeometry, span,
+        std::to_string(report.ignored_geometry) + " line, point or free-form statement(s) of '" +
+            key + "' are not drawn (the first on line " +
+            std::to_string(report.first_ignored_line) + "); Snell draws the faces (f) only");
   if (report.dropped > 0)
     diags_.report(DiagKind::DegenerateGeometry, span,
-                  std::to_string(report.dropped) + " degenerate or invalid triangle(s) of '" + key +
-                      "' are left out");
+                  std::to_string(report.dropped) + " triangle(s) of '" + key +
+                      "' have no area and are left out");
   if (report.bad_normals > 0)
     diags_.report(DiagKind::DegenerateGeometry, span,
                   std::to_string(report.bad_normals) + " triangle(s) of '" + key +
