@@ -274,6 +274,15 @@ class Watcher {
       total.merge(result.stats);
       total.build_seconds += result.stats.build_seconds;
       total.render_seconds += result.stats.render_seconds;
+      // merge() sums the counters; the times are each render's own.
+      const rt::RenderStats& r = result.stats;
+      total.camera_seconds += r.camera_seconds;
+      total.shadow_seconds += r.shadow_seconds;
+      total.reflection_seconds += r.reflection_seconds;
+      total.refraction_seconds += r.refraction_seconds;
+      total.glossy_seconds += r.glossy_seconds;
+      total.lens_seconds += r.lens_seconds;
+      total.time_seconds += r.time_seconds;
       total.kernel = result.stats.kernel;
       total.cost_stride = result.stats.cost_stride;
       publish(scene, shown, b, spp, total, result.texture_stats, "");

@@ -25,11 +25,12 @@ const char* watch_page_html() {
            cursor: crosshair; }
   #image.stale { opacity: 0.45; }
   #pixel { font-family: ui-monospace, monospace; margin-top: 6px; color: #cde; }
-  aside { flex: 1 1 360px; min-width: 300px; }
+  aside { flex: 1 1 360px; min-width: 300px; overflow: hidden; }
   h2 { font-size: 13px; text-transform: uppercase; letter-spacing: 0.05em; color: #889;
        margin: 0 0 4px 0; }
   pre { margin: 0 0 14px 0; padding: 8px; background: #2b2d31; border-radius: 4px;
-        font: 12px/1.35 ui-monospace, monospace; white-space: pre-wrap; word-break: break-word; }
+        font: 12px/1.35 ui-monospace, monospace; white-space: pre; overflow-x: auto; }
+  #stats { white-space: pre-wrap; }  /* diagnostics stay unwrapped: their carets line up */
   #diagnostics.errors { color: #fbb; border-left: 3px solid #e55; }
   #diagnostics.clean { color: #9c9; }
 </style>
