@@ -107,7 +107,9 @@ bool FileWatch::poll_mtimes() {
 
 bool FileWatch::wait(std::chrono::milliseconds timeout, std::chrono::milliseconds quiet) {
   using Clock = std::chrono::steady_clock;
-  if (fd_ < 0) {  // polling: coarse, but never blind
+  // Polling, coarse but never blind: without inotify, or when no folder could be
+  // watched (the scene's folder does not exist yet).
+  if (fd_ < 0 || folders_.empty()) {
     auto end = Clock::now() + timeout;
     do {
       if (poll_mtimes()) return true;

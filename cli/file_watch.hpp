@@ -18,7 +18,8 @@ class FileWatch {
   FileWatch(const FileWatch&) = delete;
   FileWatch& operator=(const FileWatch&) = delete;
 
-  // Empty when inotify works; else why not (the watcher then polls files' mtimes).
+  // Empty when inotify works; else why not (the watcher then polls the files'
+  // times, as it does when none of their folders exists).
   const std::string& error() const { return error_; }
 
   // The files to watch from now on (any path; made absolute here). With

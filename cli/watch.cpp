@@ -91,7 +91,18 @@ class Watcher {
     if (!files_.error().empty() && !o_.quiet)
       std::cerr << "snell watch: " << files_.error() << "\n";
     while (!g_stop) {
-      bool changed = cycle();
+      bool changed = false;
+      // Whatever a scene asks for (memory for a huge image, say) ends this cycle,
+      // never the watch: the page says what happened and the next save is awaited.
+      try {
+        changed = cycle();
+      } catch (const std::bad_alloc&) {
+        fail(
+            "snell: error: out of memory (the scene needs more memory than this machine has; "
+            "lower the resolution, samples or geometry)\n");
+      } catch (const std::exception& e) {
+        fail(std::string("snell: error: internal error: ") + e.what() + "\n");
+      }
       if (g_stop) break;
       // Nothing left to do until a file changes.
       if (!changed)
@@ -104,6 +115,12 @@ class Watcher {
   }
 
  private:
+  void fail(const std::string& message) {
+    page_.set_diagnostics(message, true);
+    page_.set_status("stopped by an error: waiting for a change");
+    if (!o_.quiet) std::cerr << message;
+  }
+
   // Compiles and renders every pass; true when a change cut it short (compile
   // again at once), false when it finished or stopped at an error.
   bool cycle() {
@@ -244,7 +261,7 @@ class Watcher {
                                     std::min(y * small.height / H, small.height - 1));
           std::copy(p, p + 3, big.at(x, y));
         }
-      publish(scene, big, 0, spp, result.stats, result.texture_stats,
+      publish(scene, std::move(big), 0, spp, result.stats, result.texture_stats,
               fmt::format("preview: {}x{} at 1 spp, shown at {}x{}\n", small.width, small.height, W,
                           H));
       first_shown("preview", small);
@@ -285,7 +302,7 @@ class Watcher {
       total.time_seconds += r.time_seconds;
       total.kernel = result.stats.kernel;
       total.cost_stride = result.stats.cost_stride;
-      publish(scene, shown, b, spp, total, result.texture_stats, "");
+      publish(scene, std::move(shown), b, spp, total, result.texture_stats, "");
       if (!o_.quiet)
         std::cerr << fmt::format(
             "snell watch: pass {}/{}: {} of {} spp ({:.2f} s, {:.2f} s in all)\n", k + 1,
@@ -298,9 +315,8 @@ class Watcher {
 
   // Shows an image on the page and in tev; `spp` 0 is the preview, `note` heads
   // the statistics.
-  void publish(const ir::Scene& scene, const rt::Image& image, std::uint32_t spp,
-               std::uint32_t target, const rt::RenderStats& total, const std::string& extra,
-               const std::string& note) {
+  void publish(const ir::Scene& scene, rt::Image image, std::uint32_t spp, std::uint32_t target,
+               const rt::RenderStats& total, const std::string& extra, const std::string& note) {
     std::vector<unsigned char> png;
     if (!temp_.path.empty()) {
       rt::OutputInfo info;
@@ -318,8 +334,9 @@ class Watcher {
     std::string stats =
         note + fmt::format("{}x{}, {} of {} spp\n", image.width, image.height, spp, target);
     stats += total.to_string() + extra;
-    page_.set_image(image, std::move(png), spp, target, stats);
+    // Moved, not copied, into the page: an image can be gigabytes (16384² is 3 GB).
     if (tev_) tev_->show(tev_name_, image);
+    page_.set_image(std::move(image), std::move(png), spp, target, stats);
   }
 
   const CliArgs& o_;

@@ -186,9 +186,9 @@ void WatchPage::set_diagnostics(const std::string& text, bool errors) {
   ++impl_->revision;
 }
 
-void WatchPage::set_image(const rt::Image& linear, std::vector<unsigned char> png,
-                          std::uint32_t spp, std::uint32_t target_spp, const std::string& stats) {
-  auto im = std::make_shared<const rt::Image>(linear);
+void WatchPage::set_image(rt::Image linear, std::vector<unsigned char> png, std::uint32_t spp,
+                          std::uint32_t target_spp, const std::string& stats) {
+  auto im = std::make_shared<const rt::Image>(std::move(linear));
   auto p = std::make_shared<const std::vector<unsigned char>>(std::move(png));
   std::lock_guard lock(impl_->mutex);
   impl_->linear = std::move(im);

@@ -38,7 +38,7 @@ class WatchPage {
   void set_diagnostics(const std::string& text, bool errors);
   // A finished pass: its linear pixels, their PNG, the samples per pixel so far
   // and the statistics text.
-  void set_image(const rt::Image& linear, std::vector<unsigned char> png, std::uint32_t spp,
+  void set_image(rt::Image linear, std::vector<unsigned char> png, std::uint32_t spp,
                  std::uint32_t target_spp, const std::string& stats);
 
  private:

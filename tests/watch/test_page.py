@@ -2,7 +2,7 @@
 temporary folder; the page shows an image; saving a new background colour shows a new
 image whose centre pixel reads the new colour; an error shows its file:line:col on the
 page and greys the old image; fixing it brings an image back; an edit of an imported
-file is a new image too.
+file is a new image too, and so is a missing import's file once it is saved.
 Usage: test_page.py SNELL"""
 
 import os
@@ -75,7 +75,16 @@ def main():
             f.write("let sky = <1, 0.25, 0.5>;\n")
         browser.wait_for(f"{state}.pixel.includes('1.0000 0.25000 0.50000')",
                          what="the imported file's edit")
-        print("watch page: image, edit, error, fix and an import's edit all shown")
+
+        # 6. A missing import is an error until the file appears beside the scene.
+        save_like_an_editor(scene, 'import "later.scn";\n' + SCENE.format(bg="late"))
+        browser.wait_for(f"{state}.diagnostics.includes('later.scn')", what="the missing import")
+        assert browser.eval(f"{state}.stale") is True
+        with open(os.path.join(folder, "later.scn"), "w") as f:
+            f.write("let late = <0.375, 0.75, 0.25>;\n")
+        browser.wait_for(f"{state}.pixel.includes('0.37500 0.75000 0.25000')",
+                         what="the image once the import exists")
+        print("watch page: image, edit, error, fix, an import's edit and a late import shown")
     finally:
         if browser:
             browser.close()
