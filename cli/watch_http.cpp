@@ -138,6 +138,13 @@ void WatchPage::Impl::routes() {
 WatchPage::WatchPage(std::string scene) : impl_(std::make_unique<Impl>()) {
   impl_->scene = std::move(scene);
   impl_->routes();
+  // cpp-httplib's default is SO_REUSEPORT, with which a second snell watch on the
+  // same port would bind too and the kernel would share the browsers between the
+  // two. SO_REUSEADDR alone: a port in use is an error, a port just freed is not.
+  impl_->server.set_socket_options([](socket_t sock) {
+    int yes = 1;
+    setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+  });
 }
 
 WatchPage::~WatchPage() {

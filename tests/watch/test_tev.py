@@ -9,6 +9,7 @@ import os
 import re
 import socket
 import struct
+import subprocess
 import sys
 import tempfile
 import threading
@@ -188,6 +189,14 @@ def main():
         wait(lambda: tev.pixel(name, 0, 0) == (0.0, 0.0, 1.0), "the new scene in tev")
         assert not tev.errors, tev.errors
         print(f"a 2^20 spp render replaced: new scene done {cancel_seconds:.2f} s after the save")
+
+        # A second watch on the same port is an error (exit 3), not a second server
+        # sharing it (cpp-httplib's default SO_REUSEPORT would have let it bind).
+        port = watch.url.rstrip("/").rsplit(":", 1)[1]
+        second = subprocess.run([snell, "watch", scene, "--port", port, "-q"],
+                                capture_output=True, text=True, timeout=20)
+        assert second.returncode == 3, (second.returncode, second.stderr)
+        assert "cannot listen on 127.0.0.1:" + port in second.stderr, second.stderr
         print(f"tev stream: {tev.updates} UpdateImage packets, image {name!r} {W}x{H}")
     finally:
         if watch:
