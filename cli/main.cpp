@@ -10,6 +10,7 @@
 #include "cli/farm.hpp"
 #include "cli/options.hpp"
 #include "cli/sweep.hpp"
+#include "cli/watch.hpp"
 #include "compiler/compile.hpp"
 #include "lsp/server.hpp"
 #include "runtime/atomic_file.hpp"
@@ -32,6 +33,8 @@ int dispatch(unsigned command, const cli::CliArgs& o) {
       return cli::run_merge(o);
     case cli::Farm:
       return cli::run_farm(o);
+    case cli::Watch:
+      return cli::run_watch(o);
     case cli::Lsp: {
       lsp::ServerOptions so;
       so.include_dirs = o.include_dirs;

@@ -28,7 +28,8 @@ enum Command : unsigned {
   DumpAst = 8,
   Merge = 16,
   Farm = 32,
-  Lsp = 64
+  Lsp = 64,
+  Watch = 128
 };
 
 struct CommandInfo {
@@ -49,6 +50,9 @@ inline constexpr CommandInfo kCommands[] = {
     {Merge, "merge",
      "assemble the pieces of a split render (--crop, --sample-range) into one image"},
     {Lsp, "lsp", "serve the Language Server Protocol on stdin/stdout (for editors)"},
+    {Watch, "watch",
+     "re-render a scene whenever it or a file it reads changes, progressively, shown on a page "
+     "served on localhost (and in tev)"},
 };
 
 // What CLI11 checks beyond the value's type.
@@ -149,6 +153,9 @@ struct CliArgs {
   std::string farm_dir;
   bool farm_dry_run = false;
   std::vector<std::string> farm_sbatch;
+  // watch only (cli/watch.hpp).
+  int watch_port = 8787;
+  std::string display_server;  // HOST:PORT of tev
   // merge only.
   std::string merge_out;
   std::vector<std::string> pieces;

@@ -7,6 +7,10 @@ find_package(OpenImageIO 2.4 REQUIRED)   # needs openimageio-tools installed (De
 find_package(fmt REQUIRED)
 find_package(CLI11 REQUIRED)
 find_package(nlohmann_json 3.11 REQUIRED) # nlohmann_json::nlohmann_json (snell lsp)
+# cpp-httplib (libcpp-httplib-dev): snell watch's page. Debian builds it as a library
+# (its header's -D flags must match that build) with a pkg-config file, no CMake config.
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(HTTPLIB REQUIRED IMPORTED_TARGET GLOBAL cpp-httplib>=0.11)
 
 # Debian bug 2: the OIIO target lists /usr/include/opencv4, which does not exist
 # unless libopencv-dev is installed.

@@ -151,7 +151,12 @@ RenderResult render(const ir::Scene& scene, const RenderOptions& options) {
     return w;
   });
 
+  std::atomic<bool> skipped{false};
   auto render_one = [&](std::uint32_t tile) {
+    if (options.cancel && options.cancel->load(std::memory_order_relaxed)) {
+      skipped.store(true, std::memory_order_relaxed);
+      return;
+    }
     // Denormals flushed to zero on every worker: Embree's recommendation, and
     // it keeps the slow path out of deep Beer attenuation (robustness.md §3.4).
     _MM_SET_FLUSH_ZERO_MODE(_MM_FLUSH_ZERO_ON);
@@ -169,6 +174,7 @@ RenderResult render(const ir::Scene& scene, const RenderOptions& options) {
                         for (std::uint32_t t = r.begin(); t != r.end(); ++t) render_one(t);
                       });
   });
+  result.cancelled = skipped.load();
   double ns[kCostKinds] = {};
   RenderStats& rs = result.stats;
   for (const Worker& w : workers) {

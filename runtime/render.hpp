@@ -59,6 +59,11 @@ struct RenderOptions {
   };
   std::optional<Window> crop;
   std::optional<std::pair<std::uint32_t, std::uint32_t>> sample_range;
+  // snell watch: set (from any thread) to abandon the render; tiles not yet begun
+  // are skipped, so a stale render ends within one tile per thread. The result's
+  // image is then incomplete (RenderResult::cancelled); a render never cancelled
+  // is unchanged by the check.
+  const std::atomic<bool>* cancel = nullptr;
 };
 
 // Counters for --stats; summed over threads after the render.
@@ -96,6 +101,7 @@ struct RenderResult {
   RenderStats stats;
   std::string trace;          // the --pixel ray tree, when asked for
   std::string texture_stats;  // §17: OIIO's texture statistics when the scene has images
+  bool cancelled = false;     // RenderOptions::cancel was set: some tiles were skipped
 };
 
 RenderResult render(const ir::Scene& scene, const RenderOptions& options);

@@ -100,12 +100,18 @@ TEST_CASE("each subcommand takes exactly the options it took before the table", 
         "--sbatch",      "--dry-run", "-o,--output", "--spp",    "--res",       "--threads",
         "--seed",        "--set",     "-I",          "--clock",  "--max-steps", "--features",
         "--ocio-config", "--display", "--view"}},
+      // #20: watch re-renders with the render options that make sense live (no
+      // outputs, frames, crops or sample ranges: it renders every sample itself).
+      {"watch",
+       {"scene", "--port", "--display-server", "--spp", "--res", "--threads", "--seed", "--set",
+        "-I", "--stats", "--clock", "-q,--quiet", "--max-errors", "--max-steps", "--features",
+        "--ocio-config", "--display", "--view"}},
   };
   Line line;
   std::set<std::string> subcommands;
   for (const CLI::App* sub : line.app.get_subcommands({})) subcommands.insert(sub->get_name());
-  CHECK(subcommands ==
-        std::set<std::string>{"render", "check", "sweep", "dump-ast", "merge", "farm", "lsp"});
+  CHECK(subcommands == std::set<std::string>{"render", "check", "sweep", "dump-ast", "merge",
+                                             "farm", "lsp", "watch"});
   for (const auto& [name, options] : expected) {
     INFO("snell " << name);
     CLI::App* sub = line.app.get_subcommand(name);
@@ -234,6 +240,25 @@ TEST_CASE("options land in the fields the table names", "[cli][options]") {
     CHECK(line.args.include_dirs == std::vector<std::string>{"inc"});
     CHECK(line.args.max_steps == 1000);
   }
+  {
+    Line line;
+    REQUIRE(line.parse("watch w.scn") == cli::Watch);
+    CHECK(line.args.watch_port == 8787);
+    CHECK(line.args.display_server.empty());
+  }
+  {
+    Line line;
+    REQUIRE(line.parse("watch w.scn --port 0 --display-server 127.0.0.1:14158 --spp 64 "
+                       "--res 8x4 --stats -q") == cli::Watch);
+    const cli::CliArgs& a = line.args;
+    CHECK(a.scene == "w.scn");
+    CHECK(a.watch_port == 0);
+    CHECK(a.display_server == "127.0.0.1:14158");
+    CHECK(a.spp == 64);
+    CHECK(a.res == "8x4");
+    CHECK(a.stats);
+    CHECK(a.quiet);
+  }
 }
 
 TEST_CASE("option values are checked as before the table", "[cli][options]") {
@@ -264,6 +289,10 @@ TEST_CASE("option values are checked as before the table", "[cli][options]") {
   rejects("sweep s.scn --vary a=1 --spp 3");
   rejects("dump-ast d.scn -I .");
   rejects("render a.scn --vary a=1");
+  rejects("watch w.scn --port 65536");  // 0 ..= 65535
+  rejects("watch w.scn --port -1");
+  rejects("watch w.scn -o x.png");  // watch writes no images
+  rejects("render a.scn --port 8787");
   // And the bounds themselves are accepted.
   Line line;
   CHECK_NOTHROW(line.parse("render a.scn --spp 1048576 --threads 1024 --seed 0"));
