@@ -20,6 +20,7 @@
 #include "runtime/atomic_file.hpp"
 #include "runtime/image_format.hpp"
 #include "runtime/render.hpp"
+#include "runtime/scene_checks.hpp"
 
 namespace snell::cli {
 
@@ -200,6 +201,8 @@ int run_check(const CliArgs& o) {
             << " material(s), " << s.point_lights.size() << " point light(s), "
             << s.area_lights.size() << " area light(s); " << s.settings.width << "x"
             << s.settings.height << " at " << s.settings.samples << " spp\n";
+  for (const std::string& w : rt::scene_warnings(s))
+    std::cout << o.scene << ": warning: " << w << "\n";
   std::cout << "effects:\n";
   ir::Features f = ir::analyze_features(s);
   if (f.reasons.empty()) std::cout << "  (none beyond diffuse shading)\n";
@@ -298,6 +301,9 @@ int render_frame(FrameJob& job) {
     std::cerr << "snell: error: " << err << "\n";
     return kExitIo;
   }
+  if (job.first)
+    for (const std::string& w : rt::scene_warnings(scene))
+      std::cerr << o.scene << ": warning: " << w << "\n";
   Progress progress(!o.quiet, isatty(STDERR_FILENO));
   ropts.progress = [&](double f) { progress.update(f); };
   rt::RenderResult result = rt::render(scene, ropts);

@@ -402,3 +402,47 @@ TEST_CASE("any studio OCIO config works: its default display and view, or --disp
   CHECK(err.find("kernel:") == std::string::npos);
   CHECK(!fs::exists(tmp / "bad.png"));
 }
+
+TEST_CASE("warnings: no object, no light for a diffuse surface, the camera inside a solid",
+          "[e2e]") {
+  Scratch tmp;
+  std::string err;
+  auto check_out = [&](const std::string& text) {
+    std::ofstream(tmp / "w.scn") << text;
+    std::string log = tmp / "stdout.txt";
+    int status = std::system(
+        ("timeout 20 " + kSnell + " check " + (tmp / "w.scn") + " > " + log + " 2>&1").c_str());
+    CHECK((WIFEXITED(status) ? WEXITSTATUS(status) : -1) == 0);
+    std::ifstream in(log);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  };
+  std::string out = check_out("background <0.2, 0.3, 0.4>\n");
+  CHECK(out.find("warning: the scene has no object") != std::string::npos);
+  out = check_out("sphere { center <0, 0, 5> }\n");
+  CHECK(out.find("warning: the scene has no light") != std::string::npos);
+  CHECK(out.find("w.scn:1:1") != std::string::npos);
+  // A mirror needs no light (it shows the background); a lit diffuse sphere is fine.
+  out = check_out("sphere { center <0, 0, 5> material mirror <1, 1, 1> }\n");
+  CHECK(out.find("warning") == std::string::npos);
+  out =
+      check_out("point_light { position <0, 5, -5> intensity 10 }\nsphere { center <0, 0, 5> }\n");
+  CHECK(out.find("warning") == std::string::npos);
+  // The camera inside a big sphere, a rotated box and a closed cylinder, not inside
+  // an open one.
+  out = check_out(
+      "camera { location <0, 0, -5> look_at <0, 0, 0> } point_light { position <0, 5, -5> "
+      "intensity 10 }\n"
+      "sphere { radius 10 }\n"
+      "box { min <-1, -1, -1> max <1, 1, 1> scale 3 rotate <0, 30, 0> translate <0, 0, -5> }\n"
+      "cylinder { base <0, -1, -5> cap <0, 1, -5> radius 1 }\n"
+      "cylinder { base <0, -1, -5> cap <0, 1, -5> radius 1 open true }\n");
+  CHECK(out.find("inside the sphere at " + (tmp / "w.scn") + ":2:1") != std::string::npos);
+  CHECK(out.find("inside the box at " + (tmp / "w.scn") + ":3:1") != std::string::npos);
+  CHECK(out.find("inside the cylinder at " + (tmp / "w.scn") + ":4:1") != std::string::npos);
+  CHECK(out.find(":5:1") == std::string::npos);
+  // render prints them too, before the render.
+  std::ofstream(tmp / "w.scn")
+      << "settings { resolution <4, 4> samples 1 }\nsphere { center <0, 0, 5> }\n";
+  CHECK(run_capture("render " + (tmp / "w.scn") + " --quiet -o " + (tmp / "w.exr"), err, tmp) == 0);
+  CHECK(err.find("warning: the scene has no light") != std::string::npos);
+}
