@@ -19,6 +19,7 @@
 #include "language/parser.hpp"
 #include "runtime/atomic_file.hpp"
 #include "runtime/image_format.hpp"
+#include "runtime/memory_estimate.hpp"
 #include "runtime/render.hpp"
 #include "runtime/scene_checks.hpp"
 
@@ -300,6 +301,22 @@ int render_frame(FrameJob& job) {
   if (std::string err = rt::check_images(scene, o.ocio_config); !err.empty()) {
     std::cerr << "snell: error: " << err << "\n";
     return kExitIo;
+  }
+  // Memory the render would need beyond the scene, before any of it is taken.
+  {
+    std::uint64_t limit = rt::physical_memory() / 10 * 9;
+    if (!o.max_memory.empty() && !rt::parse_bytes(o.max_memory, limit))
+      return usage_error("--max-memory takes a size such as 8G, 512M or 2.5GB, not '" +
+                         o.max_memory + "'");
+    const Window& w = piece.crop;
+    rt::MemoryEstimate need = rt::estimate_memory(scene, w.x1 - w.x0, w.y1 - w.y0, job.outputs);
+    if (limit > 0 && need.total() > limit) {
+      std::cerr << "snell: error: " << o.scene << ": the render needs about " << need.to_string()
+                << ", more than the limit of " << rt::format_bytes(limit)
+                << (o.max_memory.empty() ? " (90 % of this machine's memory)" : " (--max-memory)")
+                << "; lower the resolution, split it with --crop, or raise --max-memory\n";
+      return kExitScene;
+    }
   }
   if (job.first)
     for (const std::string& w : rt::scene_warnings(scene))

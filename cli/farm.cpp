@@ -79,6 +79,7 @@ bool plan_farm(const CliArgs& o, const std::string& snell_exe, std::uint32_t wid
   r.insert(r.end(), {"--max-steps", std::to_string(o.max_steps)});
   if (!o.ocio_config.empty()) r.insert(r.end(), {"--ocio-config", absolute(o.ocio_config)});
   if (!o.display.empty()) r.insert(r.end(), {"--display", o.display});
+  if (!o.max_memory.empty()) r.insert(r.end(), {"--max-memory", o.max_memory});
   if (!o.view.empty()) r.insert(r.end(), {"--view", o.view});
 
   std::vector<std::string> outputs;

@@ -138,7 +138,8 @@ struct CliArgs {
   std::string pixel;
   std::string features = "auto";
   std::string ocio_config;
-  std::string display;  // OCIO display and view of display-referred outputs
+  std::string max_memory;  // "8G"; empty: 90 % of the machine's memory
+  std::string display;     // OCIO display and view of display-referred outputs
   std::string view;
   rt::DisplayView display_view() const { return {ocio_config, display, view}; }
   // §18 animation and split renders (render; cli/animation.hpp, cli/split.hpp).

@@ -16,12 +16,8 @@ packages=(
   libembree-dev libtbb-dev
   libopenimageio-dev openimageio-tools     # openimageio-tools: OIIO's CMake config needs its binaries
   libopencolorio-dev opencolorio-tools
-<<<<<<< HEAD
   catch2 libcli11-dev libfmt-dev nlohmann-json3-dev
-=======
-  catch2 libcli11-dev libfmt-dev nlohmann-json3-dev libtinyobjloader-dev
   libcpp-httplib-dev                       # snell watch's page
->>>>>>> helper-watch
 )
 if [ "$mode" = test ]; then packages+=(clang libclang-rt-dev clang-format); fi   # the fuzz targets (libFuzzer runtime); the format test
 if [ "$mode" = test ]; then packages+=(python3 python3-venv); fi   # the LSP tests' venv (pytest-lsp)

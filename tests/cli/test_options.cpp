@@ -84,8 +84,8 @@ TEST_CASE("each subcommand takes exactly the options it took before the table", 
         "--features", "--ocio-config",
         // §18, added with animation and split renders.
         "--frames", "--frame", "--clock", "--crop", "--sample-range",
-        // #18: any studio OCIO config's display and view.
-        "--display", "--view"}},
+        // #18: any studio OCIO config's display and view; the memory limit.
+        "--display", "--view", "--max-memory"}},
       {"check", {"scene", "-I", "--set", "--max-errors", "--max-steps"}},
       {"sweep",
        {"scene", "--vary", "--series", "--repeats", "--reference-spp", "--out", "--markdown",
@@ -96,10 +96,10 @@ TEST_CASE("each subcommand takes exactly the options it took before the table", 
       {"merge", {"out", "pieces", "-q,--quiet", "--ocio-config", "--display", "--view"}},
       // §18: the farm forwards render options to its tasks.
       {"farm",
-       {"backend",       "scene",     "--tiles",     "--passes", "--frames",    "--dir",
-        "--sbatch",      "--dry-run", "-o,--output", "--spp",    "--res",       "--threads",
-        "--seed",        "--set",     "-I",          "--clock",  "--max-steps", "--features",
-        "--ocio-config", "--display", "--view"}},
+       {"backend",       "scene",     "--tiles",     "--passes",    "--frames",    "--dir",
+        "--sbatch",      "--dry-run", "-o,--output", "--spp",       "--res",       "--threads",
+        "--seed",        "--set",     "-I",          "--clock",     "--max-steps", "--features",
+        "--ocio-config", "--display", "--view",      "--max-memory"}},
       // #20: watch re-renders with the render options that make sense live (no
       // outputs, frames, crops or sample ranges: it renders every sample itself).
       {"watch",

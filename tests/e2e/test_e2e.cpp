@@ -446,3 +446,25 @@ TEST_CASE("warnings: no object, no light for a diffuse surface, the camera insid
   CHECK(run_capture("render " + (tmp / "w.scn") + " --quiet -o " + (tmp / "w.exr"), err, tmp) == 0);
   CHECK(err.find("warning: the scene has no light") != std::string::npos);
 }
+
+TEST_CASE("a render estimated to need more memory than the limit fails before it starts", "[e2e]") {
+  Scratch tmp;
+  std::string err;
+  std::ofstream(tmp / "big.scn") << "settings { resolution <16384, 16384> samples 1 }\n"
+                                    "sphere { center <0, 0, 5> }\n";
+  const std::string scene = tmp / "big.scn";
+  // Film 16384² x 12 bytes = 3.2 GB, the EXR encoded in memory as much again.
+  CHECK(run_capture("render " + scene + " --stats --max-memory 4G -o " + (tmp / "big.exr"), err,
+                    tmp) == 1);
+  CHECK(err.find("the render needs about 6.6 GB (film 3.2 GB, geometry 160 MB, encoding 3.3 "
+                 "GB), more than the limit of 4.0 GB (--max-memory)") != std::string::npos);
+  CHECK(err.find("kernel:") == std::string::npos);
+  CHECK(!fs::exists(tmp / "big.exr"));
+  CHECK(run_capture("render " + scene + " --max-memory lots -o " + (tmp / "big.exr"), err, tmp) ==
+        2);
+  CHECK(err.find("--max-memory takes a size") != std::string::npos);
+  // A small crop of it fits.
+  CHECK(run_capture("render " + scene + " --quiet --max-memory 1G --crop 0,0,64,64 -o " +
+                        (tmp / "crop.exr"),
+                    err, tmp) == 0);
+}
