@@ -47,14 +47,17 @@ std::string listing(Count count, Name name) {
 
 }  // namespace
 
+// The config path both transforms start from, or false with `error`.
+bool ColorTransform::resolve_into(const std::string& config, Impl& impl, std::string& error) {
+  impl.path = resolve_ocio_config(config);
+  if (impl.path.empty()) error = "no OpenColorIO config found (set $OCIO or reinstall snell)";
+  return !impl.path.empty();
+}
+
 std::unique_ptr<ColorTransform> ColorTransform::to_display(const DisplayView& dv,
                                                            std::string& error) {
   auto impl = std::make_unique<Impl>();
-  impl->path = resolve_ocio_config(dv.config);
-  if (impl->path.empty()) {
-    error = "no OpenColorIO config found (set $OCIO or reinstall snell)";
-    return nullptr;
-  }
+  if (!resolve_into(dv.config, *impl, error)) return nullptr;
   const std::string where = "OpenColorIO config '" + impl->path + "'";
   try {
     OCIO::ConstConfigRcPtr cfg = OCIO::Config::CreateFromFile(impl->path.c_str());
@@ -99,11 +102,7 @@ std::unique_ptr<ColorTransform> ColorTransform::to_scene_linear(const std::strin
                                                                 const std::string& space,
                                                                 std::string& error) {
   auto impl = std::make_unique<Impl>();
-  impl->path = resolve_ocio_config(config);
-  if (impl->path.empty()) {
-    error = "no OpenColorIO config found (set $OCIO or reinstall snell)";
-    return nullptr;
-  }
+  if (!resolve_into(config, *impl, error)) return nullptr;
   const std::string where = "OpenColorIO config '" + impl->path + "'";
   try {
     OCIO::ConstConfigRcPtr cfg = OCIO::Config::CreateFromFile(impl->path.c_str());

@@ -47,6 +47,7 @@ class ColorTransform {
  private:
   struct Impl;
   explicit ColorTransform(std::unique_ptr<Impl> impl);
+  static bool resolve_into(const std::string& config, Impl& impl, std::string& error);
   std::unique_ptr<Impl> impl_;
 };
 
