@@ -19,7 +19,12 @@
 //   config (--ocio-config, else $OCIO, else Snell's) knows is converted from that
 //   space to the config's scene_linear role; of the rest, OIIO's own names
 //   ("sRGB", any "linear" one, "GammaG" for a PNG gAMA chunk) mean what they say
-//   and anything else is an error. Limit: the decode reads the image whole once.
+//   and anything else is an error. Primaries: a file with `chromaticities` (an
+//   OpenEXR attribute) other than Rec.709/D65 is converted to Rec.709 by a matrix
+//   (runtime/primaries.hpp) after that decoding, unless its colour space came from
+//   the OCIO config by name (the config's transform already says everything);
+//   a one- or two-channel image keeps its values. Limit: the decode reads the
+//   image whole once.
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imagecache.h>
@@ -35,6 +40,7 @@
 #include <vector>
 
 #include "runtime/color.hpp"
+#include "runtime/primaries.hpp"
 
 namespace {
 
@@ -55,7 +61,10 @@ struct SourceColour {
   enum Kind { Linear, Srgb, Gamma, Ocio } kind = Linear;
   float gamma = 1;                                  // Gamma: linear = value^gamma
   std::unique_ptr<snell::rt::ColorTransform> ocio;  // Ocio: to scene_linear
-  std::string key;                                  // names the decoding in the .tx's name
+  bool convert_primaries = false;                   // then rec709 = primaries · decoded RGB
+  snell::rt::Mat3f primaries{};
+  std::string key;  // names the decoding in the .tx's name
+  bool is_identity() const { return kind == Linear && !convert_primaries; }
 };
 
 // The decoding of a file with `spec`, or false with `error` (a colour space the
@@ -96,6 +105,14 @@ bool source_colour(const OIIO::ImageSpec& spec, const std::string& ocio_config, 
       out.key = "ocio " + out.ocio->to_string();
       break;
   }
+  snell::rt::Chromaticities xy;
+  if (out.kind != SourceColour::Ocio &&
+      spec.getattribute("chromaticities", OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 8), xy.data()) &&
+      !snell::rt::is_rec709(xy)) {
+    if (!snell::rt::rec709_from(xy, out.primaries, error)) return false;
+    out.convert_primaries = true;
+    out.key += " primaries " + snell::rt::to_string(xy);
+  }
   return true;
 }
 
@@ -121,6 +138,7 @@ std::string linear_texture(const std::string& path, const SourceColour& colour,
   OIIO::ImageSpec spec = src.spec();
   const bool was_float = spec.format.is_floating_point();
   spec.set_format(OIIO::TypeDesc::FLOAT);
+  spec.erase_attribute("chromaticities");  // the .tx holds Rec.709 values
   std::vector<float> px(std::size_t(spec.width) * spec.height * spec.nchannels);
   src.get_pixels(src.roi(), OIIO::TypeDesc::FLOAT, px.data());
   int colours = std::min(spec.nchannels, 3);  // alpha stays as it is
@@ -139,9 +157,19 @@ std::string linear_texture(const std::string& path, const SourceColour& colour,
     for (std::size_t i = 0; i < pixels; ++i)
       for (int c = 0; c < colours; ++c) {
         float& v = px[i * nc + std::size_t(c)];
-        v = colour.kind == SourceColour::Srgb ? srgb_to_linear(v)
-                                              : std::pow(std::max(v, 0.0f), colour.gamma);
+        if (colour.kind == SourceColour::Srgb)
+          v = srgb_to_linear(v);
+        else if (colour.kind == SourceColour::Gamma)
+          v = std::pow(std::max(v, 0.0f), colour.gamma);
       }
+  }
+  if (colour.convert_primaries && colours == 3) {
+    const auto& m = colour.primaries;
+    for (std::size_t i = 0; i < pixels; ++i) {
+      float* p = &px[i * nc];
+      float r = p[0], g = p[1], b = p[2];
+      for (int c = 0; c < 3; ++c) p[c] = m[3 * c] * r + m[3 * c + 1] * g + m[3 * c + 2] * b;
+    }
   }
   OIIO::ImageBuf lin(spec, px.data());
   OIIO::ImageSpec config;
@@ -204,7 +232,7 @@ extern "C" __attribute__((visibility("default"))) void* snell_texture_open_v2(
     SourceColour colour;
     if (!source_colour(spec, ocio_config, colour, error)) return nullptr;
     in.reset();
-    if (colour.kind != SourceColour::Linear) {
+    if (!colour.is_identity()) {
       file = linear_texture(path, colour, error);
       if (file.empty()) return nullptr;
     }

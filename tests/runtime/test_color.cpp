@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include "runtime/color.hpp"
+#include "runtime/primaries.hpp"
 #include "runtime/render.hpp"
 
 using namespace snell::rt;
@@ -78,6 +79,41 @@ TEST_CASE("a file's colour space converts to scene_linear through the config", "
   CHECK(error.find("has no colour space 'ACEScg'") != std::string::npos);
   // Snell's config has the ACES working spaces.
   CHECK(ColorTransform::to_scene_linear("", "ACEScg", error));
+}
+
+TEST_CASE("primaries convert to Rec.709 by the published matrices", "[color]") {
+  std::string err;
+  Mat3f m;
+  // Rec.709 itself is the identity (to float rounding of its own round trip).
+  REQUIRE(rec709_from(kRec709Chromaticities, m, err));
+  for (int i = 0; i < 9; ++i) CHECK(m[i] == Approx(i % 4 == 0 ? 1.0 : 0.0).margin(1e-6));
+  CHECK(is_rec709(kRec709Chromaticities));
+  // ACEScg (AP1, ACES white ~D60) to linear Rec.709/D65 with Bradford adaptation:
+  // the matrix as published with four decimals (e.g. colour-science, and OCIO's
+  // ACES configs), so 1e-4 is their rounding.
+  const Chromaticities ap1 = {0.713f, 0.293f, 0.165f, 0.830f, 0.128f, 0.044f, 0.32168f, 0.33767f};
+  const float want[9] = {1.7051f,  -0.6218f, -0.0833f, -0.1303f, 1.1408f,
+                         -0.0105f, -0.0240f, -0.1290f, 1.1530f};
+  CHECK_FALSE(is_rec709(ap1));
+  REQUIRE(rec709_from(ap1, m, err));
+  for (int i = 0; i < 9; ++i) {
+    INFO("entry " << i);
+    CHECK(m[i] == Approx(want[i]).margin(1.5e-4));
+  }
+  // White stays white when the file's white is D65: each row sums to 1.
+  const Chromaticities p3d65 = {0.680f, 0.320f, 0.265f, 0.690f, 0.150f, 0.060f, 0.3127f, 0.3290f};
+  REQUIRE(rec709_from(p3d65, m, err));
+  for (int r = 0; r < 3; ++r)
+    CHECK(m[3 * r] + m[3 * r + 1] + m[3 * r + 2] == Approx(1).margin(1e-5));
+  // Not primaries: collinear, a zero y, a NaN.
+  for (Chromaticities bad :
+       {Chromaticities{0.2f, 0.2f, 0.4f, 0.4f, 0.6f, 0.6f, 0.3127f, 0.329f},
+        Chromaticities{0.64f, 0.33f, 0.3f, 0.0f, 0.15f, 0.06f, 0.3127f, 0.329f},
+        Chromaticities{0.64f, NAN, 0.3f, 0.6f, 0.15f, 0.06f, 0.3127f, 0.329f}}) {
+    err.clear();
+    CHECK_FALSE(rec709_from(bad, m, err));
+    CHECK(err.find("not a set of RGB primaries") != std::string::npos);
+  }
 }
 
 TEST_CASE("write_image writes EXR and PNG atomically", "[color][io]") {

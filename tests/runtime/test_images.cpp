@@ -245,6 +245,61 @@ TEST_CASE("an image's colour space tag decides how it becomes linear", "[images]
   CHECK(err.find("studio.ocio") != std::string::npos);
 }
 
+TEST_CASE("an EXR's chromaticities convert its primaries to Rec.709", "[images]") {
+  // The texels of Images' EXR, written once with ACEScg primaries (AP1, ACES
+  // white) and once with Rec.709's: the first is looked up as M · rgb with M the
+  // Bradford-adapted AP1-to-Rec.709 matrix (its published four decimals), the
+  // second unchanged.
+  Images im;
+  std::vector<float> f;
+  for (int row = 0; row < kH; ++row)
+    for (int i = 0; i < kW; ++i)
+      for (int c = 0; c < 3; ++c) f.push_back(exr_value(i, row, c));
+  auto write = [&](const std::string& name, const float* xy) {
+    std::string path = (im.dir / name).string();
+    auto out = OIIO::ImageOutput::create(path);
+    REQUIRE(out);
+    OIIO::ImageSpec spec(kW, kH, 3, OIIO::TypeDesc::FLOAT);
+    spec.attribute("chromaticities", OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 8), xy);
+    REQUIRE(out->open(path, spec));
+    REQUIRE(out->write_image(spec.format, f.data()));
+    REQUIRE(out->close());
+    // OIIO must round-trip the attribute, or this test tests nothing.
+    auto in = OIIO::ImageInput::open(path);
+    REQUIRE(in);
+    float back[8];
+    REQUIRE(
+        in->spec().getattribute("chromaticities", OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 8), back));
+    CHECK(back[0] == xy[0]);
+    return path;
+  };
+  const float ap1[8] = {0.713f, 0.293f, 0.165f, 0.830f, 0.128f, 0.044f, 0.32168f, 0.33767f};
+  const float rec709[8] = {0.64f, 0.33f, 0.30f, 0.60f, 0.15f, 0.06f, 0.3127f, 0.3290f};
+  ir::Scene s = base_scene(1, 1, 1);
+  s.images.push_back({write("acescg.exr", ap1), {}});
+  s.images.push_back({write("rec709.exr", rec709), {}});
+  std::string err;
+  auto tex = rt::ImageTextures::open(s, "", err);
+  INFO(err);
+  REQUIRE(tex);
+  const float m[9] = {1.7051f,  -0.6218f, -0.0833f, -0.1303f, 1.1408f,
+                      -0.0105f, -0.0240f, -0.1290f, 1.1530f};
+  for (int row = 0; row < kH; ++row)
+    for (int i = 0; i < kW; ++i) {
+      ir::Vec3 q{u_of(i), v_of(row), 0};
+      Color a = at(*tex, image_texture(0, ir::ImageMapping::Planar), q);
+      Color r = at(*tex, image_texture(1, ir::ImageMapping::Planar), q);
+      for (int c = 0; c < 3; ++c) {
+        INFO("texel " << i << "," << row << " channel " << c);
+        float want = 0;
+        for (int k = 0; k < 3; ++k) want += m[3 * c + k] * exr_value(i, row, k);
+        // The published matrix's rounding (1.5e-4 an entry) times values <= 2.5.
+        CHECK(a[c] == Approx(want).margin(1e-3));
+        CHECK(r[c] == Approx(exr_value(i, row, c)).epsilon(1e-6).margin(1e-6));
+      }
+    }
+}
+
 TEST_CASE("an unreadable image is an error naming it", "[images]") {
   Images im;
   std::string bad = (im.dir / "not-an-image.png").string();
