@@ -42,10 +42,44 @@ enum : std::uint32_t {
   kDimFirstFree = 3,
 };
 
-struct SamplerSpec {
+// A divisor fixed per render, so the hot path divides by multiplying (Lemire,
+// Kaser, Kurz 2019, "Faster remainder by direct computation"): exact for every
+// 32-bit numerator and every divisor >= 1.
+struct Divisor32 {
+  std::uint32_t d = 1;
+  std::uint64_t magic = 0;  // ceil(2^64 / d); 0 (wrapped) for d = 1, handled apart
+  Divisor32() = default;
+  explicit Divisor32(std::uint32_t divisor) : d(divisor ? divisor : 1) {
+    magic = d == 1 ? 0 : ~std::uint64_t(0) / d + 1;
+  }
+  std::uint32_t quot(std::uint32_t a) const {
+    return d == 1 ? a : std::uint32_t((__uint128_t(magic) * a) >> 64);
+  }
+  std::uint32_t rem(std::uint32_t a) const {
+    return std::uint32_t((__uint128_t(magic * a) * d) >> 64);
+  }
+};
+
+// What a render asks of its sampler, and what every draw would otherwise recompute:
+// the stratified grid (m × k cells for 2-D, spp strata for 1-D), the bit masks of
+// their hashed permutations and the divisors. `spp` is read-only after
+// construction because the rest derives from it.
+class SamplerSpec {
+ public:
   ir::SamplerKind kind = ir::SamplerKind::Stratified;
   std::uint64_t seed = 0;
-  std::uint32_t spp = 1;
+
+  SamplerSpec() : SamplerSpec(ir::SamplerKind::Stratified, 0, 1) {}
+  SamplerSpec(ir::SamplerKind kind_, std::uint64_t seed_, std::uint32_t spp);
+  std::uint32_t spp() const { return spp_; }
+
+  // Derived. 2-D: m = floor(sqrt(n)) rows, k = ceil(n / m) columns; 1-D: n strata.
+  std::uint32_t n = 1, m = 1, k = 1, cells = 1;
+  std::uint32_t cells_mask = 0, n_mask = 0;  // 2^ceil(log2 x) - 1: the permutation's domain
+  Divisor32 div_cells, div_k, div_n;
+
+ private:
+  std::uint32_t spp_ = 1;
 };
 
 // Helpers, exposed for the integrator and tests. Inline: every sample hashes.
@@ -65,9 +99,154 @@ inline std::uint64_t pixel_hash(const SamplerSpec& spec, std::uint32_t px, std::
   return hash_combine(spec.seed, (std::uint64_t(py) << 32) | px);
 }
 
-Sample2 sample2(const SamplerSpec& spec, std::uint64_t pixel, std::uint32_t index,
-                std::uint32_t dim);
-float sample1(const SamplerSpec& spec, std::uint64_t pixel, std::uint32_t index, std::uint32_t dim);
+// 24-bit float in [0, 1) from the top bits of a 32-bit integer.
+inline float to_unit_float(std::uint32_t bits) {
+  return static_cast<float>(bits >> 8) * (1.0f / 16777216.0f);
+}
+// 2^ceil(log2 n) - 1 (0 for n <= 1): the domain mask of permute().
+inline std::uint32_t permute_mask(std::uint32_t n) {
+  if (n <= 1) return 0;
+  std::uint32_t w = n - 1;
+  w |= w >> 1;
+  w |= w >> 2;
+  w |= w >> 4;
+  w |= w >> 8;
+  w |= w >> 16;
+  return w;
+}
+// Kensler's hashed permutation of [0, l) ("Correlated Multi-Jittered Sampling",
+// 2013), with the mask and divisor of l precomputed; cycle-walks when l is not a
+// power of two (fewer than 2 rounds on average).
+inline std::uint32_t permute(std::uint32_t i, const Divisor32& l, std::uint32_t w,
+                             std::uint32_t p) {
+  if (l.d <= 1) return 0;
+  do {
+    i ^= p;
+    i *= 0xe170893d;
+    i ^= p >> 16;
+    i ^= (i & w) >> 4;
+    i ^= p >> 8;
+    i *= 0x0929eb3f;
+    i ^= p >> 23;
+    i ^= (i & w) >> 1;
+    i *= 1 | p >> 27;
+    i *= 0x6935fa69;
+    i ^= (i & w) >> 11;
+    i *= 0x74dcb303;
+    i ^= (i & w) >> 2;
+    i *= 0x9e501cc3;
+    i ^= (i & w) >> 2;
+    i *= 0xc860a3df;
+    i &= w;
+    i ^= i >> 5;
+  } while (i >= l.d);
+  return l.rem(i + p);
+}
+// The same, for an n known only here (tests).
+std::uint32_t permute(std::uint32_t i, std::uint32_t n, std::uint32_t key);
+
+namespace detail {
+
+constexpr std::uint32_t reverse_bits(std::uint32_t x) {
+  x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
+  x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
+  x = ((x >> 4) & 0x0f0f0f0fu) | ((x & 0x0f0f0f0fu) << 4);
+  x = ((x >> 8) & 0x00ff00ffu) | ((x & 0x00ff00ffu) << 8);
+  return (x >> 16) | (x << 16);
+}
+// Laine–Karras style hash that only lets lower bits affect higher ones; applied to
+// bit-reversed values it is a nested uniform (Owen) scramble.
+inline std::uint32_t lk_permutation(std::uint32_t x, std::uint32_t seed) {
+  x += seed;
+  x ^= x * 0x6c50b47cu;
+  x ^= x * 0xb82f1e52u;
+  x ^= x * 0xc7afe638u;
+  x ^= x * 0x8d22f6e6u;
+  return x;
+}
+inline std::uint32_t owen_scramble(std::uint32_t x, std::uint32_t seed) {
+  return reverse_bits(lk_permutation(reverse_bits(x), seed));
+}
+// Sobol' dimension 1 as a 32-bit fraction, bit-reversed (the scramble works on
+// reversed values; reversal is linear over XOR, so the table holds reversed
+// direction numbers): the XOR of the direction numbers v_j (v_0 = 2^31,
+// v_j+1 = v_j ^ v_j >> 1) of i's set bits, a byte at a time from four 256-entry
+// tables (4 KiB) instead of a loop over all 32 bits of the scrambled index.
+struct Sobol1Tables {
+  std::uint32_t t[4][256] = {};
+  constexpr Sobol1Tables() {
+    std::uint32_t v[32] = {};
+    v[0] = 1u << 31;
+    for (int j = 1; j < 32; ++j) v[j] = v[j - 1] ^ (v[j - 1] >> 1);
+    for (int b = 0; b < 4; ++b)
+      for (std::uint32_t x = 0; x < 256; ++x) {
+        std::uint32_t r = 0;
+        for (int bit = 0; bit < 8; ++bit)
+          if (x >> bit & 1) r ^= v[8 * b + bit];
+        t[b][x] = reverse_bits(r);
+      }
+  }
+};
+inline constexpr Sobol1Tables kSobol1{};
+inline std::uint32_t reversed_sobol1(std::uint32_t i) {
+  return kSobol1.t[0][i & 255] ^ kSobol1.t[1][i >> 8 & 255] ^ kSobol1.t[2][i >> 16 & 255] ^
+         kSobol1.t[3][i >> 24];
+}
+// [0, 1) in float, guarding the rounding up to 1.
+inline float unit(double x) {
+  float f = static_cast<float>(x);
+  return f < 1.0f ? f : 0x1.fffffep-1f;
+}
+
+}  // namespace detail
+
+// Inline with the spec's precomputed grid: a draw is hashes, a permutation and
+// multiplications, with no division but the two that place the value in its cell
+// (kept in double so the numbers stay those of the original formula).
+inline Sample2 sample2(const SamplerSpec& spec, std::uint64_t pixel, std::uint32_t index,
+                       std::uint32_t dim) {
+  std::uint64_t pixel_key = hash_combine(pixel, dim);
+  switch (spec.kind) {
+    case ir::SamplerKind::Independent: {
+      std::uint64_t h = hash_combine(pixel_key, index);
+      return {to_unit_float(std::uint32_t(h)), to_unit_float(std::uint32_t(h >> 32))};
+    }
+    case ir::SamplerKind::Stratified: {
+      std::uint32_t cell =
+          index < spec.cells
+              ? permute(index, spec.div_cells, spec.cells_mask, std::uint32_t(pixel_key))
+              : std::uint32_t(hash_combine(pixel_key, index) % spec.cells);
+      std::uint64_t h = hash_combine(pixel_key ^ 0x5bd1e995u, index);
+      float ju = to_unit_float(std::uint32_t(h)), jv = to_unit_float(std::uint32_t(h >> 32));
+      std::uint32_t cy = spec.div_k.quot(cell), cx = cell - cy * spec.k;
+      return {detail::unit((cx + double(ju)) / spec.k), detail::unit((cy + double(jv)) / spec.m)};
+    }
+    case ir::SamplerKind::Sobol: {
+      // owen_scramble(x, s) = reverse(lk(reverse(x), s)); written out so that
+      // reversals that cancel are not computed (dimension 0 is reverse(i)).
+      std::uint32_t i = detail::owen_scramble(index, std::uint32_t(pixel_key));
+      std::uint32_t x =
+          detail::reverse_bits(detail::lk_permutation(i, std::uint32_t(hash64(pixel_key + 1))));
+      std::uint32_t y = detail::reverse_bits(
+          detail::lk_permutation(detail::reversed_sobol1(i), std::uint32_t(hash64(pixel_key + 2))));
+      return {to_unit_float(x), to_unit_float(y)};
+    }
+  }
+  return {};
+}
+
+inline float sample1(const SamplerSpec& spec, std::uint64_t pixel, std::uint32_t index,
+                     std::uint32_t dim) {
+  if (spec.kind != ir::SamplerKind::Stratified) return sample2(spec, pixel, index, dim).u;
+  // 1-D jitter over spp strata, the sample-to-stratum map a hashed permutation.
+  std::uint64_t pixel_key = hash_combine(pixel, dim ^ 0x1d1du);
+  std::uint32_t cell = index < spec.n
+                           ? permute(index, spec.div_n, spec.n_mask, std::uint32_t(pixel_key))
+                           : std::uint32_t(hash_combine(pixel_key, index) % spec.n);
+  float j = to_unit_float(std::uint32_t(hash_combine(pixel_key ^ 0x5bd1e995u, index)));
+  return detail::unit((cell + double(j)) / spec.n);
+}
+
 inline Sample2 sample2(const SamplerSpec& spec, std::uint32_t px, std::uint32_t py,
                        std::uint32_t index, std::uint32_t dim) {
   return sample2(spec, pixel_hash(spec, px, py), index, dim);
@@ -76,13 +255,6 @@ inline float sample1(const SamplerSpec& spec, std::uint32_t px, std::uint32_t py
                      std::uint32_t index, std::uint32_t dim) {
   return sample1(spec, pixel_hash(spec, px, py), index, dim);
 }
-
-// 24-bit float in [0, 1) from the top bits of a 32-bit integer.
-inline float to_unit_float(std::uint32_t bits) {
-  return static_cast<float>(bits >> 8) * (1.0f / 16777216.0f);
-}
-// Kensler's hashed permutation of [0, n).
-std::uint32_t permute(std::uint32_t i, std::uint32_t n, std::uint32_t key);
 
 std::string to_string(const SamplerSpec& s);
 std::string to_string(Sample2 s);

@@ -1,4 +1,6 @@
 #include <catch2/catch.hpp>
+#include <cmath>
+#include <vector>
 
 #include "runtime/sampler.hpp"
 
@@ -57,4 +59,159 @@ TEST_CASE("permutation is a bijection", "[sampler]") {
     for (std::uint32_t i = 0; i < n; ++i) seen[permute(i, n, 12345)]++;
     for (int c : seen) CHECK(c == 1);
   }
+}
+
+namespace {
+
+// The samplers as first written (per draw: sqrt, integer divisions, Kensler's
+// permutation with its modulo, Sobol' dimension 1 bit by bit). The renderer's
+// inline versions precompute and table these; they must draw the same numbers,
+// or every reference image would change.
+std::uint32_t reference_permute(std::uint32_t i, std::uint32_t l, std::uint32_t p) {
+  if (l <= 1) return 0;
+  std::uint32_t w = l - 1;
+  w |= w >> 1;
+  w |= w >> 2;
+  w |= w >> 4;
+  w |= w >> 8;
+  w |= w >> 16;
+  do {
+    i ^= p;
+    i *= 0xe170893d;
+    i ^= p >> 16;
+    i ^= (i & w) >> 4;
+    i ^= p >> 8;
+    i *= 0x0929eb3f;
+    i ^= p >> 23;
+    i ^= (i & w) >> 1;
+    i *= 1 | p >> 27;
+    i *= 0x6935fa69;
+    i ^= (i & w) >> 11;
+    i *= 0x74dcb303;
+    i ^= (i & w) >> 2;
+    i *= 0x9e501cc3;
+    i ^= (i & w) >> 2;
+    i *= 0xc860a3df;
+    i &= w;
+    i ^= i >> 5;
+  } while (i >= l);
+  return (i + p) % l;
+}
+
+std::uint32_t reference_reverse(std::uint32_t x) {
+  std::uint32_t r = 0;
+  for (int b = 0; b < 32; ++b) r |= (x >> b & 1u) << (31 - b);
+  return r;
+}
+
+std::uint32_t reference_owen(std::uint32_t x, std::uint32_t seed) {
+  x = reference_reverse(x);
+  x += seed;
+  x ^= x * 0x6c50b47cu;
+  x ^= x * 0xb82f1e52u;
+  x ^= x * 0xc7afe638u;
+  x ^= x * 0x8d22f6e6u;
+  return reference_reverse(x);
+}
+
+std::uint32_t reference_sobol1(std::uint32_t i) {
+  std::uint32_t r = 0;
+  for (std::uint32_t v = 1u << 31; i; i >>= 1, v ^= v >> 1)
+    if (i & 1) r ^= v;
+  return r;
+}
+
+float reference_unit(double x) {
+  float f = static_cast<float>(x);
+  return f < 1.0f ? f : 0x1.fffffep-1f;
+}
+
+Sample2 reference_sample2(ir::SamplerKind kind, std::uint32_t spp, std::uint64_t pixel,
+                          std::uint32_t index, std::uint32_t dim) {
+  std::uint64_t pixel_key = hash_combine(pixel, dim);
+  switch (kind) {
+    case ir::SamplerKind::Independent: {
+      std::uint64_t h = hash_combine(pixel_key, index);
+      return {to_unit_float(std::uint32_t(h)), to_unit_float(std::uint32_t(h >> 32))};
+    }
+    case ir::SamplerKind::Stratified: {
+      std::uint32_t n = spp == 0 ? 1 : spp;
+      std::uint32_t m = static_cast<std::uint32_t>(std::sqrt(double(n)));
+      if (m == 0) m = 1;
+      std::uint32_t k = (n + m - 1) / m;
+      std::uint32_t cells = m * k;
+      std::uint32_t cell = index < cells ? reference_permute(index, cells, std::uint32_t(pixel_key))
+                                         : std::uint32_t(hash_combine(pixel_key, index) % cells);
+      std::uint64_t h = hash_combine(pixel_key ^ 0x5bd1e995u, index);
+      float ju = to_unit_float(std::uint32_t(h)), jv = to_unit_float(std::uint32_t(h >> 32));
+      std::uint32_t cx = cell % k, cy = cell / k;
+      return {reference_unit((cx + double(ju)) / k), reference_unit((cy + double(jv)) / m)};
+    }
+    case ir::SamplerKind::Sobol: {
+      std::uint32_t i = reference_owen(index, std::uint32_t(pixel_key));
+      std::uint32_t x = reference_owen(reference_reverse(i), std::uint32_t(hash64(pixel_key + 1)));
+      std::uint32_t y = reference_owen(reference_sobol1(i), std::uint32_t(hash64(pixel_key + 2)));
+      return {to_unit_float(x), to_unit_float(y)};
+    }
+  }
+  return {};
+}
+
+float reference_sample1(ir::SamplerKind kind, std::uint32_t spp, std::uint64_t pixel,
+                        std::uint32_t index, std::uint32_t dim) {
+  if (kind != ir::SamplerKind::Stratified) return reference_sample2(kind, spp, pixel, index, dim).u;
+  std::uint64_t pixel_key = hash_combine(pixel, dim ^ 0x1d1du);
+  std::uint32_t n = spp == 0 ? 1 : spp;
+  std::uint32_t cell = index < n ? reference_permute(index, n, std::uint32_t(pixel_key))
+                                 : std::uint32_t(hash_combine(pixel_key, index) % n);
+  float j = to_unit_float(std::uint32_t(hash_combine(pixel_key ^ 0x5bd1e995u, index)));
+  return reference_unit((cell + double(j)) / n);
+}
+
+}  // namespace
+
+TEST_CASE("the precomputed samplers draw the numbers of the original formulas", "[sampler]") {
+  // Every count up to 300 (squares, primes, m·k > spp) and some large ones, indices
+  // past spp (the unpermuted fallback), fixed and hashed dimensions.
+  std::vector<std::uint32_t> counts;
+  for (std::uint32_t n = 0; n <= 300; ++n) counts.push_back(n);
+  for (std::uint32_t n : {1023u, 1024u, 4097u, 65536u, 1000003u}) counts.push_back(n);
+  std::uint64_t mismatches = 0, draws = 0;
+  for (auto kind :
+       {ir::SamplerKind::Independent, ir::SamplerKind::Stratified, ir::SamplerKind::Sobol})
+    for (std::uint32_t spp : counts) {
+      SamplerSpec spec{kind, 0x1234 + spp, spp};
+      for (std::uint32_t p = 0; p < 3; ++p) {
+        std::uint64_t pixel = pixel_hash(spec, p * 7, p * 3);
+        for (std::uint32_t dim : {0u, 1u, 2u, 3u, 0x9e3779b9u, 0xffffffffu}) {
+          std::uint32_t step = spp > 400 ? spp / 97 : 1;
+          for (std::uint32_t i = 0; i < spp + 3; i += step) {
+            Sample2 a = sample2(spec, pixel, i, dim);
+            Sample2 b = reference_sample2(kind, spp, pixel, i, dim);
+            float c = sample1(spec, pixel, i, dim), d = reference_sample1(kind, spp, pixel, i, dim);
+            mismatches += (a.u != b.u) + (a.v != b.v) + (c != d);
+            ++draws;
+          }
+        }
+      }
+    }
+  INFO(draws << " draws");
+  CHECK(mismatches == 0);
+}
+
+TEST_CASE("the exact divisor agrees with division for every kind of divisor", "[sampler]") {
+  for (std::uint32_t d :
+       {1u, 2u, 3u, 7u, 10u, 255u, 256u, 65535u, 1000003u, 0x7fffffffu, 0xfffffffeu, 0xffffffffu}) {
+    Divisor32 div(d);
+    for (std::uint32_t a :
+         {0u, 1u, d - 1, d, d + 1, 12345678u, 0x80000000u, 0xfffffffeu, 0xffffffffu}) {
+      CHECK(div.quot(a) == a / d);
+      CHECK(div.rem(a) == a % d);
+    }
+  }
+  for (std::uint32_t d : {1u, 2u, 3u, 5u, 17u, 100u, 0xfffffffbu})
+    for (std::uint64_t a = 0; a < (1u << 20); a += 3) {
+      REQUIRE(Divisor32(d).quot(std::uint32_t(a * 4099)) == std::uint32_t(a * 4099) / d);
+      REQUIRE(Divisor32(d).rem(std::uint32_t(a * 4099)) == std::uint32_t(a * 4099) % d);
+    }
 }

@@ -1,0 +1,104 @@
+// bench_sampler: the cost of one draw of each sampler kind, in ns, and its ratio to
+// the independent sampler's, measured in one run (interleaved rounds, median of
+// them, 1 thread). The draws follow the renderer's pattern: per pixel, per sample
+// index, the fixed dimensions (pixel 2-D, lens 2-D, time 1-D) and a run of hashed
+// per-node dimensions (an area-light grid's cells, 2-D). The checksum of every
+// value drawn is printed too: two builds that print the same checksums draw the
+// same numbers.
+//
+//   bench_sampler [--rounds N] [--pixels P]
+#include <algorithm>
+#include <chrono>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "runtime/sampler.hpp"
+
+using namespace snell;
+using namespace snell::rt;
+
+namespace {
+
+struct Result {
+  double ns_per_draw = 0;
+  std::uint64_t checksum = 0;
+};
+
+std::uint64_t bits(float f) {
+  std::uint32_t b;
+  std::memcpy(&b, &f, 4);
+  return b;
+}
+
+// One round: `pixels` pixels of `spp` samples, each with 2 + 1 fixed draws and
+// `node_dims` per-node 2-D draws.
+Result round(const SamplerSpec& spec, std::uint32_t spp, std::uint32_t pixels,
+             std::uint32_t node_dims) {
+  auto t0 = std::chrono::steady_clock::now();
+  std::uint64_t sum = 0, draws = 0;
+  for (std::uint32_t p = 0; p < pixels; ++p) {
+    std::uint32_t px = p % 640, py = p / 640;
+    std::uint64_t pixel = pixel_hash(spec, px, py);
+    for (std::uint32_t s = 0; s < spp; ++s) {
+      Sample2 a = sample2(spec, pixel, s, kDimPixel);
+      Sample2 b = sample2(spec, pixel, s, kDimLens);
+      float t = sample1(spec, pixel, s, kDimTime);
+      sum = sum * 31 + bits(a.u) + 3 * bits(a.v) + 5 * bits(b.u) + 7 * bits(b.v) + 11 * bits(t);
+      for (std::uint32_t d = 0; d < node_dims; ++d) {
+        Sample2 c = sample2(spec, pixel, s, 0x9e3779b9u * (d + 17));
+        sum = sum * 31 + bits(c.u) + 3 * bits(c.v);
+      }
+      draws += 3 + node_dims;
+    }
+  }
+  double ns =
+      std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - t0).count();
+  return {ns / double(draws), sum};
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int rounds = 7;
+  std::uint32_t pixels = 4096;
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--rounds") && i + 1 < argc)
+      rounds = std::max(1, std::atoi(argv[++i]));
+    else if (!std::strcmp(argv[i], "--pixels") && i + 1 < argc)
+      pixels = std::uint32_t(std::max(1, std::atoi(argv[++i])));
+    else {
+      std::fprintf(stderr, "usage: bench_sampler [--rounds N] [--pixels P]\n");
+      return 2;
+    }
+  }
+  const ir::SamplerKind kinds[] = {ir::SamplerKind::Independent, ir::SamplerKind::Stratified,
+                                   ir::SamplerKind::Sobol};
+  std::printf("%-6s %-11s %10s %9s  %s\n", "spp", "sampler", "ns/draw", "÷indep", "checksum");
+  for (std::uint32_t spp : {1u, 4u, 16u, 64u, 100u}) {
+    // Fewer pixels at high counts, so every row draws about as many numbers.
+    std::uint32_t px = std::max<std::uint32_t>(1, pixels * 16 / spp);
+    std::vector<double> ns[3];
+    std::uint64_t sums[3] = {};
+    for (int r = 0; r < rounds; ++r)
+      for (int k = 0; k < 3; ++k) {
+        Result res = round(SamplerSpec{kinds[k], 7, spp}, spp, px, 16);
+        ns[k].push_back(res.ns_per_draw);
+        sums[k] = res.checksum;
+      }
+    double base = median(ns[0]);
+    for (int k = 0; k < 3; ++k)
+      std::printf("%-6u %-11s %10.2f %9.2f  %016llx\n", spp,
+                  std::string(ir::to_string(kinds[k])).c_str(), median(ns[k]), median(ns[k]) / base,
+                  (unsigned long long)sums[k]);
+  }
+  return 0;
+}
