@@ -117,6 +117,9 @@ inline std::string to_string(Branching v) {
 inline std::string to_string(Termination v) {
   return std::string(spelling(v));
 }
+inline std::string to_string(LightSampling v) {
+  return std::string(spelling(v));
+}
 inline std::string to_string(IntegratorKind v) {
   return std::string(spelling(v));
 }

@@ -72,18 +72,23 @@ struct Settings {
   FresnelMode fresnel = FresnelMode::Exact;
   Branching branching = Branching::Split;
   Termination termination = Termination::Cutoff;
+  LightSampling light_sampling = LightSampling::Area;
   std::uint64_t seed = 0;
   IntegratorKind integrator = IntegratorKind::Whitted;
   SourceRef src;
   // The settings properties that are one field each (resolution is two: width
   // and height); compiler/properties.def binds them by name.
   static constexpr auto fields() {
-    return std::tuple{
-        field("samples", &Settings::samples),         field("sampler", &Settings::sampler),
-        field("max_depth", &Settings::max_depth),     field("min_weight", &Settings::min_weight),
-        field("fresnel", &Settings::fresnel),         field("branching", &Settings::branching),
-        field("termination", &Settings::termination), field("seed", &Settings::seed),
-        field("integrator", &Settings::integrator)};
+    return std::tuple{field("samples", &Settings::samples),
+                      field("sampler", &Settings::sampler),
+                      field("max_depth", &Settings::max_depth),
+                      field("min_weight", &Settings::min_weight),
+                      field("fresnel", &Settings::fresnel),
+                      field("branching", &Settings::branching),
+                      field("termination", &Settings::termination),
+                      field("light_sampling", &Settings::light_sampling),
+                      field("seed", &Settings::seed),
+                      field("integrator", &Settings::integrator)};
   }
 };
 

@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
+
 namespace snell::rt {
 
 namespace {
@@ -27,12 +29,56 @@ Lights::Lights(const ir::Scene& scene, ir::Vec3 o) {
     f.nu = l.samples_u ? l.samples_u : 1;
     f.nv = l.samples_v ? l.samples_v : 1;
     f.two_sided = l.two_sided;
+    // Solid-angle sampling needs a rectangle; a parallelogram whose edges are not
+    // perpendicular (to 1e-9 of their lengths) keeps area sampling.
+    double l1 = ir::length(l.edge1), l2 = ir::length(l.edge2);
+    if (scene.settings.light_sampling == ir::LightSampling::SolidAngle && area > 0 &&
+        std::fabs(ir::dot(l.edge1, l.edge2)) <= 1e-9 * l1 * l2) {
+      f.solid_angle = true;
+      f.ux = l.edge1 / l1;
+      f.uy = l.edge2 / l2;
+      f.lx = l1;
+      f.ly = l2;
+      f.corner_d = c;
+    }
     areas.push_back(f);
   }
   for (const ir::PointLight& l : scene.point_lights) {
     ir::Vec3 p = l.position - o;
     points.push_back({to_float(p.x, p.y, p.z), to_color(l.intensity)});
   }
+}
+
+bool AreaLightF::sample_li_solid_angle(Vec3f p, Vec3f o, Vec3f nf, float time, std::uint32_t iu,
+                                       std::uint32_t iv, float ju, float jv, float scale,
+                                       LightSample& s) const {
+  ir::Vec3 pd(p.x, p.y, p.z);
+  // A one-sided light emits nothing towards a point behind (or in) its plane.
+  if (!two_sided && !(ir::dot(ir::Vec3(n.x, n.y, n.z), pd - corner_d) > 0)) return false;
+  double cx = lx / nu, cy = ly / nv;
+  ir::Vec3 cell = corner_d + ux * (cx * iu) + uy * (cy * iv);
+  SphericalRect sr;
+  if (!sr.init(cell, ux, cx, uy, cy, pd)) return false;
+  if (sr.solid_angle < SphericalRect::kMinSolidAngle) {
+    AreaLightF area_only = *this;
+    area_only.solid_angle = false;
+    return area_only.sample_li(p, o, nf, time, iu, iv, ju, jv, scale, s);
+  }
+  ir::Vec3 qd = sr.sample(ju, jv);
+  Vec3f q = to_float(qd.x, qd.y, qd.z);
+  Vec3f to = q - p;
+  float d2 = dot(to, to);
+  float cos_s = dot(nf, to);
+  float cos_l = -dot(n, to);
+  if (!(cos_s > 0) || !(d2 > 0) || !(dot(nf, q - o) > 0)) return false;  // as point lights
+  if (!two_sided && !(cos_l > 0)) return false;
+  Vec3f side = cos_l > 0 ? n : -n;
+  Vec3f target = offset_ray_origin(q, side, scale);
+  s.shadow = Ray{o, target - o, 1.0f, time};
+  s.to = to;
+  s.g = float(cos_s / std::sqrt(double(d2)) * sr.solid_angle);
+  s.value = radiance;
+  return true;
 }
 
 std::string to_string(const PointLightF& l) {
@@ -42,9 +88,10 @@ std::string to_string(const PointLightF& l) {
 
 std::string to_string(const AreaLightF& l) {
   return fmt::format(
-      "area_light_f {{ corner {} e1 {} e2 {} n {} area {} radiance {} grid {}x{} {} }}",
+      "area_light_f {{ corner {} e1 {} e2 {} n {} area {} radiance {} grid {}x{} {} sampling {} }}",
       to_string(l.corner), to_string(l.e1), to_string(l.e2), to_string(l.n), l.area,
-      to_string(l.radiance), l.nu, l.nv, l.two_sided ? "two_sided" : "one_sided");
+      to_string(l.radiance), l.nu, l.nv, l.two_sided ? "two_sided" : "one_sided",
+      l.solid_angle ? "solid_angle" : "area");
 }
 
 }  // namespace snell::rt

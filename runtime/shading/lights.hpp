@@ -4,7 +4,11 @@
 // light's radiance or intensity into what a Lambertian surface receives:
 //   point light   I · cosθ / d²                          (one sample)
 //   area light    L · cosθ_surf · cosθ_light · A / (d² · n) per cell of its
-//                 jittered nu × nv grid (area-to-solid-angle)
+//                 jittered nu × nv grid (area-to-solid-angle), or with
+//                 light_sampling "solid_angle" L · cosθ_surf · S_cell, the cell
+//                 sampled uniformly over the solid angle S_cell it subtends
+//                 (spherical_rect.hpp; rectangles only, a skewed parallelogram
+//                 keeps area sampling)
 // A sample the surface cannot see (behind it, in its plane within the ray offset,
 // facing away) is reported as none: it adds exactly 0 (robustness #4, #27).
 #pragma once
@@ -15,6 +19,7 @@
 
 #include "runtime/geometry/ray.hpp"
 #include "runtime/ir/ir.hpp"
+#include "runtime/shading/spherical_rect.hpp"
 #include "runtime/vec.hpp"
 
 namespace snell::rt {
@@ -64,6 +69,10 @@ struct AreaLightF {
   Color radiance;
   std::uint32_t nu = 1, nv = 1;
   bool two_sided = false;
+  // light_sampling "solid_angle" on a rectangle: its unit edges and their lengths.
+  bool solid_angle = false;
+  ir::Vec3 corner_d, ux, uy;  // corner_d: `corner` in double
+  double lx = 0, ly = 0;
 
   bool dark() const { return radiance.x == 0 && radiance.y == 0 && radiance.z == 0; }
   // Radiance sent along `dir` (the ray's direction, towards the light): one-sided
@@ -77,6 +86,7 @@ struct AreaLightF {
   // surface never blocks it.
   bool sample_li(Vec3f p, Vec3f o, Vec3f nf, float time, std::uint32_t iu, std::uint32_t iv,
                  float ju, float jv, float scale, LightSample& s) const {
+    if (solid_angle) return sample_li_solid_angle(p, o, nf, time, iu, iv, ju, jv, scale, s);
     float u = (float(iu) + ju) / float(nu), v = (float(iv) + jv) / float(nv);
     Vec3f q = corner + e1 * u + e2 * v;
     Vec3f to = q - p;
@@ -94,6 +104,11 @@ struct AreaLightF {
     s.value = radiance;
     return true;
   }
+  // The same cell sampled by solid angle (lights.cpp); a cell subtending less than
+  // SphericalRect::kMinSolidAngle falls back to the area sample above.
+  bool sample_li_solid_angle(Vec3f p, Vec3f o, Vec3f nf, float time, std::uint32_t iu,
+                             std::uint32_t iv, float ju, float jv, float scale,
+                             LightSample& s) const;
 };
 
 // Every light of a scene, moved by -origin (the camera) into float.
