@@ -59,25 +59,13 @@ bool AreaLightF::sample_li_solid_angle(Vec3f p, Vec3f o, Vec3f nf, float time, s
   ir::Vec3 cell = corner_d + ux * (cx * iu) + uy * (cy * iv);
   SphericalRect sr;
   if (!sr.init(cell, ux, cx, uy, cy, pd)) return false;
-  if (sr.solid_angle < SphericalRect::kMinSolidAngle) {
-    AreaLightF area_only = *this;
-    area_only.solid_angle = false;
-    return area_only.sample_li(p, o, nf, time, iu, iv, ju, jv, scale, s);
-  }
+  if (sr.solid_angle < SphericalRect::kMinSolidAngle)
+    return sample_li_area(p, o, nf, time, iu, iv, ju, jv, scale, s);
   ir::Vec3 qd = sr.sample(ju, jv);
-  Vec3f q = to_float(qd.x, qd.y, qd.z);
-  Vec3f to = q - p;
-  float d2 = dot(to, to);
-  float cos_s = dot(nf, to);
-  float cos_l = -dot(n, to);
-  if (!(cos_s > 0) || !(d2 > 0) || !(dot(nf, q - o) > 0)) return false;  // as point lights
-  if (!two_sided && !(cos_l > 0)) return false;
-  Vec3f side = cos_l > 0 ? n : -n;
-  Vec3f target = offset_ray_origin(q, side, scale);
-  s.shadow = Ray{o, target - o, 1.0f, time};
-  s.to = to;
+  float cos_s, cos_l, d2;
+  if (!shadow_to(to_float(qd.x, qd.y, qd.z), p, o, nf, time, scale, s, cos_s, cos_l, d2))
+    return false;
   s.g = float(cos_s / std::sqrt(double(d2)) * sr.solid_angle);
-  s.value = radiance;
   return true;
 }
 

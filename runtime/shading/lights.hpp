@@ -87,20 +87,33 @@ struct AreaLightF {
   bool sample_li(Vec3f p, Vec3f o, Vec3f nf, float time, std::uint32_t iu, std::uint32_t iv,
                  float ju, float jv, float scale, LightSample& s) const {
     if (solid_angle) return sample_li_solid_angle(p, o, nf, time, iu, iv, ju, jv, scale, s);
+    return sample_li_area(p, o, nf, time, iu, iv, ju, jv, scale, s);
+  }
+  bool sample_li_area(Vec3f p, Vec3f o, Vec3f nf, float time, std::uint32_t iu, std::uint32_t iv,
+                      float ju, float jv, float scale, LightSample& s) const {
     float u = (float(iu) + ju) / float(nu), v = (float(iv) + jv) / float(nv);
     Vec3f q = corner + e1 * u + e2 * v;
+    float cos_s, cos_l, d2;
+    if (!shadow_to(q, p, o, nf, time, scale, s, cos_s, cos_l, d2)) return false;
+    float inv_n = 1.0f / float(nu * nv);
+    s.g = cos_s * std::fabs(cos_l) / (d2 * d2) * area * inv_n;
+    return true;
+  }
+  // What every sampling shares for a point q on the light: the visibility checks,
+  // the shadow ray, `to` and the radiance; cos_s, cos_l (against the unnormalised
+  // `to`) and d2 are left for the caller's geometry factor.
+  bool shadow_to(Vec3f q, Vec3f p, Vec3f o, Vec3f nf, float time, float scale, LightSample& s,
+                 float& cos_s, float& cos_l, float& d2) const {
     Vec3f to = q - p;
-    float d2 = dot(to, to);
-    float cos_s = dot(nf, to);
-    float cos_l = -dot(n, to);
+    d2 = dot(to, to);
+    cos_s = dot(nf, to);
+    cos_l = -dot(n, to);
     if (!(cos_s > 0) || !(d2 > 0) || !(dot(nf, q - o) > 0)) return false;  // as point lights
     if (!two_sided && !(cos_l > 0)) return false;
     Vec3f side = cos_l > 0 ? n : -n;  // the light's face towards p
     Vec3f target = offset_ray_origin(q, side, scale);
     s.shadow = Ray{o, target - o, 1.0f, time};
     s.to = to;
-    float inv_n = 1.0f / float(nu * nv);
-    s.g = cos_s * std::fabs(cos_l) / (d2 * d2) * area * inv_n;
     s.value = radiance;
     return true;
   }
