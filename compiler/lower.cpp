@@ -332,8 +332,8 @@ void SceneBuilder::add_object(const BlockInfo& block, Span kw,
     return;
   }
   s.material = get(props, PropId::object_material) ? material_of(props, 0) : default_material();
-  s.world_from_object = object_transforms(props);
-  if (const EvaluatedProp* m = get(props, PropId::object_motion)) s.motion = object_motion(m);
+  s.set_world_from_object(object_transforms(props));
+  if (const EvaluatedProp* m = get(props, PropId::object_motion)) s.set_motion(object_motion(m));
   prefault(scene_.shapes, shapes_prefault_);
 }
 

@@ -100,8 +100,8 @@ void SceneBuilder::place(const ObjectNode& n, const Placement& at,
     ir::Shape& s = list.emplace_back();
     s.geom = std::move(geom);
     s.material = inner.material;
-    s.world_from_object = inner.world_from_parent;
-    s.motion = object_motion(inner.motion);
+    s.set_world_from_object(inner.world_from_parent);
+    s.set_motion(object_motion(inner.motion));
     s.src = ref(n.keyword);
   };
   if (n.instance()) {
@@ -180,7 +180,7 @@ std::int64_t SceneBuilder::csg_node(const ObjectNode& c, const ir::Transform& cs
   ir::Shape& s = scene_.parts.emplace_back();
   s.geom = std::move(geom);
   s.material = mat;
-  s.world_from_object = xf;
+  s.set_world_from_object(xf);
   s.src = ref(c.keyword);
   ir::CsgNode leaf;
   leaf.part = static_cast<std::uint32_t>(scene_.parts.size() - 1);

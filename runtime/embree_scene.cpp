@@ -7,6 +7,7 @@
 #include <embree3/rtcore.h>
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -326,9 +327,9 @@ struct ShapeAdder {
   template <class Kind>
   void operator()(const Kind& g, const ir::Shape& s, std::uint32_t si) {
     using G = Geometry<Kind>;
-    bool moving = shutter_open && s.motion.moves();
+    bool moving = shutter_open && s.motion().moves();
     if constexpr (G::kind == GeometryClass::Triangles) {
-      const ir::Transform& xf = s.world_from_object;
+      const ir::Transform& xf = s.world_from_object();
       Soup soup;
       bool flip = det3(xf.m) < 0;  // mirroring reverses the winding
       object_triangles(g, sc, flip, soup);
@@ -403,7 +404,7 @@ void EmbreeScene::Impl::add_instance(const ir::Scene& sc, const ir::Shape& s, co
       for (int r = 0; r < 3; ++r) xfm[3 * c + r] = float(m(r, c));
     rtcSetGeometryTransform(geom, step, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, xfm);
   };
-  ir::Transform rel = ir::Transform::translate(-origin) * s.world_from_object;
+  ir::Transform rel = ir::Transform::translate(-origin) * s.world_from_object();
   if (moving) {
     // Embree interpolates the matrices linearly between steps: as many steps as a
     // moving triangle shape whose vertices are the prototype's box corners.
@@ -444,6 +445,11 @@ EmbreeScene::EmbreeScene(const ir::Scene& sc, ir::Vec3 origin)
   std::vector<Vec3> tv;
   std::vector<std::uint32_t> ti;
   ShapeAdder add{im, im.world, sc, origin, shutter_open, tv, ti};
+  // The spheres' room at once: a million-sphere scene would otherwise hold the old
+  // and the new array together as it doubles.
+  std::get<SphereSet>(im.world.user_sets)
+      .reserve(std::size_t(std::count_if(sc.shapes.begin(), sc.shapes.end(),
+                                         [](const ir::Shape& s) { return s.as<ir::Sphere>(); })));
   for (std::uint32_t si = 0; si < sc.shapes.size(); ++si) {
     const ir::Shape& s = sc.shapes[si];
     std::visit([&](const auto& g) { add(g, s, si); }, s.geom);

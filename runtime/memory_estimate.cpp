@@ -15,10 +15,13 @@ namespace snell::rt {
 namespace {
 
 // Measured on this machine (peak RSS of `snell render` at 1×1 pixel minus that of
-// `snell check`, Debian 12's Embree 3): 1 M spheres add 573 MB, a 1 M-triangle
-// mesh 292 MB, one sphere 143 MB of libraries, threads and the image module. The
-// constants round those up.
+// `snell check`, Debian 12's Embree 3): 1 M spheres add 312 MB (48 bytes each in
+// the sphere set, the rest Embree's BVH), a 1 M-triangle mesh 292 MB, one sphere
+// 143 MB of libraries, threads and the image module. Other shapes keep both
+// matrices per object (local_set.hpp) and were measured at 573 MB a million
+// before the sphere set shrank. The constants round those up.
 constexpr std::uint64_t kFixed = 160'000'000;
+constexpr std::uint64_t kPerSphere = 256;
 constexpr std::uint64_t kPerShape = 512;
 constexpr std::uint64_t kPerTriangle = 192;
 
@@ -31,8 +34,13 @@ MemoryEstimate estimate_memory(const ir::Scene& scene, std::uint64_t width, std:
   e.film = pixels * 3 * sizeof(float);
   std::uint64_t triangles = 0;
   for (const ir::MeshData& m : scene.meshes) triangles += m.indices.size() / 3;
-  e.geometry =
-      kFixed + (scene.shapes.size() + scene.parts.size()) * kPerShape + triangles * kPerTriangle;
+  std::uint64_t spheres =
+      std::uint64_t(std::count_if(scene.shapes.begin(), scene.shapes.end(), [](const ir::Shape& s) {
+        return s.as<ir::Sphere>() && !s.motion().moves();
+      }));
+  e.geometry = kFixed + spheres * kPerSphere +
+               (scene.shapes.size() + scene.parts.size() - spheres) * kPerShape +
+               triangles * kPerTriangle;
   if (!scene.images.empty()) e.textures = std::uint64_t(kTextureCacheMB) << 20;
   // Encoded whole before it is written (atomic_file.hpp): at most its raw size
   // (zip and PNG's deflate seldom grow data, and then by a fraction of a percent).

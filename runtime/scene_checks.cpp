@@ -24,8 +24,8 @@ bool needs_light(const ir::Material& m) {
 
 // Whether the world point p lies inside shape s (a solid kind that does not move).
 bool contains(const ir::Shape& s, ir::Vec3 p) {
-  if (s.motion.moves()) return false;
-  ir::Vec3 o = s.world_from_object.inverse().point(p);
+  if (s.motion().moves()) return false;
+  ir::Vec3 o = s.world_from_object().inverse().point(p);
   // Any direction: a point inside starts its first span at t = 0. An oblique one,
   // so that a camera on a box's axis does not graze an edge.
   const ir::Vec3 d = ir::normalize(ir::Vec3{0.3141, 0.8731, 0.2718});

@@ -28,47 +28,19 @@
 #include <string>
 #include <vector>
 
+#include "bench/common/bench_files.hpp"
 #include "compiler/compile.hpp"
 #include "runtime/render.hpp"
 
 using namespace snell;
+using bench::rss_mib;
+using bench::write_sphere_obj;
 namespace fs = std::filesystem;
 
 namespace {
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return v.empty() ? 0 : v[v.size() / 2];
-}
-
-// Resident memory now, in MiB (Linux /proc/self/statm).
-double rss_mib() {
-  std::ifstream f("/proc/self/statm");
-  long pages = 0, resident = 0;
-  f >> pages >> resident;
-  return double(resident) * double(sysconf(_SC_PAGESIZE)) / (1024.0 * 1024.0);
-}
-
-// A closed unit sphere of about `tris` triangles (a latitude-longitude grid).
-std::string write_sphere_obj(const fs::path& dir, long tris) {
-  int n = std::max(4, int(std::sqrt(double(tris) / 2)));
-  std::string path = (dir / "sphere.obj").string();
-  std::ofstream f(path);
-  const double pi = 3.14159265358979323846;
-  f << "v 0 1 0\nv 0 -1 0\n";
-  for (int i = 1; i < n; ++i)
-    for (int j = 0; j < n; ++j) {
-      double th = pi * i / n, ph = 2 * pi * j / n;
-      f << "v " << std::sin(th) * std::cos(ph) << " " << std::cos(th) << " "
-        << std::sin(th) * std::sin(ph) << "\n";
-    }
-  auto v = [&](int i, int j) { return 3 + (i - 1) * n + (j % n); };  // 1-based, rings 1..n-1
-  for (int j = 0; j < n; ++j) f << "f 1 " << v(1, j + 1) << " " << v(1, j) << "\n";
-  for (int i = 1; i + 1 < n; ++i)
-    for (int j = 0; j < n; ++j)
-      f << "f " << v(i, j) << " " << v(i, j + 1) << " " << v(i + 1, j + 1) << " " << v(i + 1, j)
-        << "\n";
-  for (int j = 0; j < n; ++j) f << "f 2 " << v(n - 1, j) << " " << v(n - 1, j + 1) << "\n";
-  return path;
 }
 
 // The lens (the intersection of the spheres of radius 0.6 about (0, 0, ±0.3)) as

@@ -134,14 +134,14 @@ Measure run_raw(const ir::Scene& s, int threads) {
   std::vector<unsigned> idx;
   for (const ir::Shape& sh : s.shapes) {
     if (const ir::Sphere* sp = sh.as<ir::Sphere>()) {
-      ir::Vec3 c = sh.world_from_object.point(sp->center) - o;
+      ir::Vec3 c = sh.world_from_object().point(sp->center) - o;
       sph.insert(sph.end(), {float(c.x), float(c.y), float(c.z), float(sp->radius)});
     } else if (const ir::Box* b = sh.as<ir::Box>()) {
       unsigned base = unsigned(verts.size() / 3);
       for (int i = 0; i < 8; ++i) {
         ir::Vec3 p(i & 1 ? b->max.x : b->min.x, i & 2 ? b->max.y : b->min.y,
                    i & 4 ? b->max.z : b->min.z);
-        p = sh.world_from_object.point(p) - o;
+        p = sh.world_from_object().point(p) - o;
         verts.insert(verts.end(), {float(p.x), float(p.y), float(p.z)});
       }
       const unsigned f[12][3] = {{0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}, {0, 1, 5}, {0, 5, 4},

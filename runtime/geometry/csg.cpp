@@ -86,7 +86,7 @@ Box3 CsgProgram::compile(const ir::Scene& scene, std::uint32_t index) {
     const ir::Shape& part = scene.parts[node.part];
     Leaf l;
     l.geom = part.geom;
-    l.leaf_from_csg = part.world_from_object.inv;
+    l.leaf_from_csg = part.world_from_object().inv;
     l.material = part.material;
     l.part = node.part;
     l.bounded = !ir::unbounded(part);
@@ -249,7 +249,7 @@ constexpr double kClamp = 1e12;
 template <bool kMoving>
 void CsgSetT<kMoving>::add(const ir::Shape& s, const ir::Csg& g, std::uint32_t index, Vec3 origin,
                            const ir::Scene& scene) {
-  ir::Transform rel = ir::Transform::translate(-origin) * s.world_from_object;
+  ir::Transform rel = ir::Transform::translate(-origin) * s.world_from_object();
   prims_.push_back({CsgProgram(scene, g.node), &s, origin, rel.inv, rel.m, index});
 }
 

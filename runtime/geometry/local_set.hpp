@@ -64,7 +64,7 @@ class LocalSet {
   void add(const ir::Shape& s, const Kind& g, std::uint32_t index, Vec3 origin) {
     L l(g);
     ir::Transform rel =
-        ir::Transform::translate(-origin) * s.world_from_object * l.object_from_local;
+        ir::Transform::translate(-origin) * s.world_from_object() * l.object_from_local;
     prims_.push_back({l, rel.inv, rel.m, index});
   }
   std::size_t size() const { return prims_.size(); }

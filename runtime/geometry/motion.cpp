@@ -8,7 +8,7 @@
 namespace snell::rt::geom {
 
 ir::Transform rel_at(const ir::Shape& s, Vec3 origin, double u) {
-  return ir::Transform::translate(-origin) * (s.motion.at(u) * s.world_from_object);
+  return ir::Transform::translate(-origin) * (s.motion().at(u) * s.world_from_object());
 }
 
 unsigned motion_segments(const ir::Shape& s, const std::vector<Vec3>& verts, Vec3 origin) {

@@ -11,7 +11,7 @@ using ir::Vec3;
 
 void PlaneSet::add(const ir::Shape& s, const ir::Plane& g, std::uint32_t index, Vec3 origin,
                    bool moving) {
-  const ir::Transform& xf = s.world_from_object;
+  const ir::Transform& xf = s.world_from_object();
   Vec3 p0 = xf.point(g.normal * g.distance) - origin;
   Vec3 n = ir::normalize(xf.normal(g.normal));
   planes_.push_back({n, ir::dot(n, p0), index, moving ? &s : nullptr, moving ? &g : nullptr});

@@ -5,24 +5,34 @@
 namespace snell::rt::geom {
 
 void SphereSet::add(const ir::Shape& s, const ir::Sphere& g, std::uint32_t index, Vec3 origin) {
-  const ir::Transform& xf = s.world_from_object;
-  SphereData d;
-  d.object_from_rel = xf.inv * ir::Transform::translate(origin).m;
-  d.center = g.center;
-  d.radius = g.radius;
+  const ir::Transform& xf = s.world_from_object();
+  origin_ = origin;
+  Static d;
+  d.ir = &s;
   d.shape = index;
   // Similarity test: the columns of the linear part are orthogonal and of equal
   // length (to 1e-12 relative).
   Vec3 c0(xf.m(0, 0), xf.m(1, 0), xf.m(2, 0)), c1(xf.m(0, 1), xf.m(1, 1), xf.m(2, 1)),
       c2(xf.m(0, 2), xf.m(1, 2), xf.m(2, 2));
   double l0 = ir::dot(c0, c0), tol = 1e-12 * l0;
-  d.similarity = std::fabs(ir::dot(c1, c1) - l0) <= tol && std::fabs(ir::dot(c2, c2) - l0) <= tol &&
-                 std::fabs(ir::dot(c0, c1)) <= tol && std::fabs(ir::dot(c0, c2)) <= tol &&
-                 std::fabs(ir::dot(c1, c2)) <= tol;
+  bool similarity = std::fabs(ir::dot(c1, c1) - l0) <= tol &&
+                    std::fabs(ir::dot(c2, c2) - l0) <= tol && std::fabs(ir::dot(c0, c1)) <= tol &&
+                    std::fabs(ir::dot(c0, c2)) <= tol && std::fabs(ir::dot(c1, c2)) <= tol;
   d.rel_center = xf.point(g.center) - origin;
   d.rel_radius = g.radius * std::sqrt(l0);
+  if (!similarity) {
+    d.general = static_cast<std::uint32_t>(general_.size());
+    general_.push_back({xf.inv * ir::Transform::translate(origin).m,
+                        (ir::Transform::translate(-origin) * xf).m, g.center, g.radius});
+  }
   spheres_.push_back(d);
-  rel_from_object_.push_back((ir::Transform::translate(-origin) * xf).m);
+}
+
+void SphereSet::bounds(unsigned prim, Box3& box) const {
+  const Static& s = spheres_[prim];
+  const ir::Sphere& g = *s.ir->as<ir::Sphere>();
+  sphere_box(ir::Transform::translate(-origin_).m * s.ir->world_from_object().m, g.center, g.radius,
+             box.lo, box.hi);
 }
 
 // The hit point of a static sphere, projected onto the sphere in double (object
@@ -36,18 +46,19 @@ void SphereSet::add(const ir::Shape& s, const ir::Sphere& g, std::uint32_t index
 // spheres far away keep their shape: 256 ulps (Wächter–Binder) of 100 units are
 // 2e-3, a tenth of a bead of radius 0.02 (hc23's bead: errors 0.134 -> 0.009).
 void SphereSet::refine(unsigned prim, const Ray& r, float t, Hit& hit) const {
-  const SphereData& s = spheres_[prim];
+  const Static& s = spheres_[prim];
   Vec3 p0(double(r.org.x) + double(r.dir.x) * t, double(r.org.y) + double(r.dir.y) * t,
           double(r.org.z) + double(r.dir.z) * t);
   Vec3 p;
-  if (s.similarity) {
+  if (s.general == kSimilar) {
     // A normalisation, not a Newton step along the normal: p0 is off by ulps of t,
     // which for a tiny sphere far away can be many radii.
     p = s.rel_center + ir::normalize(p0 - s.rel_center) * s.rel_radius;
   } else {
-    Vec3 q = xform_point(s.object_from_rel, p0);
-    q = s.center + ir::normalize(q - s.center) * s.radius;
-    p = xform_point(rel_from_object_[prim], q);
+    const General& g = general_[s.general];
+    Vec3 q = xform_point(g.object_from_rel, p0);
+    q = g.center + ir::normalize(q - g.center) * g.radius;
+    p = xform_point(g.rel_from_object, q);
   }
   if (!(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z))) {  // p0 at the centre
     hit.p = r.org + r.dir * t, hit.offset = 0;

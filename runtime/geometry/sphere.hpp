@@ -57,34 +57,51 @@ inline bool sphere_roots(Vec3 o, Vec3 d, Vec3 c, double r, double& t0, double& t
   return true;
 }
 
-// Intersects sphere `s` with a camera-relative float ray; returns the nearest t in
-// (tnear, tfar) and the outward unit world normal.
-inline bool hit_sphere(const SphereData& s, float ox, float oy, float oz, float dx, float dy,
-                       float dz, float tnear, float tfar, float& t_out, Vec3f& n_out) {
+// Intersects the camera-relative sphere (rel_center, rel_radius) with a
+// camera-relative float ray; returns the nearest t in (tnear, tfar) and the
+// outward unit world normal.
+inline bool hit_similar_sphere(Vec3 rel_center, double rel_radius, float ox, float oy, float oz,
+                               float dx, float dy, float dz, float tnear, float tfar, float& t_out,
+                               Vec3f& n_out) {
   double t0, t1;
-  if (s.similarity) {
-    Vec3 o(ox, oy, oz), d(dx, dy, dz);
-    if (!sphere_roots(o, d, s.rel_center, s.rel_radius, t0, t1)) return false;
-    double t = t0 > tnear ? t0 : t1;
-    if (!(t > tnear) || !(t < tfar)) return false;
-    t_out = static_cast<float>(t);
-    if (!(t_out > tnear && t_out < tfar)) return false;
-    Vec3 n = (o + d * t - s.rel_center) / s.rel_radius;
-    n = ir::normalize(n);
-    n_out = to_float(n.x, n.y, n.z);
-    return true;
-  }
-  Vec3 o = xform_point(s.object_from_rel, Vec3(ox, oy, oz));
-  Vec3 d = xform_vector(s.object_from_rel, Vec3(dx, dy, dz));
-  if (!sphere_roots(o, d, s.center, s.radius, t0, t1)) return false;
+  Vec3 o(ox, oy, oz), d(dx, dy, dz);
+  if (!sphere_roots(o, d, rel_center, rel_radius, t0, t1)) return false;
   double t = t0 > tnear ? t0 : t1;
   if (!(t > tnear) || !(t < tfar)) return false;
-  Vec3 no = (o + d * t - s.center) / s.radius;
-  Vec3 nw = ir::normalize(xform_normal_by_inverse(s.object_from_rel, no));
+  t_out = static_cast<float>(t);
+  if (!(t_out > tnear && t_out < tfar)) return false;
+  Vec3 n = (o + d * t - rel_center) / rel_radius;
+  n = ir::normalize(n);
+  n_out = to_float(n.x, n.y, n.z);
+  return true;
+}
+
+// The same for the object-space sphere (center, radius) under any affine
+// `object_from_rel`: the ray is taken to object space and intersected there.
+inline bool hit_general_sphere(const ir::Mat4& object_from_rel, Vec3 center, double radius,
+                               float ox, float oy, float oz, float dx, float dy, float dz,
+                               float tnear, float tfar, float& t_out, Vec3f& n_out) {
+  double t0, t1;
+  Vec3 o = xform_point(object_from_rel, Vec3(ox, oy, oz));
+  Vec3 d = xform_vector(object_from_rel, Vec3(dx, dy, dz));
+  if (!sphere_roots(o, d, center, radius, t0, t1)) return false;
+  double t = t0 > tnear ? t0 : t1;
+  if (!(t > tnear) || !(t < tfar)) return false;
+  Vec3 no = (o + d * t - center) / radius;
+  Vec3 nw = ir::normalize(xform_normal_by_inverse(object_from_rel, no));
   t_out = static_cast<float>(t);
   if (!(t_out > tnear && t_out < tfar)) return false;
   n_out = to_float(nw.x, nw.y, nw.z);
   return true;
+}
+
+inline bool hit_sphere(const SphereData& s, float ox, float oy, float oz, float dx, float dy,
+                       float dz, float tnear, float tfar, float& t_out, Vec3f& n_out) {
+  if (s.similarity)
+    return hit_similar_sphere(s.rel_center, s.rel_radius, ox, oy, oz, dx, dy, dz, tnear, tfar,
+                              t_out, n_out);
+  return hit_general_sphere(s.object_from_rel, s.center, s.radius, ox, oy, oz, dx, dy, dz, tnear,
+                            tfar, t_out, n_out);
 }
 
 // Camera-relative bounds of the object-space box around sphere (c, r) under the
@@ -99,25 +116,49 @@ inline void sphere_box(const ir::Mat4& rel_from_object, Vec3 c, double r, double
 }
 
 // The static spheres: one user primitive each (the interface of traits.hpp).
+// The static spheres: 48 bytes each when the transform is a similarity (most
+// scenes' spheres), plus 288 for the matrices of any other (#18: 10 M spheres).
+// The bounds are recomputed from the IR shape as the BVH builds, as the general
+// case's matrices were made, so the BVH and every image are what they were when
+// each sphere held both matrices. The IR scene outlives the set (as for
+// MovingSphereSet).
 class SphereSet {
  public:
+  void reserve(std::size_t n) { spheres_.reserve(n); }
   void add(const ir::Shape& s, const ir::Sphere& g, std::uint32_t index, Vec3 origin);
   std::size_t size() const { return spheres_.size(); }
   std::uint32_t shape(unsigned prim) const { return spheres_[prim].shape; }
-  void bounds(unsigned prim, Box3& box) const {
-    sphere_box(rel_from_object_[prim], spheres_[prim].center, spheres_[prim].radius, box.lo,
-               box.hi);
-  }
+  void bounds(unsigned prim, Box3& box) const;
   bool hit(unsigned prim, float, Vec3f o, Vec3f d, float tnear, float tfar, float& t,
            Vec3f& n) const {
-    return hit_sphere(spheres_[prim], o.x, o.y, o.z, d.x, d.y, d.z, tnear, tfar, t, n);
+    const Static& s = spheres_[prim];
+    if (s.general == kSimilar)
+      return hit_similar_sphere(s.rel_center, s.rel_radius, o.x, o.y, o.z, d.x, d.y, d.z, tnear,
+                                tfar, t, n);
+    const General& g = general_[s.general];
+    return hit_general_sphere(g.object_from_rel, g.center, g.radius, o.x, o.y, o.z, d.x, d.y, d.z,
+                              tnear, tfar, t, n);
   }
   // The hit point projected onto the sphere in double, and its bounded offset.
   void refine(unsigned prim, const Ray& r, float t, Hit& hit) const;
 
  private:
-  std::vector<SphereData> spheres_;
-  std::vector<ir::Mat4> rel_from_object_;  // for the bounds and the projection
+  static constexpr std::uint32_t kSimilar = 0xffffffffu;
+  struct Static {
+    Vec3 rel_center;  // camera-relative; a similarity's sphere
+    double rel_radius = 1;
+    const ir::Shape* ir = nullptr;  // for the bounds
+    std::uint32_t shape = 0;
+    std::uint32_t general = kSimilar;  // into general_, or kSimilar
+  };
+  struct General {
+    ir::Mat4 object_from_rel, rel_from_object;
+    Vec3 center;  // object space
+    double radius = 1;
+  };
+  std::vector<Static> spheres_;
+  std::vector<General> general_;
+  Vec3 origin_{0, 0, 0};  // of the layer: every add passes the same one
 };
 
 // Spheres that move during the open shutter: user geometry whose static bounds

@@ -34,7 +34,7 @@ template <class F>
 void world_hull_points(const Shape& s, const Scene& scene, F&& f) {
   std::visit(
       [&](const auto& g) {
-        hull_points(g, scene, [&](Vec3 p) { f(s.world_from_object.point(p)); });
+        hull_points(g, scene, [&](Vec3 p) { f(s.world_from_object().point(p)); });
       },
       s.geom);
 }

@@ -132,17 +132,17 @@ std::string to_string(const Shape& sh) {
       sh.geom);
   s += sh.material == kInheritMaterial ? std::string(" material inherit")
                                        : " material #" + std::to_string(sh.material);
-  if (!sh.world_from_object.is_identity())
-    s += " world_from_object " + to_string(sh.world_from_object);
-  if (!sh.motion.ops.empty()) {
+  if (!sh.world_from_object().is_identity())
+    s += " world_from_object " + to_string(sh.world_from_object());
+  if (!sh.motion().ops.empty()) {
     s += " motion {";
-    for (const TransformOp& op : sh.motion.ops) {
+    for (const TransformOp& op : sh.motion().ops) {
       const char* k = op.kind == TransformOp::Kind::Translate ? " translate "
                       : op.kind == TransformOp::Kind::Rotate  ? " rotate "
                                                               : " scale ";
       s += k + to_string(op.value);
     }
-    if (sh.motion.has_pivot) s += " pivot " + to_string(sh.motion.pivot);
+    if (sh.motion().has_pivot) s += " pivot " + to_string(sh.motion().pivot);
     s += " }";
   }
   return s + " }";

@@ -279,11 +279,11 @@ std::vector<Problem> validate(const Scene& scene) {
   auto check_shape = [&](const Shape& s, bool part) {
     auto bad_here = [&](const std::string& what) { bad(s.src, what); };
     bool finite = std::visit([](const auto& g) { return all_finite(g); }, s.geom);
-    if (!finite || !finite_transform(s.world_from_object))
+    if (!finite || !finite_transform(s.world_from_object()))
       bad(s.src, to_string(s.kind()) + " has a non-finite position, size or transform");
-    for (const TransformOp& op : s.motion.ops)
+    for (const TransformOp& op : s.motion().ops)
       if (!is_finite(op.value)) bad(s.src, "motion has a non-finite value");
-    if (s.motion.has_pivot && !is_finite(s.motion.pivot))
+    if (s.motion().has_pivot && !is_finite(s.motion().pivot))
       bad(s.src, "motion has a non-finite pivot");
     if (s.material >= scene.materials.size()) {
       if (!(part && s.material == kInheritMaterial)) bad(s.src, "material index out of range");
@@ -293,7 +293,7 @@ std::vector<Problem> validate(const Scene& scene) {
       bad(s.src, "a dielectric with a 'priority' must fill a solid (§14), and this " +
                      std::string(open ? "open " : "") + to_string(s.kind()) + " has no inside");
     }
-    if (part && !s.motion.ops.empty()) bad(s.src, "a part does not move on its own");
+    if (part && !s.motion().ops.empty()) bad(s.src, "a part does not move on its own");
     std::visit([&](const auto& g) { check_kind(g, scene, bad_here); }, s.geom);
   };
   for (const Shape& s : scene.shapes) check_shape(s, false);

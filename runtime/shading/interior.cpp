@@ -30,7 +30,7 @@ std::string to_string(const Crossing& c) {
 }
 
 bool solid_contains(const ir::Shape& shape, ir::Vec3 world_point) {
-  ir::Vec3 p = shape.world_from_object.inverse().point(world_point);
+  ir::Vec3 p = shape.world_from_object().inverse().point(world_point);
   // Any direction will do from a point inside; an oblique one keeps clear of the
   // axis-aligned faces a point on an edge would make ambiguous.
   const ir::Vec3 d = ir::normalize(ir::Vec3{0.5477, 0.3651, 0.7531});

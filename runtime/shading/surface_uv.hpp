@@ -40,14 +40,15 @@ inline SurfaceFrame surface_frame(const ir::Scene& scene, const ir::Shape& top, 
   SurfaceFrame f;
   f.scene = &scene;
   f.tri = tri;
-  ir::Transform world_from_leaf =
-      top.motion.ops.empty() ? top.world_from_object : top.motion.at(time) * top.world_from_object;
+  ir::Transform world_from_leaf = top.motion().ops.empty()
+                                      ? top.world_from_object()
+                                      : top.motion().at(time) * top.world_from_object();
   f.leaf = &top;
   if (part != ir::kNoPart && part < scene.parts.size()) {
     if (outer != ir::kNoPart && outer < scene.parts.size())
-      world_from_leaf = world_from_leaf * scene.parts[outer].world_from_object;
+      world_from_leaf = world_from_leaf * scene.parts[outer].world_from_object();
     f.leaf = &scene.parts[part];
-    world_from_leaf = world_from_leaf * f.leaf->world_from_object;
+    world_from_leaf = world_from_leaf * f.leaf->world_from_object();
   }
   f.leaf_from_world = world_from_leaf.inverse();
   return f;

@@ -71,9 +71,9 @@ inline PatternFrame pattern_frame(const ir::Texture& t, const TexturePoint& tp) 
   bool object = t.space == ir::PatternSpace::Object && tp.shape;
   if (object) {
     const ir::Shape& sh = *tp.shape;
-    ir::Transform world_from_object = sh.motion.ops.empty()
-                                          ? sh.world_from_object
-                                          : sh.motion.at(double(tp.time)) * sh.world_from_object;
+    ir::Transform world_from_object =
+        sh.motion().ops.empty() ? sh.world_from_object()
+                                : sh.motion().at(double(tp.time)) * sh.world_from_object();
     f.space_from_world = world_from_object.inverse();
   }
   if (moved) f.space_from_world = t.world_from_pattern.inverse() * f.space_from_world;

@@ -202,7 +202,7 @@ TEST_CASE("materials: positional and named forms agree; the table is deduplicate
 TEST_CASE("transforms apply in the order written", "[compiler]") {
   auto c = run("sphere { translate <1, 0, 0> rotate <0, 0, 90> scale 2 }");
   REQUIRE(c->status == compile::CompileStatus::Ok);
-  const auto& t = c->scene.shapes[0].world_from_object;
+  const auto& t = c->scene.shapes[0].world_from_object();
   // (0,0,0) -> translate (1,0,0) -> rotate z 90 (0,1,0) -> scale 2 (0,2,0)
   ir::Vec3 p = t.point({0, 0, 0});
   CHECK_THAT(p.x, WithinAbs(0, 1e-15));

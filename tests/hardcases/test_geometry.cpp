@@ -78,13 +78,13 @@ TEST_CASE("hc01 spheres: spawned rays never re-enter their sphere, 1e-6..1e6, an
     ir::Vec3 center = unit(rng) * (r * 100 * u(rng));
     ir::Shape sp = sphere(center, r, 0);
     if (trial % 2)
-      sp.world_from_object = ir::Transform::translate(center) *
-                             ir::Transform::rotate_xyz({360 * u(rng), 360 * u(rng), 0}) *
-                             ir::Transform::scale({1, 0.5 + 2 * u(rng), 0.3 + u(rng)}) *
-                             ir::Transform::translate(center * -1.0);
+      sp.set_world_from_object(ir::Transform::translate(center) *
+                               ir::Transform::rotate_xyz({360 * u(rng), 360 * u(rng), 0}) *
+                               ir::Transform::scale({1, 0.5 + 2 * u(rng), 0.3 + u(rng)}) *
+                               ir::Transform::translate(center * -1.0));
     s.shapes.push_back(sp);
     rt::EmbreeScene es(s, {0, 0, 0});
-    ir::Vec3 target = sp.world_from_object.point(center + unit(rng) * r);
+    ir::Vec3 target = sp.world_from_object().point(center + unit(rng) * r);
     ir::Vec3 from = target + unit(rng) * (4 * r);
     rt::Ray ray{f(from), rt::normalize(f(target - from)), INFINITY, 0};
     rt::Hit hit;

@@ -406,7 +406,7 @@ TEST_CASE("hc21 Beer under instance scaling: unit sphere scaled by 2 equals radi
     s.settings.max_depth = 30;
     ir::Shape sh =
         sphere({0, 0, 0}, scaled ? 1 : 2, add_material(s, dielectric(1.5, {0.25, 0.5, 1})));
-    if (scaled) sh.world_from_object = ir::Transform::scale({2, 2, 2});
+    if (scaled) sh.set_world_from_object(ir::Transform::scale({2, 2, 2}));
     s.shapes.push_back(sh);
     look(s, {0, 0, -8}, {0, 0, 0}, 32);
     return s;

@@ -166,7 +166,7 @@ std::uint32_t smooth_sphere(ir::Scene& s, ir::Vec3 c, std::uint32_t mat, bool sm
     m.normal_indices = m.indices;
   }
   std::uint32_t si = hc::add_mesh(s, std::move(m), mat);
-  s.shapes[si].world_from_object = ir::Transform::translate(c);
+  s.shapes[si].set_world_from_object(ir::Transform::translate(c));
   return si;
 }
 

@@ -106,14 +106,14 @@ TEST_CASE("hc01 new shapes: spawned rays never re-hit their surface, 1e-6..1e6, 
       ir::Scene sc = base_scene(1, 1);
       ir::Vec3 center = unit(rng) * (s * 100 * u(rng));
       ir::Shape sh = shape_of(geom(v, s), 0);
-      sh.world_from_object = ir::Transform::translate(center);
+      sh.set_world_from_object(ir::Transform::translate(center));
       if (trial % 2)
-        sh.world_from_object = sh.world_from_object *
-                               ir::Transform::rotate_xyz({360 * u(rng), 360 * u(rng), 0}) *
-                               ir::Transform::scale({1, 0.5 + 2 * u(rng), 0.3 + u(rng)});
+        sh.set_world_from_object(sh.world_from_object() *
+                                 ir::Transform::rotate_xyz({360 * u(rng), 360 * u(rng), 0}) *
+                                 ir::Transform::scale({1, 0.5 + 2 * u(rng), 0.3 + u(rng)}));
       sc.shapes.push_back(sh);
       rt::EmbreeScene es(sc, {0, 0, 0});
-      ir::Vec3 target = sh.world_from_object.point(surface_point(v, s, rng));
+      ir::Vec3 target = sh.world_from_object().point(surface_point(v, s, rng));
       ir::Vec3 from = target + unit(rng) * (4 * s);
       rt::Ray ray{f(from), rt::normalize(f(target - from)), INFINITY, 0};
       rt::Hit hit;
@@ -249,7 +249,7 @@ GrazeCount graze_near(double S, ir::Vec3 c, double eps, int n, std::mt19937_64& 
   const double R = S, r = 0.25 * S;
   ir::Scene sc = base_scene(1, 1);
   ir::Shape sh = shape_of(ir::Torus{R, r}, 0);
-  sh.world_from_object = ir::Transform::translate(c);
+  sh.set_world_from_object(ir::Transform::translate(c));
   sc.shapes.push_back(sh);
   const ir::Vec3 cam = c + ir::Vec3(0.3, 2, -3) * S;
   rt::EmbreeScene es(sc, cam);
@@ -273,7 +273,7 @@ GrazeCount graze_far(double S, ir::Vec3 c, double dist, double eps, int n, std::
   const double R = S, r = 0.25 * S;
   ir::Scene sc = base_scene(1, 1);
   ir::Shape sh = shape_of(ir::Torus{R, r}, 0);
-  sh.world_from_object = ir::Transform::translate(c);
+  sh.set_world_from_object(ir::Transform::translate(c));
   sc.shapes.push_back(sh);
   const ir::Vec3 cam = c + ir::normalize(ir::Vec3(0.3, 0.5, -1)) * (dist * (R + r));
   rt::EmbreeScene es(sc, cam);
@@ -333,7 +333,7 @@ GrazeCount graze_designed(double S, ir::Vec3 c0, double eps, int n, std::mt19937
                                double(nm.z / nl * shift));
     ir::Scene sc = base_scene(1, 1);
     ir::Shape sh = shape_of(ir::Torus{R, r}, 0);
-    sh.world_from_object = ir::Transform::translate(c);
+    sh.set_world_from_object(ir::Transform::translate(c));
     sc.shapes.push_back(sh);
     rt::EmbreeScene es(sc, cam);
     score(es, ray, cam, c, R, r, eps, out);
@@ -413,8 +413,9 @@ ir::Scene shapes_scene(double s, ir::Vec3 off) {
   sc.background = ir::Vec3{0.1, 0.12, 0.15};
   sc.shapes.push_back(plane({0, 1, 0}, off.y, add_material(sc, diffuse({0.7, 0.7, 0.7}))));
   ir::Shape t = shape_of(ir::Torus{0.5, 0.2}, add_material(sc, glazed({0.1, 0.3, 0.6}, 1.5)));
-  t.world_from_object = ir::Transform::translate(P({-0.9, 0.7, 0})) *
-                        ir::Transform::scale(ir::Vec3(s)) * ir::Transform::rotate_xyz({80, 20, 0});
+  t.set_world_from_object(ir::Transform::translate(P({-0.9, 0.7, 0})) *
+                          ir::Transform::scale(ir::Vec3(s)) *
+                          ir::Transform::rotate_xyz({80, 20, 0}));
   sc.shapes.push_back(t);
   sc.shapes.push_back(shape_of(ir::Cylinder{P({0.5, 0, 0.3}), P({0.5, 1.2, 0.3}), 0.4 * s, false},
                                add_material(sc, diffuse({0.8, 0.2, 0.1}))));

@@ -14,7 +14,9 @@ inline ir::Material glossy(ir::Vec3 c, double blur) {
 }
 
 inline ir::Shape moving(ir::Shape s, ir::TransformOp::Kind kind, ir::Vec3 v) {
-  s.motion.ops.push_back({kind, v});
+  ir::Motion m = s.motion();
+  m.ops.push_back({kind, v});
+  s.set_motion(std::move(m));
   return s;
 }
 

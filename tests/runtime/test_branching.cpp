@@ -64,7 +64,7 @@ TEST_CASE("under total internal reflection both branchings agree exactly", "[run
   s.background = ir::Vec3{0.7, 0.8, 0.9};
   std::uint32_t glass = test::add_material(s, test::dielectric(1.8));
   ir::Shape slab = test::box({-1, -0.2, -1}, {1, 0.2, 1}, glass);
-  slab.world_from_object = ir::Transform::rotate_x(60);
+  slab.set_world_from_object(ir::Transform::rotate_x(60));
   s.shapes.push_back(slab);
   s.shapes.push_back(test::plane({0, 1, 0}, -1, 0));
   s.point_lights.push_back({{0, 3, -2}, {10, 10, 10}, {}});

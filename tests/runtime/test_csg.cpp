@@ -33,7 +33,7 @@ struct Csg {
   std::uint32_t leaf(ir::ShapeGeom g, ir::Transform xf = {}, std::uint32_t material = 0) {
     ir::Shape p;
     p.geom = g;
-    p.world_from_object = xf;
+    p.set_world_from_object(xf);
     p.material = material;
     sc.parts.push_back(p);
     ir::CsgNode n;
@@ -51,7 +51,7 @@ struct Csg {
   void place(std::uint32_t root, ir::Transform xf = {}, std::uint32_t material = 0) {
     ir::Shape s;
     s.geom = ir::Csg{root};
-    s.world_from_object = xf;
+    s.set_world_from_object(xf);
     s.material = material;
     sc.shapes.push_back(s);
   }
@@ -302,9 +302,9 @@ TEST_CASE("instances: one prototype shared by every instance, placed by each", "
     ir::Shape s;
     s.geom = ir::Instance{0};
     s.material = static_cast<std::uint32_t>(i);
-    s.world_from_object = ir::Transform::translate({10.0 * i, 0, 0}) *
-                          ir::Transform::rotate_xyz({0, 0, 9.0 * i}) *
-                          ir::Transform::scale({1 + 0.1 * i, 1, 1});
+    s.set_world_from_object(ir::Transform::translate({10.0 * i, 0, 0}) *
+                            ir::Transform::rotate_xyz({0, 0, 9.0 * i}) *
+                            ir::Transform::scale({1 + 0.1 * i, 1, 1}));
     q.scene.shapes.push_back(s);
   }
   q.build();
@@ -314,7 +314,7 @@ TEST_CASE("instances: one prototype shared by every instance, placed by each", "
   CHECK_THAT(text, Catch::Contains("instances 40 prototypes 1"));
   for (int i = 0; i < 40; ++i) {
     // Down onto each box's top: its top face, rotated about z by 9i degrees.
-    ir::Transform xf = q.scene.shapes[i].world_from_object;
+    ir::Transform xf = q.scene.shapes[i].world_from_object();
     Vec3 top = xf.point({0, 0.5, 0});
     Vec3 n = ir::normalize(xf.normal({0, 1, 0}));
     rt::Hit h;

@@ -173,10 +173,10 @@ TEST_CASE("a scene far from the origin renders like the original", "[scene][robu
     s.background = ir::Vec3{0.2, 0.3, 0.4};
     s.shapes.push_back(plane({0, 1, 0}, off.y, 0));
     ir::Shape g = sphere({-0.8, 0.7, 0}, 0.7, add_material(s, dielectric(1.5, {0.2, 0.1, 0})));
-    g.world_from_object = ir::Transform::translate(off);
+    g.set_world_from_object(ir::Transform::translate(off));
     s.shapes.push_back(g);
     ir::Shape b = box({0, 0, 0}, {1, 1, 1}, add_material(s, glazed({0.6, 0.2, 0.1}, 1.5)));
-    b.world_from_object = ir::Transform::translate(off + ir::Vec3(0.3, 0, -0.2));
+    b.set_world_from_object(ir::Transform::translate(off + ir::Vec3(0.3, 0, -0.2)));
     s.shapes.push_back(b);
     s.point_lights.push_back({off + ir::Vec3(2, 4, -2), {30, 30, 30}, {}});
     look(s, off + ir::Vec3(0, 1.5, -4), off + ir::Vec3(0, 0.5, 0), 50);

@@ -402,6 +402,6 @@ TEST_CASE("uv mapping: each kind's parameters at known points", "[images]") {
   near(uv(triangle({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 0), {0.25, 0.5, 0}), 0.25, 0.5);
   // Transforms: the leaf's object space (a sphere moved and turned keeps its map).
   ir::Shape sp = sphere({0, 0, 0}, 1, 0);
-  sp.world_from_object = ir::Transform::translate({5, 0, 0}) * ir::Transform::rotate_y(90);
+  sp.set_world_from_object(ir::Transform::translate({5, 0, 0}) * ir::Transform::rotate_y(90));
   near(uv(sp, {5, 0, 1} /* object -x */), 0.25, 0.5);
 }

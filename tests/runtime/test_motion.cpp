@@ -149,8 +149,10 @@ TEST_CASE("a pivot turns the motion's rotation about its point (§19)", "[motion
   // ends of the sweep; without the pivot the circle would be about x = 0, radius 1.5.
   const double r = 0.3;
   ir::Shape ball = moving(sphere({1.5, 0, 10}, r, 0), K::Rotate, {0, 0, 180});
-  ball.motion.has_pivot = true;
-  ball.motion.pivot = {0.5, 0, 10};
+  ir::Motion m = ball.motion();
+  m.has_pivot = true;
+  m.pivot = {0.5, 0, 10};
+  ball.set_motion(m);
   ir::Scene s = streak_scene(ball);
   rt::RenderResult res = render_with(s);
   double worst = 0, peak = 0;

@@ -151,8 +151,8 @@ TEST_CASE("patterns: the hit point moved inward, through transforms and object s
   o.pattern = ir::Gradient{{1, 0, 0}};
   o.space = ir::PatternSpace::Object;
   ir::Shape sh;
-  sh.world_from_object = ir::Transform::translate({5, 0, 0});
-  sh.motion.ops.push_back({ir::TransformOp::Kind::Translate, {2, 0, 0}});
+  sh.set_world_from_object(ir::Transform::translate({5, 0, 0}));
+  sh.set_motion({{{ir::TransformOp::Kind::Translate, {2, 0, 0}}}});
   rt::TexturePoint at0{{0, 0, 0}, {0, 0, 1}, {5.3, 0, 0}, &sh, 0.0f};
   rt::TexturePoint at1{{0, 0, 0}, {0, 0, 1}, {7.3, 0, 0}, &sh, 1.0f};
   CHECK_THAT(rt::pattern_point(o, at0, 1, 1e4).x, WithinAbs(0.3, 1e-12));

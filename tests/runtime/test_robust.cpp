@@ -64,7 +64,7 @@ TEST_CASE("box normals point outward under mirroring transforms", "[robust]") {
   for (double sx : {1.0, -1.0}) {
     ir::Scene s = base_scene(1, 1);
     ir::Shape b = box({-1, -1, -1}, {1, 1, 1}, 0);
-    b.world_from_object = ir::Transform::scale({sx, 2, 1});
+    b.set_world_from_object(ir::Transform::scale({sx, 2, 1}));
     s.shapes.push_back(b);
     rt::EmbreeScene es(s, {0, 0, 0});
     const rt::Vec3f dirs[] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
@@ -101,8 +101,8 @@ TEST_CASE("a face lying on a plane loses to the plane every time: no speckle", "
   std::uniform_real_distribution<double> u(0, 1);
   ir::Scene s = base_scene(1, 1);
   s.shapes.push_back(box({-0.6, 0, -0.3}, {0.6, 1.6, 0.3}, 0));
-  s.shapes.back().world_from_object =
-      ir::Transform::translate({0.3, 0, 0.8}) * ir::Transform::rotate_xyz({0, 30, 0});
+  s.shapes.back().set_world_from_object(ir::Transform::translate({0.3, 0, 0.8}) *
+                                        ir::Transform::rotate_xyz({0, 30, 0}));
   s.shapes.push_back(plane({0, 1, 0}, 0, 0));
   ir::Vec3 cam(0.37, 1.73, -4.1);
   rt::EmbreeScene es(s, cam);
@@ -110,7 +110,7 @@ TEST_CASE("a face lying on a plane loses to the plane every time: no speckle", "
   for (int i = 0; i < 20000; ++i) {
     // A point inside the block (object space), placed, camera-relative.
     ir::Vec3 q(-0.55 + 1.1 * u(rng), 0.01 + 1.5 * u(rng), -0.25 + 0.5 * u(rng));
-    ir::Vec3 w = s.shapes[0].world_from_object.point(q) - cam;
+    ir::Vec3 w = s.shapes[0].world_from_object().point(q) - cam;
     ir::Vec3 dir(2 * u(rng) - 1, -1, 2 * u(rng) - 1);
     rt::Ray r{rt::to_float(w.x, w.y, w.z), rt::normalize(rt::to_float(dir.x, dir.y, dir.z)),
               INFINITY, 0};

@@ -123,11 +123,11 @@ TEST_CASE("demo picture", "[.][demo]") {
       sphere({1.2, 0.7, 0.6}, 0.7, add_material(s, glazed({0.05, 0.05, 0.05}, 1.5))));
   s.shapes.push_back(sphere({0.2, 0.4, -1.2}, 0.4, add_material(s, mirror({0.9, 0.8, 0.5}))));
   ir::Shape b = box({-0.4, 0, -0.4}, {0.4, 0.8, 0.4}, add_material(s, diffuse({0.2, 0.6, 0.2})));
-  b.world_from_object = ir::Transform::translate({2.5, 0, -1}) * ir::Transform::rotate_y(30);
+  b.set_world_from_object(ir::Transform::translate({2.5, 0, -1}) * ir::Transform::rotate_y(30));
   s.shapes.push_back(b);
   ir::Shape e = sphere({0, 0, 0}, 1, add_material(s, diffuse({0.8, 0.3, 0.2})));
-  e.world_from_object = ir::Transform::translate({-2.8, 0.5, -1.5}) * ir::Transform::rotate_z(30) *
-                        ir::Transform::scale({0.8, 0.4, 0.4});
+  e.set_world_from_object(ir::Transform::translate({-2.8, 0.5, -1.5}) *
+                          ir::Transform::rotate_z(30) * ir::Transform::scale({0.8, 0.4, 0.4}));
   s.shapes.push_back(e);
   s.area_lights.push_back(area_light({-1, 4, -1}, {2, 0, 0}, {0, 0, 2}, {6, 6, 6}, 3));
   s.point_lights.push_back({{4, 5, -4}, {20, 20, 20}, {}});

@@ -134,7 +134,8 @@ TEST_CASE("cylinder: any axis, under a non-uniform scale and rotation", "[shapes
   // Placed by transforms: a unit cylinder along z scaled to radius 0.5 x 2 (an
   // elliptic cylinder), length 4, rotated 90° about y so its axis is x.
   ir::Shape s = cylinder({0, 0, -1}, {0, 0, 1}, 1);
-  s.world_from_object = ir::Transform::rotate_xyz({0, 90, 0}) * ir::Transform::scale({0.5, 2, 2});
+  s.set_world_from_object(ir::Transform::rotate_xyz({0, 90, 0}) *
+                          ir::Transform::scale({0.5, 2, 2}));
   Query t(s);
   check_hit(t, {0, -5, 0}, {0, 1, 0}, 3, {0, -1, 0});   // y semi-axis 2
   check_hit(t, {0, 0, 5}, {0, 0, -1}, 4.5, {0, 0, 1});  // z semi-axis 0.5 (was x)
@@ -213,8 +214,8 @@ TEST_CASE("torus: hits at known t along the axes, the hole, normals, rays from i
   check_hit(q, {0, 0, 0}, {1, 0, 0}, 0.75, {-1, 0, 0});
   // Under transforms: scaled by 2 in y and lying on its side.
   ir::Shape s = torus(2, 0.5);
-  s.world_from_object = ir::Transform::translate({3, 0, 0}) *
-                        ir::Transform::rotate_xyz({90, 0, 0}) * ir::Transform::scale({1, 2, 1});
+  s.set_world_from_object(ir::Transform::translate({3, 0, 0}) *
+                          ir::Transform::rotate_xyz({90, 0, 0}) * ir::Transform::scale({1, 2, 1}));
   Query t(s);
   check_hit(t, {5, 0, -5}, {0, 0, 1}, 4, {0, 0, -1});    // its y (now z) half-thickness 1
   check_hit(t, {3, -5, 0}, {0, 1, 0}, 2.5, {0, -1, 0});  // the outer equator at y = -2.5
@@ -444,4 +445,32 @@ TEST_CASE("ir::validate reports §11's constraints on C++-built scenes", "[shape
   CHECK(problems(torus(1, 0.5)).empty());
   // Far away: the hull reaches beyond the float range around the camera.
   CHECK(problems(cylinder({0, 0, 0}, {0, 2e12, 0}, 1)).find("reaches") != std::string::npos);
+}
+
+// #18: 10 M spheres. A shape placed by its own fields (a sphere's centre) carries no
+// transform or motion of its own: the Shape stays small and holds nothing on the
+// heap; one that has them holds a copy that copies deep.
+TEST_CASE("a shape's transform and motion are held only when set", "[shapes][memory]") {
+  STATIC_REQUIRE(sizeof(ir::Shape) <= 128);
+  ir::Shape s = sphere({1, 2, 3}, 0.5, 0);
+  CHECK(s.world_from_object().is_identity());
+  CHECK(s.motion().ops.empty());
+  s.set_world_from_object(ir::Transform::translate({4, 0, 0}));
+  ir::Shape copy = s;
+  s.set_world_from_object(ir::Transform{});
+  CHECK(s.world_from_object().is_identity());
+  CHECK(copy.world_from_object().point({0, 0, 0}).x == 4);
+  ir::Shape moving_copy = moving(copy, K::Translate, {0, 1, 0});
+  CHECK(moving_copy.motion().moves());
+  CHECK(!copy.motion().moves());
+  // A still sphere and one turned and scaled by a non-uniform scale (the general,
+  // object-space path of the sphere set) meet the same ray where they should.
+  ir::Shape squashed = sphere({0, 0, 0}, 1, 0);
+  squashed.set_world_from_object(ir::Transform::translate({0, 0, 10}) *
+                                 ir::Transform::scale({1, 1, 0.5}));
+  Query q(squashed);
+  check_hit(q, {0, 0, 0}, {0, 0, 1}, 9.5, {0, 0, -1});
+  check_hit(q, {0, 5, 10}, {0, -1, 0}, 4, {0, 1, 0});
+  Query round(sphere({0, 0, 10}, 1, 0));
+  check_hit(round, {0, 0, 0}, {0, 0, 1}, 9, {0, 0, -1});
 }
