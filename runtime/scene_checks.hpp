@@ -15,8 +15,9 @@ namespace snell::rt {
 
 // One line each ("the scene has no light: ..."), without a "warning:" prefix;
 // empty when there is nothing to say. Limits: the camera test covers the
-// top-level solid shapes that do not move (spheres, boxes, closed cylinders and
-// cones, tori); it does not look inside CSG results, instances or meshes.
+// top-level objects that do not move and have an inside: spheres, boxes, closed
+// cylinders and cones, tori, closed meshes, CSG objects (by their trees) and
+// instances (inside any part of their value).
 std::vector<std::string> scene_warnings(const ir::Scene& scene);
 
 }  // namespace snell::rt

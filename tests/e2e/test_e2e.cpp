@@ -440,6 +440,34 @@ TEST_CASE("warnings: no object, no light for a diffuse surface, the camera insid
   CHECK(out.find("inside the box at " + (tmp / "w.scn") + ":3:1") != std::string::npos);
   CHECK(out.find("inside the cylinder at " + (tmp / "w.scn") + ":4:1") != std::string::npos);
   CHECK(out.find(":5:1") == std::string::npos);
+  // Composites: inside a CSG result (not inside its hole), inside an instance's
+  // value (not inside another instance of it), inside a closed mesh (not beside
+  // it), and a plane a half-space only as a CSG leaf.
+  fs::copy_file(kSrc + "/tests/lang/compile/meshes/cube.obj", tmp / "cube.obj");
+  out = check_out(
+      "camera { location <0, 0, -5> look_at <0, 0, 0> } point_light { position <0, 5, -5> "
+      "intensity 10 }\n"
+      "difference { sphere { center <0, 0, -5> radius 2 } sphere { center <0, 0, -5> radius 1 } "
+      "}\n"
+      "difference { box { min <-3, -3, -8> max <3, 3, -2> } sphere { center <0, 0, -9> } }\n"
+      "let v = union { sphere { radius 1 } box { min <5, 5, 5> max <6, 6, 6> } };\n"
+      "object { v translate <0, 0, -5> }\n"
+      "object { v translate <0, 0, 5> }\n"
+      "mesh { file \"cube.obj\" translate <-0.5, -0.5, -5.5> }\n"
+      "mesh { file \"cube.obj\" translate <-0.5, -0.5, -7.5> }\n"
+      "intersection { plane { normal <0, 1, 0> distance 0.5 } sphere { center <0, 0, -5> } }\n"
+      "intersection { plane { normal <0, 1, 0> distance -0.5 } sphere { center <0, 0, -5> } }\n"
+      "plane { normal <0, 1, 0> distance 0.5 }\n");
+  const std::string w = tmp / "w.scn";
+  CHECK(out.find(w + ":2:1") == std::string::npos);
+  CHECK(out.find("inside the difference at " + w + ":3:1") != std::string::npos);
+  CHECK(out.find("inside the object at " + w + ":5:1") != std::string::npos);
+  CHECK(out.find(w + ":6:1") == std::string::npos);
+  CHECK(out.find("inside the mesh at " + w + ":7:1") != std::string::npos);
+  CHECK(out.find(w + ":8:1") == std::string::npos);
+  CHECK(out.find("inside the intersection at " + w + ":9:1") != std::string::npos);
+  CHECK(out.find(w + ":10:1") == std::string::npos);
+  CHECK(out.find(w + ":11:1") == std::string::npos);
   // render prints them too, before the render.
   std::ofstream(tmp / "w.scn")
       << "settings { resolution <4, 4> samples 1 }\nsphere { center <0, 0, 5> }\n";
