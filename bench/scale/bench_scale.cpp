@@ -14,7 +14,7 @@
 // what the objects hold, which is what a user pays.
 //
 //   bench_scale [--spheres N] [--tris N] [--res W] [--spp N] [--rounds N]
-//   defaults: 100000 spheres, 1000000 triangles, 320x240, 2 spp, 3 rounds (the best
+//   defaults: 100000 spheres, 1000000 triangles, 640x480, 4 spp, 3 rounds (the best
 //   of the interleaved 1- and 2-thread renders).
 //   bench_scale --spheres 10000000 --tris 0 --rounds 1   # #18: 10 M spheres
 #include <unistd.h>
@@ -74,7 +74,7 @@ std::string mesh_scene(const std::string& obj, int res, int spp) {
 
 struct Args {
   long spheres = 100000, tris = 1000000;
-  int res = 320, spp = 2, rounds = 3;
+  int res = 640, spp = 4, rounds = 3;
 };
 
 void run(const char* name, const std::string& text, long objects, const char* per, const Args& a) {
