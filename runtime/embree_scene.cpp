@@ -549,12 +549,24 @@ void resolve_instance(const InstanceEntry& ie, const RTCRayHit& rh, const Ray& r
 }
 }  // namespace
 
+namespace {
+// What a traced ray's Embree hit becomes: the hit resolved, then the unbounded
+// shapes (planes) tested against it in double. The same for a ray traced alone and
+// one traced in a packet.
+bool finish_hit(const EmbreeScene::Impl& im, const Ray& r, const RTCRayHit& rh, Hit& hit);
+}  // namespace
+
 bool EmbreeScene::intersect(const Ray& r, Hit& hit) const {
   const Impl& im = *impl_;
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   RTCRayHit rh = make_rayhit(r);
   rtcIntersect1(im.world.scene, &ctx, &rh);
+  return finish_hit(im, r, rh, hit);
+}
+
+namespace {
+bool finish_hit(const EmbreeScene::Impl& im, const Ray& r, const RTCRayHit& rh, Hit& hit) {
   bool found = false;
   hit.smooth = false;
   hit.part = hit.outer = ir::kNoPart;
@@ -594,6 +606,7 @@ bool EmbreeScene::intersect(const Ray& r, Hit& hit) const {
   if (plane) hit.material = im.world.material_of(hit.index);
   return found;
 }
+}  // namespace
 
 bool EmbreeScene::occluded(const Ray& r) const {
   const Impl& im = *impl_;
@@ -613,13 +626,85 @@ std::uint32_t EmbreeScene::triangle_of(const Hit& hit) const {
   return it == l.tri_first.end() ? 0 : hit.prim - it->second;
 }
 
+namespace {
+constexpr std::size_t kPacket = 16;
+
+void store_ray(RTCRay16& p, std::size_t k, const Ray& r) {
+  p.org_x[k] = r.org.x, p.org_y[k] = r.org.y, p.org_z[k] = r.org.z;
+  p.dir_x[k] = r.dir.x, p.dir_y[k] = r.dir.y, p.dir_z[k] = r.dir.z;
+  p.tnear[k] = r.tnear, p.tfar[k] = r.tmax, p.time[k] = r.time;
+  p.mask[k] = ~0u, p.id[k] = 0, p.flags[k] = 0;
+}
+}  // namespace
+
+// Packets of up to 16 rays (rtcIntersect16 / rtcOccluded16; the user geometry's
+// callbacks take N rays). Embree's packet kernels compute each ray's triangle and
+// box tests as its single-ray ones do, and the user geometry's double-precision
+// tests are per ray, so a ray's answer does not depend on the packet it rides in
+// (test_packets.cpp checks it against the one-ray queries). A lone ray is traced
+// alone: a packet of one costs more than it saves.
 void EmbreeScene::intersect(std::span<const Ray> rays, std::span<Hit> hits,
                             std::span<std::uint8_t> found) const {
-  for (std::size_t i = 0; i < rays.size(); ++i) found[i] = intersect(rays[i], hits[i]);
+  const Impl& im = *impl_;
+  for (std::size_t b = 0; b < rays.size(); b += kPacket) {
+    std::size_t n = std::min(kPacket, rays.size() - b);
+    if (n == 1) {
+      found[b] = intersect(rays[b], hits[b]);
+      continue;
+    }
+    alignas(64) RTCRayHit16 rh;
+    alignas(64) int valid[kPacket];
+    for (std::size_t k = 0; k < kPacket; ++k) {
+      valid[k] = k < n ? -1 : 0;
+      store_ray(rh.ray, k, rays[b + (k < n ? k : 0)]);
+      rh.hit.geomID[k] = rh.hit.primID[k] = rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+    }
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    rtcIntersect16(valid, im.world.scene, &ctx, &rh);
+    for (std::size_t k = 0; k < n; ++k) {
+      RTCRayHit one = make_rayhit(rays[b + k]);
+      one.ray.tfar = rh.ray.tfar[k];
+      one.hit.Ng_x = rh.hit.Ng_x[k], one.hit.Ng_y = rh.hit.Ng_y[k], one.hit.Ng_z = rh.hit.Ng_z[k];
+      one.hit.u = rh.hit.u[k], one.hit.v = rh.hit.v[k];
+      one.hit.primID = rh.hit.primID[k], one.hit.geomID = rh.hit.geomID[k];
+      one.hit.instID[0] = rh.hit.instID[0][k];
+      found[b + k] = finish_hit(im, rays[b + k], one, hits[b + k]);
+    }
+  }
 }
 
 void EmbreeScene::occluded(std::span<const Ray> rays, std::span<std::uint8_t> blocked) const {
-  for (std::size_t i = 0; i < rays.size(); ++i) blocked[i] = occluded(rays[i]);
+  const Impl& im = *impl_;
+  for (std::size_t b = 0; b < rays.size(); b += kPacket) {
+    std::size_t n = std::min(kPacket, rays.size() - b);
+    if (n == 1) {
+      blocked[b] = occluded(rays[b]);
+      continue;
+    }
+    alignas(64) RTCRay16 r;
+    alignas(64) int valid[kPacket];
+    std::size_t live = 0;
+    for (std::size_t k = 0; k < kPacket; ++k) {
+      const Ray& ray = rays[b + (k < n ? k : 0)];
+      // The planes first, in double, as the one-ray query does.
+      bool by_plane =
+          k < n &&
+          std::apply([&](const auto&... set) { return (set.occluded(ray) || ...); }, im.unbounded);
+      if (k < n) blocked[b + k] = by_plane;
+      valid[k] = k < n && !by_plane ? -1 : 0;
+      live += valid[k] != 0;
+      store_ray(r, k, ray);
+    }
+    if (live == 0) continue;
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    rtcOccluded16(valid, im.world.scene, &ctx, &r);
+    for (std::size_t k = 0; k < n; ++k)
+      if (valid[k]) blocked[b + k] = r.tfar[k] < 0;
+  }
 }
 
 std::string to_string(const Ray& r) {

@@ -52,8 +52,12 @@ class EmbreeScene {
   bool intersect(const Ray& ray, Hit& hit) const;
   // True when anything lies on the ray with t in (0, ray.tmax).
   bool occluded(const Ray& ray) const;
-  // The same queries over a batch: found[i] / blocked[i] as the one-ray forms
-  // return (a plain loop today; the seam where packets go).
+  // The same queries over a batch: found[i] / blocked[i] and hits[i] exactly as
+  // the one-ray forms return them, traced as packets of up to 16 rays. They pay
+  // for coherent rays (camera rays of neighbouring pixels: 2.4-2.9x in
+  // bench_trace); a light grid's shadow rays from one point to a large light
+  // through many spheres ran 1.3x slower as packets, so the integrator keeps those
+  // one at a time.
   void intersect(std::span<const Ray> rays, std::span<Hit> hits,
                  std::span<std::uint8_t> found) const;
   void occluded(std::span<const Ray> rays, std::span<std::uint8_t> blocked) const;

@@ -130,6 +130,7 @@ RenderResult render(const ir::Scene& scene, const RenderOptions& options) {
   ctx.img = &img;
   ctx.camera = &camera;
   ctx.integrator = integrator.get();
+  ctx.embree = &embree;
   // The full spp, whatever the sample range: stratification depends on it.
   ctx.spec = SamplerSpec{st.sampler, st.seed, spp};
   ctx.sample_begin = s0;

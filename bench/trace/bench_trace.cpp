@@ -15,6 +15,7 @@
 #include <xmmintrin.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -23,6 +24,8 @@
 #include <string>
 #include <vector>
 
+#include "runtime/camera.hpp"
+#include "runtime/embree_scene.hpp"
 #include "runtime/render.hpp"
 
 using namespace snell;
@@ -238,6 +241,60 @@ Measure run_raw(const ir::Scene& s, int threads) {
 
 }  // namespace
 
+// The scene query alone (rt::EmbreeScene, as the integrator calls it): every
+// pixel's centre ray, in 4×4-pixel blocks (coherent), and from each hit one
+// shadow ray to the first light, traced one at a time and as spans (packets of 16:
+// rtcIntersect16 / rtcOccluded16), 1 thread, best of `rounds`. Returns
+// {camera 1-ray, camera packets, shadow 1-ray, shadow packets} in Mrays/s.
+std::array<double, 4> run_query(const ir::Scene& s, int rounds) {
+  const std::uint32_t w = s.settings.width, h = s.settings.height;
+  rt::EmbreeScene es(s, s.camera.location);
+  rt::Camera cam(s.camera, w, h);
+  std::vector<rt::Ray> cam_rays;
+  for (std::uint32_t by = 0; by < h; by += 4)
+    for (std::uint32_t bx = 0; bx < w; bx += 4)
+      for (std::uint32_t y = by; y < std::min(h, by + 4); ++y)
+        for (std::uint32_t x = bx; x < std::min(w, bx + 4); ++x)
+          cam_rays.push_back(cam.generate(x + 0.5, y + 0.5));
+  std::vector<rt::Hit> hits(cam_rays.size());
+  std::vector<std::uint8_t> found(cam_rays.size()), blocked(cam_rays.size());
+  es.intersect(cam_rays, hits, found);
+  ir::Vec3 lp = s.point_lights.empty()
+                    ? s.area_lights.front().corner +
+                          0.5 * (s.area_lights.front().edge1 + s.area_lights.front().edge2)
+                    : s.point_lights.front().position;
+  lp = lp - s.camera.location;
+  rt::Vec3f light = rt::to_float(lp.x, lp.y, lp.z);
+  std::vector<rt::Ray> shadow;
+  for (std::size_t i = 0; i < hits.size(); ++i)
+    if (found[i]) {
+      rt::Vec3f n = rt::dot(hits[i].ng, light - hits[i].p) > 0 ? hits[i].ng : -hits[i].ng;
+      rt::Vec3f o = rt::spawn_origin(hits[i], n, 1);
+      shadow.push_back({o, light - o, 1.0f, 0});
+    }
+  auto best = [&](auto&& f) {
+    double t = 1e30;
+    for (int r = 0; r < rounds; ++r) {
+      auto t0 = std::chrono::steady_clock::now();
+      f();
+      t = std::min(t, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    }
+    return t;
+  };
+  std::uint64_t sink = 0;
+  double c1 = best([&] {
+    for (std::size_t i = 0; i < cam_rays.size(); ++i) sink += es.intersect(cam_rays[i], hits[i]);
+  });
+  double c16 = best([&] { es.intersect(cam_rays, hits, found); });
+  double s1 = best([&] {
+    for (const rt::Ray& r : shadow) sink += es.occluded(r);
+  });
+  double s16 = best([&] { es.occluded(shadow, std::span(blocked.data(), shadow.size())); });
+  if (sink == 42) std::printf(" ");
+  return {cam_rays.size() / c1 * 1e-6, cam_rays.size() / c16 * 1e-6, shadow.size() / s1 * 1e-6,
+          shadow.size() / s16 * 1e-6};
+}
+
 int main(int argc, char** argv) {
   std::uint32_t w = 640, h = 480, spp = 4;
   int rounds = 5;
@@ -273,6 +330,11 @@ int main(int argc, char** argv) {
     if (b.raw_ok)
       fmt::print("{:<8} ray counts: snell {} raw {} (should agree to a few %)\n", "", s1.rays,
                  r1.rays);
+    auto q = run_query(b.scene, rounds);
+    fmt::print(
+        "{:<8} query 1T: camera {:.2f} one at a time, {:.2f} in packets of 16 ({:.2f}x); shadow "
+        "{:.2f}, {:.2f} ({:.2f}x)\n",
+        "", q[0], q[1], q[1] / q[0], q[2], q[3], q[3] / q[2]);
   }
   return 0;
 }

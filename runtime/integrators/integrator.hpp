@@ -19,6 +19,14 @@ struct TileContext;
 struct Worker;
 using TileFn = void (*)(const TileContext&, std::uint32_t tile, Worker&);
 
+// A camera ray's nearest hit found ahead of its tree (the pixel loop traces the
+// camera rays of a block of pixels as one packet): what EmbreeScene::intersect
+// returned for that ray.
+struct PrimaryHit {
+  const Hit* hit = nullptr;
+  bool found = false;
+};
+
 class Integrator {
  public:
   virtual ~Integrator() = default;

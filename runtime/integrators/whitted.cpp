@@ -222,7 +222,7 @@ Color WhittedIntegrator::direct(Vec3f p, Vec3f o, Vec3f nf, float time, std::uin
 
 template <class K, class P>
 Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scratch& scratch,
-                            P& probe) const {
+                            P& probe, const PrimaryHit* primary) const {
   RenderStats& stats = probe.stats;
   // Null at compile time under Probe<false>: every use below folds away.
   std::string* const trace = probe.trace;
@@ -314,7 +314,14 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
         k.interior = kind == RayKind::Refraction ? far_side : node.interior;
     };
 
-    bool found = embree_.intersect(node.ray, hit);
+    bool found;
+    if (primary) {  // the root, traced in the pixel loop's packet
+      hit = *primary->hit;
+      found = primary->found;
+      primary = nullptr;
+    } else {
+      found = embree_.intersect(node.ray, hit);
+    }
     // §14: surfaces of prioritised solids that do not count are passed straight
     // through: the same ray goes on, with no depth and no weight change, updating
     // its interior. `crossing` is the surface that counts, when the hit is one.

@@ -79,9 +79,11 @@ class WhittedIntegrator final : public Integrator {
   // Radiance along a camera ray. `probe` takes the counters and, when on, the
   // readable ray tree and the time of each ray by kind. Child and shadow rays keep
   // the camera ray's time.
+  // `primary`: the camera ray's hit when the pixel loop traced it in a packet.
   template <class K, class P>
-  Color radiance(const Ray& camera_ray, const SampleContext& sc, Scratch& stack, P& probe) const {
-    return li<Kernel<K::bits & kShadeAxes>>(camera_ray, sc, stack, probe);
+  Color radiance(const Ray& camera_ray, const SampleContext& sc, Scratch& stack, P& probe,
+                 const PrimaryHit* primary = nullptr) const {
+    return li<Kernel<K::bits & kShadeAxes>>(camera_ray, sc, stack, probe, primary);
   }
   // The general kernel with a probe that has every instrument (tests, --pixel).
   Color li(const Ray& camera_ray, const SampleContext& sc, RenderStats& stats, Scratch& stack,
@@ -99,7 +101,8 @@ class WhittedIntegrator final : public Integrator {
                                          (1u << kAxis_absorption) | (1u << kAxis_interiors) |
                                          (1u << kAxis_finish);
   template <class K, class P>
-  Color li(const Ray& camera_ray, const SampleContext& sc, Scratch& stack, P& probe) const;
+  Color li(const Ray& camera_ray, const SampleContext& sc, Scratch& stack, P& probe,
+           const PrimaryHit* primary = nullptr) const;
 
  private:
   // What the surface does with the light beyond the Lambertian sum: the §16

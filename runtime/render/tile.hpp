@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
 
 #include "runtime/camera.hpp"
@@ -32,6 +33,7 @@ struct TileContext {
   const Image* img = nullptr;
   const Camera* camera = nullptr;
   const Integrator* integrator = nullptr;
+  const EmbreeScene* embree = nullptr;  // the camera rays' packets
   SamplerSpec spec;
   // §18: samples [sample_begin, sample_end) of each pixel; the pixels of `img`, a
   // window of the full image whose top-left is (img->x0, img->y0). Tiles are laid
@@ -76,8 +78,84 @@ inline bool timed_sample(std::uint32_t x, std::uint32_t y, std::uint32_t s) {
   return (h & (kCostStride - 1)) == 0;
 }
 
+// Camera sample s of pixel (x, y): the ray, its lens and time samples drawn.
+template <class K>
+Ray camera_ray(const TileContext& c, std::uint64_t pixel, std::uint32_t x, std::uint32_t y,
+               std::uint32_t s, RenderStats& stats) {
+  Sample2 j = sample2(c.spec, pixel, s, kDimPixel);
+  Ray ray;
+  if constexpr (K::lens) {
+    Sample2 l = sample2(c.spec, pixel, s, kDimLens);
+    ray = c.camera->generate(x + double(j.u), y + double(j.v), l.u, l.v);
+    ++stats.lens_samples;
+  } else {
+    ray = c.camera->generate(x + double(j.u), y + double(j.v));
+  }
+  if constexpr (K::time) {
+    ray.time = c.motion_on ? sample1(c.spec, pixel, s, kDimTime) : 0.0f;
+    ++stats.time_samples;
+  }
+  return ray;
+}
+
+// The tile in blocks of kBlock × kBlock pixels: sample s of every pixel of a block
+// is one packet of camera rays (EmbreeScene::intersect over a span, rtcIntersect16),
+// and each ray's tree starts from its packet hit. A packet hit is bit for bit the
+// hit of the ray traced alone (tests/hardcases/test_packets.cpp), and every pixel
+// still sums its samples in order, so the image is what the one-ray loop makes.
+// Coherent camera rays trace 2.4-2.9x faster as packets (bench_trace's query rows).
+inline constexpr std::uint32_t kBlock = 4;
+template <class K, class I>
+void render_tile_packets(const TileContext& c, std::uint32_t x0, std::uint32_t y0, std::uint32_t x1,
+                         std::uint32_t y1, Worker& wk) {
+  const I& integrator = static_cast<const I&>(*c.integrator);
+  auto& scratch = wk.scratch_as<typename I::Scratch>();
+  const Image& img = *c.img;
+  RenderStats& stats = wk.stats;
+  constexpr std::uint32_t kN = kBlock * kBlock;
+  Ray rays[kN];
+  Hit hits[kN];
+  std::uint8_t found[kN];
+  std::uint64_t pixel[kN];
+  double sum[kN][3];
+  std::uint32_t kept[kN], px[kN], py[kN];
+  for (std::uint32_t by = y0; by < y1; by += kBlock)
+    for (std::uint32_t bx = x0; bx < x1; bx += kBlock) {
+      std::uint32_t n = 0;
+      for (std::uint32_t y = by; y < std::min(y1, by + kBlock); ++y)
+        for (std::uint32_t x = bx; x < std::min(x1, bx + kBlock); ++x, ++n) {
+          px[n] = x, py[n] = y, pixel[n] = pixel_hash(c.spec, x, y);
+          sum[n][0] = sum[n][1] = sum[n][2] = 0, kept[n] = 0;
+        }
+      for (std::uint32_t s = c.sample_begin; s < c.sample_end; ++s) {
+        for (std::uint32_t i = 0; i < n; ++i)
+          rays[i] = camera_ray<K>(c, pixel[i], px[i], py[i], s, stats);
+        c.embree->intersect(std::span<const Ray>(rays, n), std::span<Hit>(hits, n),
+                            std::span<std::uint8_t>(found, n));
+        for (std::uint32_t i = 0; i < n; ++i) {
+          SampleContext sc{c.spec, px[i], py[i], s, pixel[i]};
+          Probe<false> probe{stats};
+          PrimaryHit primary{&hits[i], found[i] != 0};
+          Color col = integrator.template radiance<K>(rays[i], sc, scratch, probe, &primary);
+          if (!is_finite(col)) {
+            ++stats.nonfinite_samples;
+            continue;
+          }
+          sum[i][0] += col.x, sum[i][1] += col.y, sum[i][2] += col.z;
+          ++kept[i];
+        }
+      }
+      for (std::uint32_t i = 0; i < n; ++i) {
+        float* out = c.rgb + 3 * (std::size_t(py[i] - img.y0) * img.width + (px[i] - img.x0));
+        for (int k = 0; k < 3; ++k) out[k] = kept[i] ? float(sum[i][k] / kept[i]) : 0.0f;
+      }
+    }
+}
+
 // `I::radiance<K, Probe<on>>(ray, sc, scratch, probe)` gives a camera ray's radiance;
-// I::Scratch is its per-thread scratch.
+// I::Scratch is its per-thread scratch. A tile that times samples (--stats) or
+// holds the --pixel being traced goes one ray at a time, so each sample's clock
+// and tree are its own; every other tile goes as packets (render_tile_packets).
 template <class K, class I>
 void render_tile(const TileContext& c, std::uint32_t tile, Worker& wk) {
   const I& integrator = static_cast<const I&>(*c.integrator);
@@ -89,6 +167,12 @@ void render_tile(const TileContext& c, std::uint32_t tile, Worker& wk) {
   std::uint32_t x0 = img.x0 + (tile % c.tiles_x) * kTile, y0 = img.y0 + (tile / c.tiles_x) * kTile;
   std::uint32_t x1 = std::min(x0 + kTile, img.x0 + img.width);
   std::uint32_t y1 = std::min(y0 + kTile, img.y0 + img.height);
+  const auto& tp = c.options->trace_pixel;
+  bool traced_here = tp && tp->first >= x0 && tp->first < x1 && tp->second >= y0 && tp->second < y1;
+  if (c.embree && !c.measure_cost && !traced_here) {
+    render_tile_packets<K, I>(c, x0, y0, x1, y1, wk);
+    return;
+  }
   for (std::uint32_t y = y0; y < y1; ++y)
     for (std::uint32_t x = x0; x < x1; ++x) {
       bool tracing = c.options->trace_pixel && c.options->trace_pixel->first == x &&
