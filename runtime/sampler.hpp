@@ -147,7 +147,7 @@ std::uint32_t permute(std::uint32_t i, std::uint32_t n, std::uint32_t key);
 
 namespace detail {
 
-constexpr std::uint32_t reverse_bits(std::uint32_t x) {
+[[gnu::always_inline]] constexpr std::uint32_t reverse_bits(std::uint32_t x) {
   x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
   x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
   x = ((x >> 4) & 0x0f0f0f0fu) | ((x & 0x0f0f0f0fu) << 4);
@@ -203,7 +203,7 @@ inline float unit(double x) {
 // Inline with the spec's precomputed grid: a draw is hashes, a permutation and
 // multiplications, with no division but the two that place the value in its cell
 // (kept in double so the numbers stay those of the original formula).
-inline Sample2 sample2(const SamplerSpec& spec, std::uint64_t pixel, std::uint32_t index,
+[[gnu::always_inline]] inline Sample2 sample2(const SamplerSpec& spec, std::uint64_t pixel, std::uint32_t index,
                        std::uint32_t dim) {
   std::uint64_t pixel_key = hash_combine(pixel, dim);
   switch (spec.kind) {
@@ -235,7 +235,7 @@ inline Sample2 sample2(const SamplerSpec& spec, std::uint64_t pixel, std::uint32
   return {};
 }
 
-inline float sample1(const SamplerSpec& spec, std::uint64_t pixel, std::uint32_t index,
+[[gnu::always_inline]] inline float sample1(const SamplerSpec& spec, std::uint64_t pixel, std::uint32_t index,
                      std::uint32_t dim) {
   if (spec.kind != ir::SamplerKind::Stratified) return sample2(spec, pixel, index, dim).u;
   // 1-D jitter over spp strata, the sample-to-stratum map a hashed permutation.
