@@ -203,8 +203,8 @@ inline float unit(double x) {
 // Inline with the spec's precomputed grid: a draw is hashes, a permutation and
 // multiplications, with no division but the two that place the value in its cell
 // (kept in double so the numbers stay those of the original formula).
-[[gnu::always_inline]] inline Sample2 sample2(const SamplerSpec& spec, std::uint64_t pixel, std::uint32_t index,
-                       std::uint32_t dim) {
+[[gnu::always_inline]] inline Sample2 sample2(const SamplerSpec& spec, std::uint64_t pixel,
+                                              std::uint32_t index, std::uint32_t dim) {
   std::uint64_t pixel_key = hash_combine(pixel, dim);
   switch (spec.kind) {
     case ir::SamplerKind::Independent: {
@@ -235,8 +235,8 @@ inline float unit(double x) {
   return {};
 }
 
-[[gnu::always_inline]] inline float sample1(const SamplerSpec& spec, std::uint64_t pixel, std::uint32_t index,
-                     std::uint32_t dim) {
+[[gnu::always_inline]] inline float sample1(const SamplerSpec& spec, std::uint64_t pixel,
+                                            std::uint32_t index, std::uint32_t dim) {
   if (spec.kind != ir::SamplerKind::Stratified) return sample2(spec, pixel, index, dim).u;
   // 1-D jitter over spp strata, the sample-to-stratum map a hashed permutation.
   std::uint64_t pixel_key = hash_combine(pixel, dim ^ 0x1d1du);

@@ -32,9 +32,13 @@ Lights::Lights(const ir::Scene& scene, ir::Vec3 o) {
     // Solid-angle sampling needs a rectangle; a parallelogram whose edges are not
     // perpendicular (to 1e-9 of their lengths) keeps area sampling.
     double l1 = ir::length(l.edge1), l2 = ir::length(l.edge2);
-    if (scene.settings.light_sampling == ir::LightSampling::SolidAngle && area > 0 &&
+    if (scene.settings.light_sampling != ir::LightSampling::Area && area > 0 &&
         std::fabs(ir::dot(l.edge1, l.edge2)) <= 1e-9 * l1 * l2) {
       f.solid_angle = true;
+      if (scene.settings.light_sampling == ir::LightSampling::Adaptive) {
+        double cu = l1 / f.nu, cv = l2 / f.nv;
+        f.near_cell2 = float((cu * cu + cv * cv) * (AreaLightF::kNearCell * AreaLightF::kNearCell));
+      }
       f.ux = l.edge1 / l1;
       f.uy = l.edge2 / l2;
       f.lx = l1;
@@ -79,7 +83,9 @@ std::string to_string(const AreaLightF& l) {
       "area_light_f {{ corner {} e1 {} e2 {} n {} area {} radiance {} grid {}x{} {} sampling {} }}",
       to_string(l.corner), to_string(l.e1), to_string(l.e2), to_string(l.n), l.area,
       to_string(l.radiance), l.nu, l.nv, l.two_sided ? "two_sided" : "one_sided",
-      l.solid_angle ? "solid_angle" : "area");
+      !l.solid_angle     ? "area"
+      : l.near_cell2 > 0 ? "adaptive"
+                         : "solid_angle");
 }
 
 }  // namespace snell::rt

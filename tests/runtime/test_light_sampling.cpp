@@ -152,3 +152,36 @@ TEST_CASE("light_sampling solid_angle applies to rectangles only", "[lights]") {
   // The double-precision corner is camera-relative, like the float one.
   CHECK(solid.areas[0].corner_d.y == 2.0);
 }
+
+// light_sampling "adaptive": solid angle for a cell the point is near (within
+// kNearCell cell diagonals of its centre), area for one far away; both unbiased.
+TEST_CASE("adaptive light sampling takes solid angle near the light, area far", "[lights]") {
+  ir::Scene scene;
+  ir::AreaLight rect;
+  rect.corner = ir::Vec3(-1, 1, -0.5);
+  rect.edge1 = ir::Vec3(2, 0, 0);  // cross(edge1, edge2) = -y: faces down
+  rect.edge2 = ir::Vec3(0, 0, 1);
+  rect.radiance = ir::Vec3(1, 1, 1);
+  scene.area_lights = {rect};
+  scene.settings.light_sampling = ir::LightSampling::Adaptive;
+  for (double h : {20.0, 0.2}) {
+    scene.area_lights[0].corner.y = h;
+    AreaLightF adaptive = Lights(scene, ir::Vec3(0, 0, 0)).areas[0];
+    REQUIRE(adaptive.solid_angle);
+    // The 2 × 1 cell's diagonal is √5: near below 4√5 = 8.9.
+    CHECK(adaptive.near_cell2 == Approx(16 * 5.0f));
+    CHECK(adaptive.near({0, 0, 0}, 0, 0) == (h < 8));
+    Moments m = moments(adaptive, {0, 0, 0}, 256);
+    AreaLightF as_area = adaptive, as_solid = adaptive;
+    as_area.solid_angle = false;
+    as_solid.near_cell2 = 0;  // solid angle everywhere
+    Moments area = moments(as_area, {0, 0, 0}, 256), solid = moments(as_solid, {0, 0, 0}, 256);
+    INFO("h = " << h);
+    CHECK(m.mean == Approx(4 * corner_irradiance(1.0, 0.5, h)).epsilon(5e-3));
+    // The very samples of the mode it picks.
+    const Moments& same = h < 8 ? solid : area;
+    CHECK(m.mean == same.mean);
+    CHECK(m.stddev == same.stddev);
+    if (h < 8) CHECK(m.stddev < 0.5 * area.stddev);
+  }
+}
