@@ -1,5 +1,6 @@
 #include "compiler/evaluator.hpp"
 
+#include <algorithm>
 #include <bitset>
 #include <cmath>
 
@@ -258,7 +259,12 @@ void Evaluator::hint_objects(const Stmt& loop, double from, double to, double by
     items += b && b->is_object;
   }
   if (items == 0) return;
-  double n = std::min(trips * static_cast<double>(items), static_cast<double>(kMaxSceneObjects));
+  // Each object item takes at least one evaluation step, so the loop cannot make
+  // more objects than the steps left (a fuzzed `for k in 0 .. 1e37` under a small
+  // budget reserved room for 20 M shapes, 2.2 GB, before the budget stopped it).
+  double left = step_budget_ > steps_ ? static_cast<double>(step_budget_ - steps_) : 0;
+  double n =
+      std::min({trips * static_cast<double>(items), static_cast<double>(kMaxSceneObjects), left});
   builder_.expect_objects(static_cast<std::size_t>(n));
 }
 

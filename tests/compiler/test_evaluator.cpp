@@ -307,6 +307,8 @@ TEST_CASE("runaway programs stop with an error at the place", "[compiler]") {
   auto c = run("for i in 0 .. 1e15 { }", o);
   CHECK(diag_kinds(*c) == "StepBudget ");
   CHECK(c->status == compile::CompileStatus::SceneErrors);
+  c = run("for i in 0 .. 1e37 { sphere { } }", o);
+  CHECK(diag_kinds(*c) == "StepBudget ");
 }
 
 TEST_CASE("non-finite values are errors at the expression", "[compiler]") {
