@@ -79,7 +79,6 @@ SphereData MovingSphereSet::at(const Moving& m, float time) {
   d.object_from_rel = t.inv;
   d.center = m.sphere.center;
   d.radius = m.sphere.radius;
-  d.shape = m.index;
   return d;
 }
 

@@ -20,18 +20,12 @@ namespace snell::rt::geom {
 // plane starts off it (sphere.cpp: why 8).
 inline constexpr double kSurfaceOffsetUlps = 8;
 
-// A sphere prepared for object-space intersection from camera-relative rays.
+// A moving sphere placed at a ray's time, for object-space intersection from
+// camera-relative rays.
 struct SphereData {
   ir::Mat4 object_from_rel;  // camera-relative world -> object space
   Vec3 center;
   double radius = 1;
-  // A similarity transform (rotation, uniform scale, translation) keeps a sphere a
-  // sphere: then it is intersected directly in camera-relative space, skipping the
-  // per-ray matrix products (most scenes' spheres).
-  bool similarity = false;
-  Vec3 rel_center;
-  double rel_radius = 1;
-  std::uint32_t shape = 0;
 };
 
 // Smallest and largest roots of |o + t d - c|² = r² in double, with the
@@ -93,15 +87,6 @@ inline bool hit_general_sphere(const ir::Mat4& object_from_rel, Vec3 center, dou
   if (!(t_out > tnear && t_out < tfar)) return false;
   n_out = to_float(nw.x, nw.y, nw.z);
   return true;
-}
-
-inline bool hit_sphere(const SphereData& s, float ox, float oy, float oz, float dx, float dy,
-                       float dz, float tnear, float tfar, float& t_out, Vec3f& n_out) {
-  if (s.similarity)
-    return hit_similar_sphere(s.rel_center, s.rel_radius, ox, oy, oz, dx, dy, dz, tnear, tfar,
-                              t_out, n_out);
-  return hit_general_sphere(s.object_from_rel, s.center, s.radius, ox, oy, oz, dx, dy, dz, tnear,
-                            tfar, t_out, n_out);
 }
 
 // Camera-relative bounds of the object-space box around sphere (c, r) under the
@@ -172,7 +157,9 @@ class MovingSphereSet {
   void bounds(unsigned prim, Box3& box) const;
   bool hit(unsigned prim, float time, Vec3f o, Vec3f d, float tnear, float tfar, float& t,
            Vec3f& n) const {
-    return hit_sphere(at(spheres_[prim], time), o.x, o.y, o.z, d.x, d.y, d.z, tnear, tfar, t, n);
+    SphereData s = at(spheres_[prim], time);
+    return hit_general_sphere(s.object_from_rel, s.center, s.radius, o.x, o.y, o.z, d.x, d.y, d.z,
+                              tnear, tfar, t, n);
   }
   // o + t·d, offset 0 (the Wächter–Binder offset covers its error).
   void refine(unsigned, const Ray& r, float t, Hit& hit) const {
