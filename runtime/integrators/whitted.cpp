@@ -241,6 +241,10 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
   node.key = kRootKey;
   if constexpr (K::interiors) node.interior = interiors_.camera();
   const auto& mats = scene_.materials;
+  // A node's children are collected here; kids[0] (the reflection) is traced next.
+  // Declared once per tree, not per node: spawn() sets every field, and building
+  // two default nodes per ray was a measurable part of this function.
+  N kids[2];
 
   for (;;) {
     double t_node = cost ? CostClock::now_ns() : 0, nested = 0;
@@ -276,8 +280,6 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
     std::string desc;
     Hit hit;
     Vec3f d = node.ray.dir;
-    // Children are collected here; kids[0] (the reflection) is traced next.
-    N kids[2];
     int nkids = 0;
     Vec3f p_surface;
     // The interior a refracted child starts with: the far side of a prioritised
@@ -386,10 +388,14 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
       // camera (for mirrored and refracted rays too: an estimate, not their own
       // differentials).
       // §17 "uv": the surface hit, found only when some image maps "uv".
-      SurfaceFrame surface;
+      // In the thread's scratch, not on this frame: a SurfaceFrame holds a Transform
+      // (280 bytes), and building an identity one per node (even an empty
+      // std::optional of one, which GCC zeroes) was 12 % of this function's time.
+      SurfaceFrame* surface = nullptr;
       if (maps_uv_) {
-        surface = surface_frame(scene_, shape, hit.part, hit.outer, 0, double(node.ray.time));
-        if (surface.leaf->kind() == ir::ShapeKind::Mesh) surface.tri = embree_.triangle_of(hit);
+        surface = &scratch.surface;
+        *surface = surface_frame(scene_, shape, hit.part, hit.outer, 0, double(node.ray.time));
+        if (surface->leaf->kind() == ir::ShapeKind::Mesh) surface->tri = embree_.triangle_of(hit);
       }
       const TexturePoint tex{p,
                              ng,
@@ -400,7 +406,7 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
                              images_,
                              images_ ? normalize(d) : Vec3f{},  // only images read these
                              images_ ? pixel_angle_ * length(p) : 0.0f,
-                             maps_uv_ ? &surface : nullptr};
+                             surface};
       // The lobes' normal: nf, or a smooth mesh's or a bump's (§16) shading normal made
       // valid for this viewer (hard case #20, shading/shading_normal.hpp).
       Vec3f ns_out = hit.ns;

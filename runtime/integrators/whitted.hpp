@@ -47,7 +47,6 @@ struct NodeOf {
   std::uint32_t depth = 0;  // reflection/refraction rays after the camera ray
   RayKind kind = RayKind::Camera;
   std::uint64_t key = 0;  // hashed path: names this node's sampler dimensions
-  std::int32_t trace_id = -1, trace_parent = -1;
   [[no_unique_address]] std::conditional_t<Tracked, Interior, NoInterior> interior;
 };
 using Node = NodeOf<false>;
@@ -68,6 +67,7 @@ class WhittedIntegrator final : public Integrator {
   struct Scratch {
     std::vector<NodeOf<false>> plain;
     std::vector<NodeOf<true>> tracked;  // kernels with interiors
+    SurfaceFrame surface;               // §17 "uv": the frame of the hit being shaded
     template <bool Tracked>
     auto& stack() {
       if constexpr (Tracked)

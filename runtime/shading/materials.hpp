@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <type_traits>
 #include <variant>
 
 #include "runtime/ir/ir.hpp"
@@ -34,14 +35,21 @@ struct Branch {
   From from = From::Outside;
 };
 
+// Every node of the ray tree builds one, so the branches past `count` are left
+// unset (a union): zeroing both for a diffuse hit that has none was 7 % of the ray
+// tree's own time.
 struct Scatter {
   std::optional<DiffuseLobe> lit;  // reflects the direct light (DiffuseLobe::reflect)
   Highlight highlight;             // §16: with lit, evaluated per light sample (off: S = 0)
-  Branch branches[2];
+  union {
+    Branch branches[2];  // the first `count` are set
+  };
   int count = 0;
   bool tir = false;  // a total internal reflection happened (--stats)
+  Scatter() {}
   void add(const Branch& b) { branches[count++] = b; }
 };
+static_assert(std::is_trivially_copyable_v<Branch> && std::is_trivially_destructible_v<Branch>);
 
 // What the scatter functions see at a hit. `draw1(what)` and `draw2(what)` draw
 // the node's sampler dimensions 9 (stochastic branch) and 7 (glossy square): only
@@ -50,7 +58,7 @@ template <class Draw1, class Draw2>
 struct ScatterContext {
   Vec3f wo, nf;  // towards the viewer; the normal on the ray's side
   bool entering;
-  TexturePoint tex;
+  const TexturePoint& tex;  // not a copy: one per node
   ir::FresnelMode fresnel;
   bool stochastic;  // settings.branching "stochastic"
   Draw1 draw1;

@@ -53,8 +53,9 @@ Counts run(bool repair, std::uint64_t seed) {
     float g1 = float(u01(rng)), g2 = float(u01(rng)), g3 = float(u01(rng));
     auto draw1 = [&] { return g1; };
     auto draw2 = [&] { return rt::Sample2{g2, g3}; };
+    const rt::TexturePoint tex{{0, 0, 0}, ngf, {}};
     rt::ScatterContext<decltype(draw1), decltype(draw2)> cx{
-        -d, frame.ns, entering, {{0, 0, 0}, ngf, {}}, ir::FresnelMode::Exact, false, draw1, draw2};
+        -d, frame.ns, entering, tex, ir::FresnelMode::Exact, false, draw1, draw2};
     for (const ir::Material& m : mats) {
       rt::Scatter s = rt::scatter(m, cx);
       for (int k = 0; k < s.count; ++k) {
