@@ -200,12 +200,38 @@ inline float unit(double x) {
 
 }  // namespace detail
 
+// What a draw needs of (seed, pixel, dimension): the same for every sample index of
+// a pixel, so a pixel loop computes it once per dimension (dim_key) and each draw
+// costs only its index's work. `key` is hash_combine(pixel, dim) (for a 1-D
+// stratified draw hash_combine(pixel, dim ^ 0x1d1d)); sobol also keeps the seeds of
+// its two value scrambles, which the other kinds leave 0.
+struct DimKey {
+  std::uint64_t key = 0;
+  std::uint32_t seed_u = 0, seed_v = 0;
+};
+[[gnu::always_inline]] inline DimKey dim_key(const SamplerSpec& spec, std::uint64_t pixel,
+                                             std::uint32_t dim) {
+  DimKey k{hash_combine(pixel, dim)};
+  if (spec.kind == ir::SamplerKind::Sobol) {
+    k.seed_u = std::uint32_t(hash64(k.key + 1));
+    k.seed_v = std::uint32_t(hash64(k.key + 2));
+  }
+  return k;
+}
+// The key of a 1-D draw (sample1): the stratified sampler stratifies a 1-D draw on
+// its own axis, under its own key; the others take the u of the 2-D draw.
+[[gnu::always_inline]] inline DimKey dim_key1(const SamplerSpec& spec, std::uint64_t pixel,
+                                              std::uint32_t dim) {
+  if (spec.kind == ir::SamplerKind::Stratified) return DimKey{hash_combine(pixel, dim ^ 0x1d1du)};
+  return dim_key(spec, pixel, dim);
+}
+
 // Inline with the spec's precomputed grid: a draw is hashes, a permutation and
 // multiplications, with no division but the two that place the value in its cell
 // (kept in double so the numbers stay those of the original formula).
-[[gnu::always_inline]] inline Sample2 sample2(const SamplerSpec& spec, std::uint64_t pixel,
-                                              std::uint32_t index, std::uint32_t dim) {
-  std::uint64_t pixel_key = hash_combine(pixel, dim);
+[[gnu::always_inline]] inline Sample2 sample2(const SamplerSpec& spec, const DimKey& dk,
+                                              std::uint32_t index) {
+  const std::uint64_t pixel_key = dk.key;
   switch (spec.kind) {
     case ir::SamplerKind::Independent: {
       std::uint64_t h = hash_combine(pixel_key, index);
@@ -225,27 +251,66 @@ inline float unit(double x) {
       // owen_scramble(x, s) = reverse(lk(reverse(x), s)); written out so that
       // reversals that cancel are not computed (dimension 0 is reverse(i)).
       std::uint32_t i = detail::owen_scramble(index, std::uint32_t(pixel_key));
-      std::uint32_t x =
-          detail::reverse_bits(detail::lk_permutation(i, std::uint32_t(hash64(pixel_key + 1))));
-      std::uint32_t y = detail::reverse_bits(
-          detail::lk_permutation(detail::reversed_sobol1(i), std::uint32_t(hash64(pixel_key + 2))));
+      std::uint32_t x = detail::reverse_bits(detail::lk_permutation(i, dk.seed_u));
+      std::uint32_t y =
+          detail::reverse_bits(detail::lk_permutation(detail::reversed_sobol1(i), dk.seed_v));
       return {to_unit_float(x), to_unit_float(y)};
     }
   }
   return {};
 }
 
-[[gnu::always_inline]] inline float sample1(const SamplerSpec& spec, std::uint64_t pixel,
-                                            std::uint32_t index, std::uint32_t dim) {
-  if (spec.kind != ir::SamplerKind::Stratified) return sample2(spec, pixel, index, dim).u;
+// A 1-D draw with its dim_key1.
+[[gnu::always_inline]] inline float sample1(const SamplerSpec& spec, const DimKey& dk,
+                                            std::uint32_t index) {
+  if (spec.kind != ir::SamplerKind::Stratified) {
+    // sobol's u needs neither the v scramble nor the second Sobol' dimension.
+    if (spec.kind == ir::SamplerKind::Sobol) {
+      std::uint32_t i = detail::owen_scramble(index, std::uint32_t(dk.key));
+      return to_unit_float(detail::reverse_bits(detail::lk_permutation(i, dk.seed_u)));
+    }
+    return sample2(spec, dk, index).u;
+  }
   // 1-D jitter over spp strata, the sample-to-stratum map a hashed permutation.
-  std::uint64_t pixel_key = hash_combine(pixel, dim ^ 0x1d1du);
+  const std::uint64_t pixel_key = dk.key;
   std::uint32_t cell = index < spec.n
                            ? permute(index, spec.div_n, spec.n_mask, std::uint32_t(pixel_key))
                            : std::uint32_t(hash_combine(pixel_key, index) % spec.n);
   float j = to_unit_float(std::uint32_t(hash_combine(pixel_key ^ 0x5bd1e995u, index)));
   return detail::unit((cell + double(j)) / spec.n);
 }
+
+[[gnu::always_inline]] inline Sample2 sample2(const SamplerSpec& spec, std::uint64_t pixel,
+                                              std::uint32_t index, std::uint32_t dim) {
+  return sample2(spec, dim_key(spec, pixel, dim), index);
+}
+[[gnu::always_inline]] inline float sample1(const SamplerSpec& spec, std::uint64_t pixel,
+                                            std::uint32_t index, std::uint32_t dim) {
+  return sample1(spec, dim_key1(spec, pixel, dim), index);
+}
+
+// A pixel's keys of the dimensions its ray trees draw, remembered across its
+// samples: a ray tree's per-node dimensions (an area light's cells at the first
+// hit, a glossy lobe) are the same for every sample of a pixel that reaches the
+// same node, so most draws find their key here. Direct-mapped on the dimension;
+// the tag tells a 2-D key from a 1-D one. Purely a cache: a draw gives the same
+// number with or without it.
+struct DimCache {
+  static constexpr std::uint32_t kSlots = 16;
+  std::uint64_t tag[kSlots] = {};  // 0: empty; else dim | (1 or 2) << 32
+  DimKey key[kSlots];
+  template <bool one_d>
+  [[gnu::always_inline]] const DimKey& get(const SamplerSpec& spec, std::uint64_t pixel,
+                                           std::uint32_t dim) {
+    const std::uint64_t t = dim | (std::uint64_t(one_d ? 2 : 1) << 32);
+    const std::uint32_t slot = (dim ^ (dim >> 7)) & (kSlots - 1);
+    if (tag[slot] != t) {
+      tag[slot] = t;
+      key[slot] = one_d ? dim_key1(spec, pixel, dim) : dim_key(spec, pixel, dim);
+    }
+    return key[slot];
+  }
+};
 
 inline Sample2 sample2(const SamplerSpec& spec, std::uint32_t px, std::uint32_t py,
                        std::uint32_t index, std::uint32_t dim) {

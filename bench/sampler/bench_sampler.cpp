@@ -60,6 +60,37 @@ Result round(const SamplerSpec& spec, std::uint32_t spp, std::uint32_t pixels,
   return {ns / double(draws), sum};
 }
 
+// The same draws as the render loop makes them: the fixed dimensions' keys once per
+// pixel (dim_key), the per-node ones through the pixel's DimCache. Its checksum must
+// equal round()'s: the keys change the cost, never the numbers.
+Result round_keyed(const SamplerSpec& spec, std::uint32_t spp, std::uint32_t pixels,
+                   std::uint32_t node_dims) {
+  auto t0 = std::chrono::steady_clock::now();
+  std::uint64_t sum = 0, draws = 0;
+  for (std::uint32_t p = 0; p < pixels; ++p) {
+    std::uint32_t px = p % 640, py = p / 640;
+    std::uint64_t pixel = pixel_hash(spec, px, py);
+    const DimKey film = dim_key(spec, pixel, kDimPixel), lens = dim_key(spec, pixel, kDimLens);
+    const DimKey time = dim_key1(spec, pixel, kDimTime);
+    DimCache cache;
+    for (std::uint32_t s = 0; s < spp; ++s) {
+      Sample2 a = sample2(spec, film, s);
+      Sample2 b = sample2(spec, lens, s);
+      float t = sample1(spec, time, s);
+      sum = sum * 31 + bits(a.u) + 3 * bits(a.v) + 5 * bits(b.u) + 7 * bits(b.v) + 11 * bits(t);
+      for (std::uint32_t d = 0; d < node_dims; ++d) {
+        std::uint32_t dim = 0x9e3779b9u * (d + 17);
+        Sample2 c = sample2(spec, cache.get<false>(spec, pixel, dim), s);
+        sum = sum * 31 + bits(c.u) + 3 * bits(c.v);
+      }
+      draws += 3 + node_dims;
+    }
+  }
+  double ns =
+      std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - t0).count();
+  return {ns / double(draws), sum};
+}
+
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return v[v.size() / 2];
@@ -82,23 +113,32 @@ int main(int argc, char** argv) {
   }
   const ir::SamplerKind kinds[] = {ir::SamplerKind::Independent, ir::SamplerKind::Stratified,
                                    ir::SamplerKind::Sobol};
-  std::printf("%-6s %-11s %10s %9s  %s\n", "spp", "sampler", "ns/draw", "÷indep", "checksum");
+  std::printf("%-6s %-11s %10s %9s %12s %9s  %s\n", "spp", "sampler", "ns/draw", "÷indep",
+              "keyed ns", "÷indep", "checksum");
   for (std::uint32_t spp : {1u, 4u, 16u, 64u, 100u}) {
     // Fewer pixels at high counts, so every row draws about as many numbers.
     std::uint32_t px = std::max<std::uint32_t>(1, pixels * 16 / spp);
-    std::vector<double> ns[3];
-    std::uint64_t sums[3] = {};
+    std::vector<double> ns[3], keyed[3];
+    std::uint64_t sums[3] = {}, keyed_sums[3] = {};
     for (int r = 0; r < rounds; ++r)
       for (int k = 0; k < 3; ++k) {
         Result res = round(SamplerSpec{kinds[k], 7, spp}, spp, px, 16);
         ns[k].push_back(res.ns_per_draw);
         sums[k] = res.checksum;
+        res = round_keyed(SamplerSpec{kinds[k], 7, spp}, spp, px, 16);
+        keyed[k].push_back(res.ns_per_draw);
+        keyed_sums[k] = res.checksum;
       }
-    double base = median(ns[0]);
-    for (int k = 0; k < 3; ++k)
-      std::printf("%-6u %-11s %10.2f %9.2f  %016llx\n", spp,
+    double base = median(ns[0]), keyed_base = median(keyed[0]);
+    for (int k = 0; k < 3; ++k) {
+      std::printf("%-6u %-11s %10.2f %9.2f %12.2f %9.2f  %016llx\n", spp,
                   std::string(ir::to_string(kinds[k])).c_str(), median(ns[k]), median(ns[k]) / base,
-                  (unsigned long long)sums[k]);
+                  median(keyed[k]), median(keyed[k]) / keyed_base, (unsigned long long)sums[k]);
+      if (keyed_sums[k] != sums[k]) {
+        std::fprintf(stderr, "bench_sampler: keyed draws differ from the plain ones\n");
+        return 1;
+      }
+    }
   }
   return 0;
 }

@@ -209,7 +209,7 @@ Color WhittedIntegrator::direct(Vec3f p, Vec3f o, Vec3f nf, float time, std::uin
     for (std::uint32_t iv = 0; iv < l.nv; ++iv)
       for (std::uint32_t iu = 0; iu < l.nu; ++iu) {
         std::uint32_t dim = node_dim(key, (std::uint64_t(li + 1) << 40) | (iv << 20) | iu);
-        Sample2 s = sample2(sc.spec, sc.pixel, sc.index, dim);
+        Sample2 s = draw2(sc, dim);
         if (!l.sample_li(p, o, nf, time, iu, iv, s.u, s.v, offset_scale_, ls)) continue;
         ++stats.shadow_rays;
         Color tr(1);
@@ -298,8 +298,7 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
         // probability q = weight / min_weight and divides its weight by q, so
         // its expected contribution is unchanged.
         float q = max_component(w) / min_weight_;
-        if (!roulette_ ||
-            sample1(sc.spec, sc.pixel, sc.index, node_dim(child_key(node.key, slot), 11)) >= q) {
+        if (!roulette_ || draw1(sc, node_dim(child_key(node.key, slot), 11)) >= q) {
           ++stats.pruned_by_weight;
           return;
         }
@@ -458,10 +457,10 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
       }
       // Where rays leaving on the ray's side start (shadow and reflection rays).
       const Vec3f o_out = spawn_origin(hit, nf, offset_scale_);
-      auto draw1 = [&] { return sample1(sc.spec, sc.pixel, sc.index, node_dim(node.key, 9)); };
-      auto draw2 = [&] { return sample2(sc.spec, sc.pixel, sc.index, node_dim(node.key, 7)); };
-      ScatterContext<decltype(draw1), decltype(draw2)> cx{
-          -d, frame.ns, entering, tex, fresnel_, stochastic_branching_, draw1, draw2};
+      auto lobe1 = [&] { return draw1(sc, node_dim(node.key, 9)); };
+      auto lobe2 = [&] { return draw2(sc, node_dim(node.key, 7)); };
+      ScatterContext<decltype(lobe1), decltype(lobe2)> cx{
+          -d, frame.ns, entering, tex, fresnel_, stochastic_branching_, lobe1, lobe2};
       if (shaded) {
         const Scatter s = [&] {
           if constexpr (K::interiors) {

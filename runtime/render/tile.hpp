@@ -61,12 +61,34 @@ struct Worker {
 };
 
 // Where a camera sample comes from: the sampler inputs the tree draws dimensions from.
+// `dims`, when set, is the pixel's key cache (DimCache): the same numbers, fewer hashes.
 struct SampleContext {
   SamplerSpec spec;
   std::uint32_t px = 0, py = 0, index = 0;
   std::uint64_t pixel = 0;  // pixel_hash(spec, px, py)
+  DimCache* dims = nullptr;
 };
 std::string to_string(const SampleContext& c);
+
+// Dimension `dim` of the sample: what sample2 / sample1 give for (pixel, index, dim).
+[[gnu::always_inline]] inline Sample2 draw2(const SampleContext& sc, std::uint32_t dim) {
+  if (sc.dims) return sample2(sc.spec, sc.dims->get<false>(sc.spec, sc.pixel, dim), sc.index);
+  return sample2(sc.spec, sc.pixel, sc.index, dim);
+}
+[[gnu::always_inline]] inline float draw1(const SampleContext& sc, std::uint32_t dim) {
+  if (sc.dims) return sample1(sc.spec, sc.dims->get<true>(sc.spec, sc.pixel, dim), sc.index);
+  return sample1(sc.spec, sc.pixel, sc.index, dim);
+}
+
+// A pixel's keys of the camera's fixed dimensions (film, lens, time).
+struct CameraKeys {
+  DimKey film, lens, time;
+  CameraKeys() = default;
+  CameraKeys(const SamplerSpec& spec, std::uint64_t pixel)
+      : film(dim_key(spec, pixel, kDimPixel)),
+        lens(dim_key(spec, pixel, kDimLens)),
+        time(dim_key1(spec, pixel, kDimTime)) {}
+};
 
 // A deterministic 1-in-kCostStride choice of camera samples to time; it never
 // changes the picture.
@@ -80,19 +102,19 @@ inline bool timed_sample(std::uint32_t x, std::uint32_t y, std::uint32_t s) {
 
 // Camera sample s of pixel (x, y): the ray, its lens and time samples drawn.
 template <class K>
-Ray camera_ray(const TileContext& c, std::uint64_t pixel, std::uint32_t x, std::uint32_t y,
+Ray camera_ray(const TileContext& c, const CameraKeys& keys, std::uint32_t x, std::uint32_t y,
                std::uint32_t s, RenderStats& stats) {
-  Sample2 j = sample2(c.spec, pixel, s, kDimPixel);
+  Sample2 j = sample2(c.spec, keys.film, s);
   Ray ray;
   if constexpr (K::lens) {
-    Sample2 l = sample2(c.spec, pixel, s, kDimLens);
+    Sample2 l = sample2(c.spec, keys.lens, s);
     ray = c.camera->generate(x + double(j.u), y + double(j.v), l.u, l.v);
     ++stats.lens_samples;
   } else {
     ray = c.camera->generate(x + double(j.u), y + double(j.v));
   }
   if constexpr (K::time) {
-    ray.time = c.motion_on ? sample1(c.spec, pixel, s, kDimTime) : 0.0f;
+    ray.time = c.motion_on ? sample1(c.spec, keys.time, s) : 0.0f;
     ++stats.time_samples;
   }
   return ray;
@@ -117,6 +139,8 @@ void render_tile_packets(const TileContext& c, std::uint32_t x0, std::uint32_t y
   Hit hits[kN];
   std::uint8_t found[kN];
   std::uint64_t pixel[kN];
+  CameraKeys keys[kN];
+  DimCache dims[kN];
   double sum[kN][3];
   std::uint32_t kept[kN], px[kN], py[kN];
   for (std::uint32_t by = y0; by < y1; by += kBlock)
@@ -125,15 +149,17 @@ void render_tile_packets(const TileContext& c, std::uint32_t x0, std::uint32_t y
       for (std::uint32_t y = by; y < std::min(y1, by + kBlock); ++y)
         for (std::uint32_t x = bx; x < std::min(x1, bx + kBlock); ++x, ++n) {
           px[n] = x, py[n] = y, pixel[n] = pixel_hash(c.spec, x, y);
+          keys[n] = CameraKeys(c.spec, pixel[n]);
+          dims[n] = DimCache();
           sum[n][0] = sum[n][1] = sum[n][2] = 0, kept[n] = 0;
         }
       for (std::uint32_t s = c.sample_begin; s < c.sample_end; ++s) {
         for (std::uint32_t i = 0; i < n; ++i)
-          rays[i] = camera_ray<K>(c, pixel[i], px[i], py[i], s, stats);
+          rays[i] = camera_ray<K>(c, keys[i], px[i], py[i], s, stats);
         c.embree->intersect(std::span<const Ray>(rays, n), std::span<Hit>(hits, n),
                             std::span<std::uint8_t>(found, n));
         for (std::uint32_t i = 0; i < n; ++i) {
-          SampleContext sc{c.spec, px[i], py[i], s, pixel[i]};
+          SampleContext sc{c.spec, px[i], py[i], s, pixel[i], &dims[i]};
           Probe<false> probe{stats};
           PrimaryHit primary{&hits[i], found[i] != 0};
           Color col = integrator.template radiance<K>(rays[i], sc, scratch, probe, &primary);
@@ -178,17 +204,19 @@ void render_tile(const TileContext& c, std::uint32_t tile, Worker& wk) {
       bool tracing = c.options->trace_pixel && c.options->trace_pixel->first == x &&
                      c.options->trace_pixel->second == y;
       const std::uint64_t pixel = pixel_hash(spec, x, y);
+      const CameraKeys keys(spec, pixel);
+      DimCache dims;
       double sum[3] = {0, 0, 0};
       std::uint32_t kept = 0;
       for (std::uint32_t s = c.sample_begin; s < c.sample_end; ++s) {
         bool timed = c.measure_cost && timed_sample(x, y, s);
         double t_cam = timed ? CostClock::now_ns() : 0, t_effects = 0;
-        SampleContext sc{spec, x, y, s, pixel};
-        Sample2 j = sample2(spec, pixel, s, kDimPixel);
+        SampleContext sc{spec, x, y, s, pixel, &dims};
+        Sample2 j = sample2(spec, keys.film, s);
         Ray ray;
         if constexpr (K::lens) {
           double t0 = timed ? CostClock::now_ns() : 0;
-          Sample2 l = sample2(spec, pixel, s, kDimLens);
+          Sample2 l = sample2(spec, keys.lens, s);
           ray = c.camera->generate(x + double(j.u), y + double(j.v), l.u, l.v);
           ++stats.lens_samples;
           if (timed) {
@@ -201,7 +229,7 @@ void render_tile(const TileContext& c, std::uint32_t tile, Worker& wk) {
         }
         if constexpr (K::time) {
           double t0 = timed ? CostClock::now_ns() : 0;
-          float u = sample1(spec, pixel, s, kDimTime);
+          float u = sample1(spec, keys.time, s);
           // Shutter fraction in [0, 1): exactly what Embree's ray time means.
           ray.time = c.motion_on ? u : 0.0f;
           ++stats.time_samples;

@@ -199,6 +199,37 @@ TEST_CASE("the precomputed samplers draw the numbers of the original formulas", 
   CHECK(mismatches == 0);
 }
 
+TEST_CASE("keyed draws and the pixel's key cache give the unkeyed numbers", "[sampler]") {
+  // More dimensions than the cache has slots, drawn in an order that makes them
+  // evict each other, each both as 2-D and as 1-D (the tags keep them apart).
+  std::vector<std::uint32_t> dims = {0, 1, 2, 3, 0xffffffffu};
+  for (std::uint32_t d = 0; d < 3 * DimCache::kSlots; ++d) dims.push_back(0x9e3779b9u * (d + 17));
+  std::uint64_t mismatches = 0, draws = 0;
+  for (auto kind :
+       {ir::SamplerKind::Independent, ir::SamplerKind::Stratified, ir::SamplerKind::Sobol})
+    for (std::uint32_t spp : {1u, 5u, 16u, 100u}) {
+      SamplerSpec spec{kind, 0x77 + spp, spp};
+      for (std::uint32_t p = 0; p < 4; ++p) {
+        std::uint64_t pixel = pixel_hash(spec, p * 5, p * 11);
+        DimCache cache;
+        for (std::uint32_t i = 0; i < spp + 2; ++i)
+          for (std::uint32_t dim : dims) {
+            Sample2 a = sample2(spec, pixel, i, dim);
+            Sample2 b = sample2(spec, dim_key(spec, pixel, dim), i);
+            Sample2 c = sample2(spec, cache.get<false>(spec, pixel, dim), i);
+            float e = sample1(spec, pixel, i, dim);
+            float f = sample1(spec, dim_key1(spec, pixel, dim), i);
+            float g = sample1(spec, cache.get<true>(spec, pixel, dim), i);
+            mismatches +=
+                (a.u != b.u) + (a.v != b.v) + (a.u != c.u) + (a.v != c.v) + (e != f) + (e != g);
+            ++draws;
+          }
+      }
+    }
+  INFO(draws << " draws");
+  CHECK(mismatches == 0);
+}
+
 TEST_CASE("the exact divisor agrees with division for every kind of divisor", "[sampler]") {
   for (std::uint32_t d :
        {1u, 2u, 3u, 7u, 10u, 255u, 256u, 65535u, 1000003u, 0x7fffffffu, 0xfffffffeu, 0xffffffffu}) {
