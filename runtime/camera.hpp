@@ -22,26 +22,36 @@
 
 namespace snell::rt {
 
+// cos t and sin t for |t| <= π/4, as Taylor polynomials to t^10 and t^9 (truncation
+// below 3e-8 there, under float's half ulp of the results): inline and branch-free,
+// so a block of lens samples vectorises, where libm's sincosf is a call per sample.
+inline float cos_quarter(float t) {
+  float t2 = t * t;
+  return 1 + t2 * (-0.5f + t2 * (1 / 24.0f + t2 * (-1 / 720.0f +
+                                                   t2 * (1 / 40320.0f + t2 * (-1 / 3628800.0f)))));
+}
+inline float sin_quarter(float t) {
+  float t2 = t * t;
+  return t + t * t2 * (-1 / 6.0f + t2 * (1 / 120.0f + t2 * (-1 / 5040.0f + t2 * (1 / 362880.0f))));
+}
+
 // Shirley–Chiu concentric map of [0,1)² onto the unit disk: uniform in area, and
 // it keeps strata compact (better than the polar map for stratified samplers).
-// (0.5, 0.5) maps to the centre without dividing 0 by 0.
+// The angle is π/4 · q/r with r the larger of the two coordinates (in magnitude), so
+// only |t| <= π/4 is ever needed; (0.5, 0.5) maps to the centre (r = 0).
 inline void concentric_disk(float u, float v, float& x, float& y) {
-  float a = 2 * u - 1, b = 2 * v - 1;
-  if (a == 0 && b == 0) {
-    x = y = 0;
-    return;
-  }
   constexpr float kQuarterPi = 0.785398163397448309616f;
-  float r, phi;
-  if (std::fabs(a) > std::fabs(b)) {
-    r = a;
-    phi = kQuarterPi * (b / a);
-  } else {
-    r = b;
-    phi = 2 * kQuarterPi - kQuarterPi * (a / b);
-  }
-  x = r * std::cos(phi);
-  y = r * std::sin(phi);
+  float a = 2 * u - 1, b = 2 * v - 1;
+  bool wide = std::fabs(a) > std::fabs(b);
+  float r = wide ? a : b, q = wide ? b : a;
+  // |q| <= |r|, and r = 0 only with q = 0, where 0/0 gives NaN: then t = 0. (Not
+  // q / (r != 0 ? r : 1): GCC turns that into a branch, and the loop stays scalar.)
+  float ratio = q / r;
+  float t = kQuarterPi * (ratio == ratio ? ratio : 0);
+  float c = cos_quarter(t), s = sin_quarter(t);
+  // wide: φ = t; else φ = π/2 − t, whose cosine and sine are sin t and cos t.
+  x = r * (wide ? c : s);
+  y = r * (wide ? s : c);
 }
 
 class Camera {
@@ -58,33 +68,71 @@ class Camera {
     tan_y_ = width ? tx * double(height) / double(width) : tx;
     width_ = width;
     height_ = height;
+    film_x_ = 2 * tan_x_ / (width ? width : 1);
+    film_y_ = 2 * tan_y_ / (height ? height : 1);
     lens_radius_ = c.aperture > 0 ? float(c.aperture * 0.5) : 0.0f;
-    focal_distance_ = float(c.focal_distance);
+    inv_focal_ = float(1 / c.focal_distance);
   }
 
   bool has_lens() const { return lens_radius_ > 0; }
 
   // (fx, fy): film position in pixels, (0, 0) the top-left corner of the image.
   // (lens_u, lens_v): the lens sample, used only when the camera has a lens.
+  // One ray; the same as generate_block's for the same inputs.
   Ray generate(double fx, double fy, float lens_u = 0.5f, float lens_v = 0.5f) const {
-    double sx = (2 * fx / width_ - 1) * tan_x_;
-    double sy = (1 - 2 * fy / height_) * tan_y_;
-    Vec3f d = forward_ + right_ * float(sx) + up_ * float(sy);  // forward component 1
     Ray r;
-    if (lens_radius_ > 0) {
-      float lx, ly;
-      concentric_disk(lens_u, lens_v, lx, ly);
-      Vec3f focus = d * focal_distance_;
-      r.org = right_ * (lx * lens_radius_) + up_ * (ly * lens_radius_);
-      // In double: with a wide fov and a far focal plane |focus|² overflows float.
-      ir::Vec3 w(double(focus.x) - r.org.x, double(focus.y) - r.org.y, double(focus.z) - r.org.z);
-      w = ir::normalize(w);
-      r.dir = to_float(w.x, w.y, w.z);
-      return r;
-    }
-    r.org = Vec3f(0, 0, 0);
-    r.dir = normalize(d);
+    generate_block(1, &fx, &fy, &lens_u, &lens_v, &r);
     return r;
+  }
+
+  // n <= kMaxBlock rays at once: film points (fx[i], fy[i]) and, with a lens, lens
+  // samples (lu[i], lv[i]). The lanes are independent and branch-free, so the loop
+  // vectorises; each lane computes exactly what a lone ray would.
+  static constexpr std::uint32_t kMaxBlock = 16;
+  [[gnu::always_inline]] void generate_block(std::uint32_t n, const double* fx, const double* fy,
+                                             const float* lu, const float* lv, Ray* out) const {
+    float dx[kMaxBlock], dy[kMaxBlock], dz[kMaxBlock];
+    float ox[kMaxBlock] = {}, oy[kMaxBlock] = {}, oz[kMaxBlock] = {};
+    for (std::uint32_t i = 0; i < n; ++i) {
+      // The film point in double: fx carries a pixel index and a 24-bit fraction.
+      float sx = float(fx[i] * film_x_ - tan_x_), sy = float(tan_y_ - fy[i] * film_y_);
+      dx[i] = forward_.x + right_.x * sx + up_.x * sy;  // forward component 1
+      dy[i] = forward_.y + right_.y * sx + up_.y * sy;
+      dz[i] = forward_.z + right_.z * sx + up_.z * sy;
+    }
+    if (lens_radius_ > 0) {
+      for (std::uint32_t i = 0; i < n; ++i) {
+        float lx, ly;
+        concentric_disk(lu[i], lv[i], lx, ly);
+        lx *= lens_radius_, ly *= lens_radius_;
+        ox[i] = right_.x * lx + up_.x * ly;
+        oy[i] = right_.y * lx + up_.y * ly;
+        oz[i] = right_.z * lx + up_.z * ly;
+        // Towards the focal plane's point d · focal_distance: the direction d − org /
+        // focal_distance, divided by its largest component before it is squared,
+        // since with a wide fov and a lens far larger than the focal distance its
+        // square overflows float (its forward component is 1: it is never 0).
+        float wx = dx[i] - ox[i] * inv_focal_, wy = dy[i] - oy[i] * inv_focal_;
+        float wz = dz[i] - oz[i] * inv_focal_;
+        float ax = std::fabs(wx), ay = std::fabs(wy), az = std::fabs(wz);
+        float m = ax > ay ? ax : ay;
+        m = m > az ? m : az;
+        float s = 1 / m;
+        wx *= s, wy *= s, wz *= s;
+        float inv_len = 1 / std::sqrt(wx * wx + wy * wy + wz * wz);
+        dx[i] = wx * inv_len, dy[i] = wy * inv_len, dz[i] = wz * inv_len;
+      }
+    } else {
+      for (std::uint32_t i = 0; i < n; ++i) {
+        float len = std::sqrt(dx[i] * dx[i] + dy[i] * dy[i] + dz[i] * dz[i]);
+        dx[i] /= len, dy[i] /= len, dz[i] /= len;
+      }
+    }
+    for (std::uint32_t i = 0; i < n; ++i) {
+      out[i] = Ray();
+      out[i].org = Vec3f(ox[i], oy[i], oz[i]);
+      out[i].dir = Vec3f(dx[i], dy[i], dz[i]);
+    }
   }
 
   std::string to_string() const;
@@ -92,8 +140,9 @@ class Camera {
  private:
   Vec3f forward_, right_, up_;
   double tan_x_ = 1, tan_y_ = 1;
+  double film_x_ = 2, film_y_ = 2;  // d(sx)/d(fx), -d(sy)/d(fy): 2 tan / pixels
   std::uint32_t width_ = 1, height_ = 1;
-  float lens_radius_ = 0, focal_distance_ = 1;
+  float lens_radius_ = 0, inv_focal_ = 1;
 };
 
 using PinholeCamera = Camera;  // the name before depth of field

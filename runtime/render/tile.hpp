@@ -100,24 +100,32 @@ inline bool timed_sample(std::uint32_t x, std::uint32_t y, std::uint32_t s) {
   return (h & (kCostStride - 1)) == 0;
 }
 
-// Camera sample s of pixel (x, y): the ray, its lens and time samples drawn.
+// Camera sample s of n pixels (px[i], py[i]): the rays, their lens and time samples
+// drawn. The draws go pixel by pixel, the rays as one block (Camera::generate_block):
+// each ray is what Camera::generate makes of its draws.
 template <class K>
-Ray camera_ray(const TileContext& c, const CameraKeys& keys, std::uint32_t x, std::uint32_t y,
-               std::uint32_t s, RenderStats& stats) {
-  Sample2 j = sample2(c.spec, keys.film, s);
-  Ray ray;
-  if constexpr (K::lens) {
-    Sample2 l = sample2(c.spec, keys.lens, s);
-    ray = c.camera->generate(x + double(j.u), y + double(j.v), l.u, l.v);
-    ++stats.lens_samples;
-  } else {
-    ray = c.camera->generate(x + double(j.u), y + double(j.v));
+void camera_rays(const TileContext& c, std::uint32_t n, const CameraKeys* keys,
+                 const std::uint32_t* px, const std::uint32_t* py, std::uint32_t s, Ray* rays,
+                 RenderStats& stats) {
+  double fx[Camera::kMaxBlock], fy[Camera::kMaxBlock];
+  float lu[Camera::kMaxBlock], lv[Camera::kMaxBlock];
+  for (std::uint32_t i = 0; i < n; ++i) {
+    Sample2 j = sample2(c.spec, keys[i].film, s);
+    fx[i] = px[i] + double(j.u), fy[i] = py[i] + double(j.v);
+    if constexpr (K::lens) {
+      Sample2 l = sample2(c.spec, keys[i].lens, s);
+      lu[i] = l.u, lv[i] = l.v;
+    } else {
+      lu[i] = lv[i] = 0.5f;
+    }
   }
+  c.camera->generate_block(n, fx, fy, lu, lv, rays);
+  if constexpr (K::lens) stats.lens_samples += n;
   if constexpr (K::time) {
-    ray.time = c.motion_on ? sample1(c.spec, keys.time, s) : 0.0f;
-    ++stats.time_samples;
+    for (std::uint32_t i = 0; i < n; ++i)
+      rays[i].time = c.motion_on ? sample1(c.spec, keys[i].time, s) : 0.0f;
+    stats.time_samples += n;
   }
-  return ray;
 }
 
 // The tile in blocks of kBlock × kBlock pixels: sample s of every pixel of a block
@@ -135,6 +143,7 @@ void render_tile_packets(const TileContext& c, std::uint32_t x0, std::uint32_t y
   const Image& img = *c.img;
   RenderStats& stats = wk.stats;
   constexpr std::uint32_t kN = kBlock * kBlock;
+  static_assert(kN <= Camera::kMaxBlock);
   Ray rays[kN];
   Hit hits[kN];
   std::uint8_t found[kN];
@@ -154,8 +163,7 @@ void render_tile_packets(const TileContext& c, std::uint32_t x0, std::uint32_t y
           sum[n][0] = sum[n][1] = sum[n][2] = 0, kept[n] = 0;
         }
       for (std::uint32_t s = c.sample_begin; s < c.sample_end; ++s) {
-        for (std::uint32_t i = 0; i < n; ++i)
-          rays[i] = camera_ray<K>(c, keys[i], px[i], py[i], s, stats);
+        camera_rays<K>(c, n, keys, px, py, s, rays, stats);
         c.embree->intersect(std::span<const Ray>(rays, n), std::span<Hit>(hits, n),
                             std::span<std::uint8_t>(found, n));
         for (std::uint32_t i = 0; i < n; ++i) {
