@@ -100,8 +100,10 @@ inline std::uint64_t pixel_hash(const SamplerSpec& spec, std::uint32_t px, std::
 }
 
 // 24-bit float in [0, 1) from the top bits of a 32-bit integer.
+// (Through int32, exact below 2^24: SSE2 converts only signed integers, so an
+// unsigned conversion keeps a loop of draws from vectorising.)
 inline float to_unit_float(std::uint32_t bits) {
-  return static_cast<float>(bits >> 8) * (1.0f / 16777216.0f);
+  return static_cast<float>(static_cast<std::int32_t>(bits >> 8)) * (1.0f / 16777216.0f);
 }
 // 2^ceil(log2 n) - 1 (0 for n <= 1): the domain mask of permute().
 inline std::uint32_t permute_mask(std::uint32_t n) {
@@ -287,6 +289,65 @@ struct DimKey {
 [[gnu::always_inline]] inline float sample1(const SamplerSpec& spec, std::uint64_t pixel,
                                             std::uint32_t index, std::uint32_t dim) {
   return sample1(spec, dim_key1(spec, pixel, dim), index);
+}
+
+// One sobol dimension pair of up to kLanes pixels, as arrays of their DimKeys'
+// seeds: sobol2_lanes draws one sample index for all of them four lanes at a time,
+// in GCC/clang vector types (SSE2 on x86-64, NEON on ARM; plain loops would stay
+// scalar, as GCC turns the bit reversal into a scalar bswap). Each lane draws
+// exactly what sample2(spec, its key, index) does (tests/runtime/test_sampler.cpp).
+struct SobolLanes {
+  static constexpr std::uint32_t kLanes = 16;
+  alignas(16) std::uint32_t index_seed[kLanes] = {}, seed_u[kLanes] = {}, seed_v[kLanes] = {};
+  void set(std::uint32_t lane, const DimKey& k) {
+    index_seed[lane] = std::uint32_t(k.key), seed_u[lane] = k.seed_u, seed_v[lane] = k.seed_v;
+  }
+};
+
+namespace detail {
+using U32x4 = std::uint32_t __attribute__((vector_size(16)));
+using I32x4 = std::int32_t __attribute__((vector_size(16)));
+using F32x4 = float __attribute__((vector_size(16)));
+// reverse_bits, lk_permutation and to_unit_float of four lanes.
+inline U32x4 reverse_bits4(U32x4 x) {
+  x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
+  x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
+  x = ((x >> 4) & 0x0f0f0f0fu) | ((x & 0x0f0f0f0fu) << 4);
+  x = ((x >> 8) & 0x00ff00ffu) | ((x & 0x00ff00ffu) << 8);
+  return (x >> 16) | (x << 16);
+}
+inline U32x4 lk_permutation4(U32x4 x, U32x4 seed) {
+  x += seed;
+  x ^= x * 0x6c50b47cu;
+  x ^= x * 0xb82f1e52u;
+  x ^= x * 0xc7afe638u;
+  x ^= x * 0x8d22f6e6u;
+  return x;
+}
+inline F32x4 to_unit_float4(U32x4 bits) {
+  return __builtin_convertvector(I32x4(bits >> 8), F32x4) * (1.0f / 16777216.0f);
+}
+}  // namespace detail
+
+// u[0, n), v[0, n) (both with room for kLanes rounded up to 4).
+inline void sobol2_lanes(const SobolLanes& k, std::uint32_t n, std::uint32_t index, float* u,
+                         float* v) {
+  using namespace detail;
+  for (std::uint32_t l = 0; l < n; l += 4) {
+    U32x4 seed0, su, sv;
+    __builtin_memcpy(&seed0, k.index_seed + l, 16);
+    __builtin_memcpy(&su, k.seed_u + l, 16);
+    __builtin_memcpy(&sv, k.seed_v + l, 16);
+    const U32x4 idx = U32x4{} + index;
+    // owen_scramble(index, seed0), then dimension 0 is reverse(i) scrambled.
+    U32x4 i = reverse_bits4(lk_permutation4(reverse_bits4(idx), seed0));
+    F32x4 fu = to_unit_float4(reverse_bits4(lk_permutation4(i, su)));
+    U32x4 s1 = {reversed_sobol1(i[0]), reversed_sobol1(i[1]), reversed_sobol1(i[2]),
+                reversed_sobol1(i[3])};
+    F32x4 fv = to_unit_float4(reverse_bits4(lk_permutation4(s1, sv)));
+    __builtin_memcpy(u + l, &fu, 16);
+    __builtin_memcpy(v + l, &fv, 16);
+  }
 }
 
 // A pixel's keys of the dimensions its ray trees draw, remembered across its

@@ -23,7 +23,7 @@ using TileFn = void (*)(const TileContext&, std::uint32_t tile, Worker&);
 // camera rays of a block of pixels as one packet): what EmbreeScene::intersect
 // returned for that ray.
 struct PrimaryHit {
-  const Hit* hit = nullptr;
+  Hit* hit = nullptr;  // the integrator may work on it in place (the packet's copy)
   bool found = false;
 };
 

@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <optional>
 
 #include "runtime/ir/bounds.hpp"
 #include "runtime/shading/bump.hpp"
@@ -278,7 +279,10 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
     }
     Color contrib(0);
     std::string desc;
-    Hit hit;
+    // The root works on the packet's hit in place; every other node on a fresh
+    // one, made only then (a default Hit is ~90 bytes of stores).
+    std::optional<Hit> own_hit;
+    Hit& hit = primary ? *primary->hit : own_hit.emplace();
     Vec3f d = node.ray.dir;
     int nkids = 0;
     Vec3f p_surface;
@@ -317,7 +321,6 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
 
     bool found;
     if (primary) {  // the root, traced in the pixel loop's packet
-      hit = *primary->hit;
       found = primary->found;
       primary = nullptr;
     } else {

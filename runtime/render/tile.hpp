@@ -105,20 +105,29 @@ inline bool timed_sample(std::uint32_t x, std::uint32_t y, std::uint32_t s) {
 // each ray is what Camera::generate makes of its draws.
 template <class K>
 void camera_rays(const TileContext& c, std::uint32_t n, const CameraKeys* keys,
-                 const std::uint32_t* px, const std::uint32_t* py, std::uint32_t s, Ray* rays,
-                 RenderStats& stats) {
+                 const SobolLanes* film, const SobolLanes* lens, const std::uint32_t* px,
+                 const std::uint32_t* py, std::uint32_t s, Ray* rays, RenderStats& stats) {
   double fx[Camera::kMaxBlock], fy[Camera::kMaxBlock];
+  float ju[Camera::kMaxBlock], jv[Camera::kMaxBlock];
   float lu[Camera::kMaxBlock], lv[Camera::kMaxBlock];
-  for (std::uint32_t i = 0; i < n; ++i) {
-    Sample2 j = sample2(c.spec, keys[i].film, s);
-    fx[i] = px[i] + double(j.u), fy[i] = py[i] + double(j.v);
-    if constexpr (K::lens) {
-      Sample2 l = sample2(c.spec, keys[i].lens, s);
-      lu[i] = l.u, lv[i] = l.v;
-    } else {
-      lu[i] = lv[i] = 0.5f;
+  if (c.spec.kind == ir::SamplerKind::Sobol) {
+    sobol2_lanes(*film, n, s, ju, jv);
+    if constexpr (K::lens) sobol2_lanes(*lens, n, s, lu, lv);
+  } else {
+    for (std::uint32_t i = 0; i < n; ++i) {
+      Sample2 j = sample2(c.spec, keys[i].film, s);
+      ju[i] = j.u, jv[i] = j.v;
+      if constexpr (K::lens) {
+        Sample2 l = sample2(c.spec, keys[i].lens, s);
+        lu[i] = l.u, lv[i] = l.v;
+      }
     }
   }
+  if constexpr (!K::lens)
+    for (std::uint32_t i = 0; i < n; ++i) lu[i] = lv[i] = 0.5f;
+  (void)lens;
+  for (std::uint32_t i = 0; i < n; ++i)
+    fx[i] = px[i] + double(ju[i]), fy[i] = py[i] + double(jv[i]);
   c.camera->generate_block(n, fx, fy, lu, lv, rays);
   if constexpr (K::lens) stats.lens_samples += n;
   if constexpr (K::time) {
@@ -143,12 +152,13 @@ void render_tile_packets(const TileContext& c, std::uint32_t x0, std::uint32_t y
   const Image& img = *c.img;
   RenderStats& stats = wk.stats;
   constexpr std::uint32_t kN = kBlock * kBlock;
-  static_assert(kN <= Camera::kMaxBlock);
+  static_assert(kN <= Camera::kMaxBlock && kN <= SobolLanes::kLanes);
   Ray rays[kN];
   Hit hits[kN];
   std::uint8_t found[kN];
   std::uint64_t pixel[kN];
   CameraKeys keys[kN];
+  SobolLanes film_lanes, lens_lanes;  // the same keys, as lanes (sobol)
   DimCache dims[kN];
   double sum[kN][3];
   std::uint32_t kept[kN], px[kN], py[kN];
@@ -159,11 +169,12 @@ void render_tile_packets(const TileContext& c, std::uint32_t x0, std::uint32_t y
         for (std::uint32_t x = bx; x < std::min(x1, bx + kBlock); ++x, ++n) {
           px[n] = x, py[n] = y, pixel[n] = pixel_hash(c.spec, x, y);
           keys[n] = CameraKeys(c.spec, pixel[n]);
+          film_lanes.set(n, keys[n].film), lens_lanes.set(n, keys[n].lens);
           dims[n] = DimCache();
           sum[n][0] = sum[n][1] = sum[n][2] = 0, kept[n] = 0;
         }
       for (std::uint32_t s = c.sample_begin; s < c.sample_end; ++s) {
-        camera_rays<K>(c, n, keys, px, py, s, rays, stats);
+        camera_rays<K>(c, n, keys, &film_lanes, &lens_lanes, px, py, s, rays, stats);
         c.embree->intersect(std::span<const Ray>(rays, n), std::span<Hit>(hits, n),
                             std::span<std::uint8_t>(found, n));
         for (std::uint32_t i = 0; i < n; ++i) {

@@ -230,6 +230,36 @@ TEST_CASE("keyed draws and the pixel's key cache give the unkeyed numbers", "[sa
   CHECK(mismatches == 0);
 }
 
+TEST_CASE("sobol draws four lanes at a time give the one-by-one numbers", "[sampler]") {
+  // Every block size 1..16 (a block at the image's edge is smaller), lanes left over
+  // from a larger block beyond n, indices across power-of-two boundaries.
+  std::uint64_t mismatches = 0, draws = 0;
+  for (std::uint32_t spp : {1u, 16u, 64u, 1000u}) {
+    SamplerSpec spec{ir::SamplerKind::Sobol, 0x51 + spp, spp};
+    SobolLanes lanes;
+    for (std::uint32_t n = 16; n >= 1; --n)
+      for (std::uint32_t dim : {std::uint32_t(kDimPixel), std::uint32_t(kDimLens), 0x9e3779b9u}) {
+        DimKey keys[SobolLanes::kLanes];
+        for (std::uint32_t l = 0; l < n; ++l) {
+          keys[l] = dim_key(spec, pixel_hash(spec, l * 3 + n, dim % 7), dim);
+          lanes.set(l, keys[l]);
+        }
+        for (std::uint32_t i = 0; i < spp + 2; i += 1 + spp / 50) {
+          float u[SobolLanes::kLanes], v[SobolLanes::kLanes];
+          sobol2_lanes(lanes, n, i, u, v);
+          for (std::uint32_t l = 0; l < n; ++l) {
+            Sample2 one = sample2(spec, keys[l], i);
+            mismatches += (one.u != u[l]) + (one.v != v[l]);
+            ++draws;
+          }
+        }
+      }
+  }
+  INFO(draws << " draws");
+  CHECK(draws > 10000);
+  CHECK(mismatches == 0);
+}
+
 TEST_CASE("the exact divisor agrees with division for every kind of divisor", "[sampler]") {
   for (std::uint32_t d :
        {1u, 2u, 3u, 7u, 10u, 255u, 256u, 65535u, 1000003u, 0x7fffffffu, 0xfffffffeu, 0xffffffffu}) {
