@@ -149,7 +149,9 @@ std::uint32_t permute(std::uint32_t i, std::uint32_t n, std::uint32_t key);
 
 namespace detail {
 
-[[gnu::always_inline]] constexpr std::uint32_t reverse_bits(std::uint32_t x) {
+// On std::uint32_t, or four lanes of it (U32x4, sobol2_lanes): one body for both.
+template <class U>
+[[gnu::always_inline]] constexpr U reverse_bits(U x) {
   x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
   x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
   x = ((x >> 4) & 0x0f0f0f0fu) | ((x & 0x0f0f0f0fu) << 4);
@@ -158,7 +160,8 @@ namespace detail {
 }
 // Laine–Karras style hash that only lets lower bits affect higher ones; applied to
 // bit-reversed values it is a nested uniform (Owen) scramble.
-inline std::uint32_t lk_permutation(std::uint32_t x, std::uint32_t seed) {
+template <class U>
+[[gnu::always_inline]] inline U lk_permutation(U x, U seed) {
   x += seed;
   x ^= x * 0x6c50b47cu;
   x ^= x * 0xb82f1e52u;
@@ -308,22 +311,7 @@ namespace detail {
 using U32x4 = std::uint32_t __attribute__((vector_size(16)));
 using I32x4 = std::int32_t __attribute__((vector_size(16)));
 using F32x4 = float __attribute__((vector_size(16)));
-// reverse_bits, lk_permutation and to_unit_float of four lanes.
-inline U32x4 reverse_bits4(U32x4 x) {
-  x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
-  x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
-  x = ((x >> 4) & 0x0f0f0f0fu) | ((x & 0x0f0f0f0fu) << 4);
-  x = ((x >> 8) & 0x00ff00ffu) | ((x & 0x00ff00ffu) << 8);
-  return (x >> 16) | (x << 16);
-}
-inline U32x4 lk_permutation4(U32x4 x, U32x4 seed) {
-  x += seed;
-  x ^= x * 0x6c50b47cu;
-  x ^= x * 0xb82f1e52u;
-  x ^= x * 0xc7afe638u;
-  x ^= x * 0x8d22f6e6u;
-  return x;
-}
+// to_unit_float of four lanes.
 inline F32x4 to_unit_float4(U32x4 bits) {
   return __builtin_convertvector(I32x4(bits >> 8), F32x4) * (1.0f / 16777216.0f);
 }
@@ -340,11 +328,11 @@ inline void sobol2_lanes(const SobolLanes& k, std::uint32_t n, std::uint32_t ind
     __builtin_memcpy(&sv, k.seed_v + l, 16);
     const U32x4 idx = U32x4{} + index;
     // owen_scramble(index, seed0), then dimension 0 is reverse(i) scrambled.
-    U32x4 i = reverse_bits4(lk_permutation4(reverse_bits4(idx), seed0));
-    F32x4 fu = to_unit_float4(reverse_bits4(lk_permutation4(i, su)));
+    U32x4 i = reverse_bits(lk_permutation(reverse_bits(idx), seed0));
+    F32x4 fu = to_unit_float4(reverse_bits(lk_permutation(i, su)));
     U32x4 s1 = {reversed_sobol1(i[0]), reversed_sobol1(i[1]), reversed_sobol1(i[2]),
                 reversed_sobol1(i[3])};
-    F32x4 fv = to_unit_float4(reverse_bits4(lk_permutation4(s1, sv)));
+    F32x4 fv = to_unit_float4(reverse_bits(lk_permutation(s1, sv)));
     __builtin_memcpy(u + l, &fu, 16);
     __builtin_memcpy(v + l, &fv, 16);
   }

@@ -35,36 +35,13 @@ std::uint64_t bits(float f) {
 }
 
 // One round: `pixels` pixels of `spp` samples, each with 2 + 1 fixed draws and
-// `node_dims` per-node 2-D draws.
+// `node_dims` per-node 2-D draws. Keyed: the draws as the render loop makes them,
+// the fixed dimensions' keys once per pixel (dim_key), the per-node ones through
+// the pixel's DimCache; its checksum must equal the plain round's (the keys change
+// the cost, never the numbers).
+template <bool keyed>
 Result round(const SamplerSpec& spec, std::uint32_t spp, std::uint32_t pixels,
              std::uint32_t node_dims) {
-  auto t0 = std::chrono::steady_clock::now();
-  std::uint64_t sum = 0, draws = 0;
-  for (std::uint32_t p = 0; p < pixels; ++p) {
-    std::uint32_t px = p % 640, py = p / 640;
-    std::uint64_t pixel = pixel_hash(spec, px, py);
-    for (std::uint32_t s = 0; s < spp; ++s) {
-      Sample2 a = sample2(spec, pixel, s, kDimPixel);
-      Sample2 b = sample2(spec, pixel, s, kDimLens);
-      float t = sample1(spec, pixel, s, kDimTime);
-      sum = sum * 31 + bits(a.u) + 3 * bits(a.v) + 5 * bits(b.u) + 7 * bits(b.v) + 11 * bits(t);
-      for (std::uint32_t d = 0; d < node_dims; ++d) {
-        Sample2 c = sample2(spec, pixel, s, 0x9e3779b9u * (d + 17));
-        sum = sum * 31 + bits(c.u) + 3 * bits(c.v);
-      }
-      draws += 3 + node_dims;
-    }
-  }
-  double ns =
-      std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - t0).count();
-  return {ns / double(draws), sum};
-}
-
-// The same draws as the render loop makes them: the fixed dimensions' keys once per
-// pixel (dim_key), the per-node ones through the pixel's DimCache. Its checksum must
-// equal round()'s: the keys change the cost, never the numbers.
-Result round_keyed(const SamplerSpec& spec, std::uint32_t spp, std::uint32_t pixels,
-                   std::uint32_t node_dims) {
   auto t0 = std::chrono::steady_clock::now();
   std::uint64_t sum = 0, draws = 0;
   for (std::uint32_t p = 0; p < pixels; ++p) {
@@ -74,13 +51,14 @@ Result round_keyed(const SamplerSpec& spec, std::uint32_t spp, std::uint32_t pix
     const DimKey time = dim_key1(spec, pixel, kDimTime);
     DimCache cache;
     for (std::uint32_t s = 0; s < spp; ++s) {
-      Sample2 a = sample2(spec, film, s);
-      Sample2 b = sample2(spec, lens, s);
-      float t = sample1(spec, time, s);
+      Sample2 a = keyed ? sample2(spec, film, s) : sample2(spec, pixel, s, kDimPixel);
+      Sample2 b = keyed ? sample2(spec, lens, s) : sample2(spec, pixel, s, kDimLens);
+      float t = keyed ? sample1(spec, time, s) : sample1(spec, pixel, s, kDimTime);
       sum = sum * 31 + bits(a.u) + 3 * bits(a.v) + 5 * bits(b.u) + 7 * bits(b.v) + 11 * bits(t);
       for (std::uint32_t d = 0; d < node_dims; ++d) {
         std::uint32_t dim = 0x9e3779b9u * (d + 17);
-        Sample2 c = sample2(spec, cache.get<false>(spec, pixel, dim), s);
+        Sample2 c = keyed ? sample2(spec, cache.get<false>(spec, pixel, dim), s)
+                          : sample2(spec, pixel, s, dim);
         sum = sum * 31 + bits(c.u) + 3 * bits(c.v);
       }
       draws += 3 + node_dims;
@@ -122,10 +100,10 @@ int main(int argc, char** argv) {
     std::uint64_t sums[3] = {}, keyed_sums[3] = {};
     for (int r = 0; r < rounds; ++r)
       for (int k = 0; k < 3; ++k) {
-        Result res = round(SamplerSpec{kinds[k], 7, spp}, spp, px, 16);
+        Result res = round<false>(SamplerSpec{kinds[k], 7, spp}, spp, px, 16);
         ns[k].push_back(res.ns_per_draw);
         sums[k] = res.checksum;
-        res = round_keyed(SamplerSpec{kinds[k], 7, spp}, spp, px, 16);
+        res = round<true>(SamplerSpec{kinds[k], 7, spp}, spp, px, 16);
         keyed[k].push_back(res.ns_per_draw);
         keyed_sums[k] = res.checksum;
       }

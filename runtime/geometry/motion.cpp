@@ -11,6 +11,13 @@ ir::Transform rel_at(const ir::Shape& s, Vec3 origin, double u) {
   return ir::Transform::translate(-origin) * (s.motion().at(u) * s.world_from_object());
 }
 
+ir::Mat4 rel_from_object_inverse_at(const ir::Shape& s, Vec3 origin, double u) {
+  using ir::InverseTransform;
+  return (InverseTransform::of(ir::Transform::translate(-origin)) *
+          (s.motion().inverse_at(u) * InverseTransform::of(s.world_from_object())))
+      .inv;
+}
+
 unsigned motion_segments(const ir::Shape& s, const std::vector<Vec3>& verts, Vec3 origin) {
   if (verts.empty()) return 1;
   std::vector<Vec3> probe;

@@ -11,6 +11,8 @@ namespace snell::rt::geom {
 
 // The object's transform at shutter fraction u, camera-relative.
 ir::Transform rel_at(const ir::Shape& s, ir::Vec3 origin, double u);
+// rel_at(s, origin, u).inv, the same bits, computing no forward matrix.
+ir::Mat4 rel_from_object_inverse_at(const ir::Shape& s, ir::Vec3 origin, double u);
 
 // Clamps a ray time to the shutter (robustness #32).
 inline double shutter_fraction(float time) {

@@ -74,9 +74,8 @@ void MovingSphereSet::add(const ir::Shape& s, const ir::Sphere& g, std::uint32_t
 }
 
 SphereData MovingSphereSet::at(const Moving& m, float time) {
-  ir::Transform t = rel_at(*m.shape, m.origin, shutter_fraction(time));
   SphereData d;
-  d.object_from_rel = t.inv;
+  d.object_from_rel = rel_from_object_inverse_at(*m.shape, m.origin, shutter_fraction(time));
   d.center = m.sphere.center;
   d.radius = m.sphere.radius;
   return d;

@@ -17,15 +17,21 @@ bool Motion::moves() const {
   return false;
 }
 
-Transform Motion::at(double u) const {
+namespace {
+// Motion::at as a chain of T: Transform, or InverseTransform for its inverse alone;
+// `make` turns each step's Transform into a T. One body, so the two agree bit for bit.
+template <class T, class Make>
+T motion_at(const Motion& mo, double u, Make make) {
   auto about_pivot = [&](const Transform& step) {
-    return has_pivot ? Transform::translate(pivot) * step * Transform::translate(-pivot) : step;
+    return mo.has_pivot ? make(Transform::translate(mo.pivot)) * make(step) *
+                              make(Transform::translate(-mo.pivot))
+                        : make(step);
   };
-  Transform t;
-  for (const TransformOp& op : ops) {
+  T t;
+  for (const TransformOp& op : mo.ops) {
     switch (op.kind) {
       case TransformOp::Kind::Translate:
-        t = Transform::translate(op.value * u) * t;
+        t = make(Transform::translate(op.value * u)) * t;
         break;
       case TransformOp::Kind::Rotate:
         t = about_pivot(Transform::rotate_xyz(op.value * u)) * t;
@@ -36,6 +42,15 @@ Transform Motion::at(double u) const {
     }
   }
   return t;
+}
+}  // namespace
+
+Transform Motion::at(double u) const {
+  return motion_at<Transform>(*this, u, [](const Transform& x) { return x; });
+}
+
+InverseTransform Motion::inverse_at(double u) const {
+  return motion_at<InverseTransform>(*this, u, InverseTransform::of);
 }
 
 }  // namespace snell::ir

@@ -203,6 +203,7 @@ struct Motion {
   Vec3 pivot{0, 0, 0};
   bool moves() const;
   Transform at(double u) const;
+  InverseTransform inverse_at(double u) const;  // at(u).inv, the same bits, half the work
 };
 
 // A shape's transform and motion are held out of line, and only when they are not
