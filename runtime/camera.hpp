@@ -71,7 +71,17 @@ class Camera {
     film_x_ = 2 * tan_x_ / (width ? width : 1);
     film_y_ = 2 * tan_y_ / (height ? height : 1);
     lens_radius_ = c.aperture > 0 ? float(c.aperture * 0.5) : 0.0f;
-    inv_focal_ = float(1 / c.focal_distance);
+    // The lens direction is d · focal − org, scaled by a positive factor so that
+    // neither term can overflow float: 1/focal when the focal distance is at least
+    // the lens radius (then |org/focal| <= 1), else 1/radius (then |org/radius| <= 1
+    // and focal/radius < 1, floored at 1e-30 so the lens centre's ray stays finite).
+    const double fd = c.focal_distance, radius = double(lens_radius_);
+    if (fd >= radius) {
+      dir_scale_ = 1, org_scale_ = float(1 / fd);
+    } else {
+      dir_scale_ = std::fmax(float(fd / radius), 1e-30f), org_scale_ = float(1 / radius);
+    }
+    focal_distance_ = fd;
   }
 
   bool has_lens() const { return lens_radius_ > 0; }
@@ -108,12 +118,13 @@ class Camera {
         ox[i] = right_.x * lx + up_.x * ly;
         oy[i] = right_.y * lx + up_.y * ly;
         oz[i] = right_.z * lx + up_.z * ly;
-        // Towards the focal plane's point d · focal_distance: the direction d − org /
-        // focal_distance, divided by its largest component before it is squared,
-        // since with a wide fov and a lens far larger than the focal distance its
-        // square overflows float (its forward component is 1: it is never 0).
-        float wx = dx[i] - ox[i] * inv_focal_, wy = dy[i] - oy[i] * inv_focal_;
-        float wz = dz[i] - oz[i] * inv_focal_;
+        // Towards the focal plane's point d · focal_distance: d · focal − org, scaled
+        // (constructor) and divided by its largest component before it is squared,
+        // since with a wide fov its square overflows float (its forward component
+        // is dir_scale_ > 0: it is never 0).
+        float wx = dx[i] * dir_scale_ - ox[i] * org_scale_;
+        float wy = dy[i] * dir_scale_ - oy[i] * org_scale_;
+        float wz = dz[i] * dir_scale_ - oz[i] * org_scale_;
         float ax = std::fabs(wx), ay = std::fabs(wy), az = std::fabs(wz);
         float m = ax > ay ? ax : ay;
         m = m > az ? m : az;
@@ -142,7 +153,8 @@ class Camera {
   double tan_x_ = 1, tan_y_ = 1;
   double film_x_ = 2, film_y_ = 2;  // d(sx)/d(fx), -d(sy)/d(fy): 2 tan / pixels
   std::uint32_t width_ = 1, height_ = 1;
-  float lens_radius_ = 0, inv_focal_ = 1;
+  float lens_radius_ = 0, dir_scale_ = 1, org_scale_ = 1;
+  double focal_distance_ = 1;
 };
 
 using PinholeCamera = Camera;  // the name before depth of field

@@ -55,7 +55,7 @@ std::string Camera::to_string() const {
       "camera {{ forward {} right {} up {} tan_x {} tan_y {} {}x{} lens_radius {} "
       "focal_distance {} }}",
       rt::to_string(forward_), rt::to_string(right_), rt::to_string(up_), tan_x_, tan_y_, width_,
-      height_, lens_radius_, 1 / inv_focal_);
+      height_, lens_radius_, focal_distance_);
 }
 
 std::string to_string(const Image& im) {

@@ -56,8 +56,9 @@ TEST_CASE("every lens ray reaches the pinhole ray's point on the focal plane", "
 TEST_CASE("lens rays stay finite and unit at the extremes of fov and focal distance",
           "[lens][robust]") {
   // |focus|² overflows float when a wide fov meets a far focal plane (fov 179.99999°:
-  // film corners 1.1e7 wide per unit; focal distance 1e14): the direction is
-  // normalised in double. Embree asserts on a non-finite ray; Snell never makes one.
+  // film corners 1.1e7 wide per unit; focal distance 1e14), and org / focal when the
+  // lens is far larger than the focal distance (below): the direction is scaled
+  // before it is normalised. Embree asserts on a non-finite ray; Snell never makes one.
   ir::Camera c;
   c.fov = 179.99999;
   c.aperture = 1e10;
@@ -71,6 +72,27 @@ TEST_CASE("lens rays stay finite and unit at the extremes of fov and focal dista
         REQUIRE(rt::is_finite(r.dir));
         CHECK(rt::length(r.dir) == Approx(1).margin(1e-6));
       }
+}
+
+TEST_CASE("lens rays stay finite and unit when the lens dwarfs the focal distance",
+          "[lens][robust]") {
+  // Valid input: any aperture up to the scene's range, any focal distance > 0.
+  for (double aperture : {1.0, 2e12})
+    for (double focal : {1e-3, 1e-20, 1e-300}) {
+      ir::Camera c;
+      c.fov = 90;
+      c.aperture = aperture;
+      c.focal_distance = focal;
+      rt::Camera cam(c, 16, 16);
+      for (double fx : {0.0, 8.0, 15.999})
+        for (float lu : {0.0f, 0.25f, 0.5f, 0.99999994f}) {
+          rt::Ray r = cam.generate(fx, 7.5, lu, lu == 0.25f ? 0.5f : 1 - lu);
+          INFO(aperture << " " << focal << " " << rt::to_string(r));
+          REQUIRE(rt::is_finite(r.dir));
+          REQUIRE(rt::is_finite(r.org));
+          CHECK(rt::length(r.dir) == Approx(1).margin(1e-6));
+        }
+    }
 }
 
 namespace {
