@@ -29,6 +29,15 @@ std::uint32_t node_dim(std::uint64_t key, std::uint64_t what) {
   return kDimFirstFree + std::uint32_t(hash_combine(key, what) & 0x7fffffffu);
 }
 
+// An array of n trivially destructible T made without running T's default
+// member initialisers (each element is assigned before it is read).
+template <class T, std::uint32_t n>
+union Uninit {
+  static_assert(std::is_trivially_destructible_v<T>);
+  Uninit() {}
+  T v[n];
+};
+
 // The camera ray's path key (hash_combine(0x5eed, 0)), computed once.
 const std::uint64_t kRootKey = hash_combine(0x5eed, 0);
 
@@ -173,57 +182,120 @@ bool WhittedIntegrator::shadow_blocked(const Ray& ray, const Interior* in, Color
   return embree_.occluded(ray);
 }
 
-template <class K>
-Color WhittedIntegrator::direct(Vec3f p, Vec3f o, Vec3f nf, float time, std::uint64_t key,
-                                const SampleContext& sc, RenderStats& stats, const Interior* in,
-                                [[maybe_unused]] LitOf<K> lit) const {
-  Color e(0);
-  LightSample ls;
-  // One unblocked light sample: its share of E, and with highlights its
+template <class K, std::uint32_t kLanes>
+void WhittedIntegrator::direct_lanes(std::uint32_t lanes, const DirectQuery* const* qs,
+                                     const SampleContext* const* sc, RenderStats& stats,
+                                     const Interior* in, Color* e, Color* spec) const {
+  static_assert(kLanes == 1 || !K::interiors, "shadow rays through interiors go one by one");
+  auto q = [qs](std::uint32_t i) -> const DirectQuery& { return *qs[i]; };
+  // Left unset: every lane's sample is written before it is read (sample_li), and
+  // default-made ones were a 1.6 KB memset per call.
+  Uninit<LightSample, kLanes> ls_store;
+  Uninit<Ray, kLanes> ray_store;
+  LightSample* const ls = ls_store.v;
+  Ray* const rays = ray_store.v;
+  std::uint8_t lit[kLanes] = {}, blocked[kLanes];
+  std::uint32_t slot[kLanes];  // lane i's shadow ray: rays[slot[i]]
+  for (std::uint32_t i = 0; i < lanes; ++i) {
+    e[i] = Color(0);
+    if constexpr (K::finish) spec[i] = Color(0);
+  }
+  (void)spec, (void)in;
+  // One unblocked light sample of lane i: its share of E, and with highlights its
   // f_spec · value · g (the same G as the Lambertian sum: f · L_i · cosθ_i).
-  auto add = [&](Color tr) {
+  auto add = [&](std::uint32_t i, Color tr) {
     (void)tr;
     if constexpr (K::interiors)
-      e += ls.value * ls.g * tr;
+      e[i] += ls[i].value * ls[i].g * tr;
     else
-      e += ls.value * ls.g;
+      e[i] += ls[i].value * ls[i].g;
     if constexpr (K::finish) {
-      if (lit.highlight.on()) {
-        float f = lit.highlight.eval(lit.wo, nf, normalize(ls.to));
-        Color c = ls.value * (ls.g * f);
+      if (q(i).highlight.on()) {
+        float f = q(i).highlight.eval(q(i).wo, q(i).n, normalize(ls[i].to));
+        Color c = ls[i].value * (ls[i].g * f);
         if constexpr (K::interiors) c = c * tr;
-        *lit.spec += c;
+        spec[i] += c;
       }
     }
   };
+  // The lanes' samples of one light (lit[i]: lane i has one) traced and added.
+  auto trace = [&] {
+    std::uint32_t m = 0;
+    for (std::uint32_t i = 0; i < lanes; ++i)
+      if (lit[i]) slot[i] = m, rays[m++] = ls[i].shadow;
+    stats.shadow_rays += m;
+    if constexpr (kLanes == 1) {
+      Color tr(1);
+      if (m && !shadow_blocked<K>(rays[0], in, tr) && std::isfinite(ls[0].g)) add(0, tr);
+    } else {
+      if (m == 0) return;
+      embree_.occluded(std::span<const Ray>(rays, m), std::span<std::uint8_t>(blocked, m));
+      for (std::uint32_t i = 0; i < lanes; ++i)
+        if (lit[i] && !blocked[slot[i]] && std::isfinite(ls[i].g)) add(i, Color(1));
+    }
+  };
   for (const PointLightF& l : lights_.points) {
-    if (!l.sample_li(p, o, nf, time, ls)) continue;
-    ++stats.shadow_rays;
-    Color tr(1);
-    if (shadow_blocked<K>(ls.shadow, in, tr)) continue;
-    if (std::isfinite(ls.g)) add(tr);
+    for (std::uint32_t i = 0; i < lanes; ++i)
+      lit[i] = l.sample_li(q(i).p, q(i).o, q(i).n, q(i).time, ls[i]);
+    trace();
   }
-  if constexpr (!K::area) return e;
+  if constexpr (!K::area) return;
   for (std::size_t li = 0; li < lights_.areas.size(); ++li) {
     const AreaLightF& l = lights_.areas[li];
     if (l.dark()) continue;
     for (std::uint32_t iv = 0; iv < l.nv; ++iv)
       for (std::uint32_t iu = 0; iu < l.nu; ++iu) {
-        std::uint32_t dim = node_dim(key, (std::uint64_t(li + 1) << 40) | (iv << 20) | iu);
-        Sample2 s = draw2(sc, dim);
-        if (!l.sample_li(p, o, nf, time, iu, iv, s.u, s.v, offset_scale_, ls)) continue;
-        ++stats.shadow_rays;
-        Color tr(1);
-        if (shadow_blocked<K>(ls.shadow, in, tr)) continue;
-        if (std::isfinite(ls.g)) add(tr);
+        const std::uint64_t cell = (std::uint64_t(li + 1) << 40) | (iv << 20) | iu;
+        for (std::uint32_t i = 0; i < lanes; ++i) {
+          Sample2 s = draw2(*sc[i], node_dim(q(i).key, cell));
+          lit[i] = l.sample_li(q(i).p, q(i).o, q(i).n, q(i).time, iu, iv, s.u, s.v, offset_scale_,
+                               ls[i]);
+        }
+        trace();
       }
   }
-  return e;
+}
+
+template <class K>
+Color WhittedIntegrator::lit_radiance(const DiffuseLobe& lobe, const DirectQuery& q, Color w,
+                                      Color e, [[maybe_unused]] Color spec) {
+  Color c = lobe.reflect(w, e);
+  // §16: the highlight's radiance f_spec · L_i · cosθ_i, weighted like the diffuse
+  // light; never carried by a branch.
+  if constexpr (K::finish)
+    if (q.highlight.on()) c += w * spec;
+  (void)q;
+  return c;
+}
+
+// Lanes whose tree did not defer are skipped; the others' queries go to
+// direct_lanes together, in lane order.
+template <class K>
+void WhittedIntegrator::finish_deferred_in(std::uint32_t n, Deferred* defer,
+                                           const SampleContext* sc, RenderStats& stats,
+                                           Color* col) const {
+  if constexpr (K::interiors) {
+    (void)n, (void)defer, (void)sc, (void)stats, (void)col;
+  } else {
+    const DirectQuery* q[kMaxDeferred];
+    const SampleContext* qsc[kMaxDeferred];
+    std::uint32_t lane[kMaxDeferred], m = 0;
+    for (std::uint32_t i = 0; i < n; ++i)
+      if (defer[i].on) q[m] = &defer[i].q, qsc[m] = &sc[i], lane[m++] = i;
+    if (m == 0) return;
+    Color e[kMaxDeferred], spec[kMaxDeferred];
+    direct_lanes<K, kMaxDeferred>(m, q, qsc, stats, nullptr, e, spec);
+    for (std::uint32_t j = 0; j < m; ++j) {
+      Deferred& d = defer[lane[j]];
+      col[lane[j]] += lit_radiance<K>(d.lobe, d.q, d.w, e[j], spec[j]);
+      d.on = false;
+    }
+  }
 }
 
 template <class K, class P>
 Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scratch& scratch,
-                            P& probe, const PrimaryHit* primary) const {
+                            P& probe, const PrimaryHit* primary, Deferred* defer) const {
   RenderStats& stats = probe.stats;
   // Null at compile time under Probe<false>: every use below folds away.
   std::string* const trace = probe.trace;
@@ -243,24 +315,33 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
   if constexpr (K::interiors) node.interior = interiors_.camera();
   const auto& mats = scene_.materials;
   // A node's children are collected here; kids[0] (the reflection) is traced next.
-  // Declared once per tree, not per node: spawn() sets every field, and building
+  // Made once per thread, not per node: spawn() sets every field, and building
   // two default nodes per ray was a measurable part of this function.
-  N kids[2];
+  // In the thread's scratch, not on this frame: default nodes and queries made
+  // per tree were a 200-byte memset per camera sample.
+  N* const kids = scratch.template kids<K::interiors>();
+  Deferred& own_light = scratch.light;  // a lit node's light when it is not deferred
 
   for (;;) {
     double t_node = cost ? CostClock::now_ns() : 0, nested = 0;
     // Direct light is timed as shadow cost and taken out of the node's own time.
     const Interior* in_here = nullptr;  // the interior at the shading point (shadow rays)
     if constexpr (K::interiors) in_here = &node.interior;
-    auto direct_timed = [&](Vec3f p, Vec3f o, Vec3f nf, LitOf<K> lit) {
-      if constexpr (!P::on)
-        return direct<K>(p, o, nf, node.ray.time, node.key, sc, stats, in_here, lit);
-      if (!cost) return direct<K>(p, o, nf, node.ray.time, node.key, sc, stats, in_here, lit);
-      double t0 = CostClock::now_ns();
-      Color e = direct<K>(p, o, nf, node.ray.time, node.key, sc, stats, in_here, lit);
-      double dt = cost->since(t0);
-      cost->ns[kCostShadow] += dt;
-      nested += dt + cost->overhead_ns;
+    auto direct_timed = [&](const DirectQuery& q, Color& spec) {
+      Color e;
+      const SampleContext* scp = &sc;
+      const DirectQuery* qp = &q;
+      if constexpr (!P::on) {
+        direct_lanes<K, 1>(1, &qp, &scp, stats, in_here, &e, &spec);
+        return e;
+      }
+      double t0 = cost ? CostClock::now_ns() : 0;
+      direct_lanes<K, 1>(1, &qp, &scp, stats, in_here, &e, &spec);
+      if (cost) {
+        double dt = cost->since(t0);
+        cost->ns[kCostShadow] += dt;
+        nested += dt + cost->overhead_ns;
+      }
       return e;
     };
     switch (node.kind) {
@@ -286,6 +367,12 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
     Vec3f d = node.ray.dir;
     int nkids = 0;
     Vec3f p_surface;
+    // A lit node's direct light, gathered once its children are known: the root
+    // of a packet's tree with none leaves it to the pixel loop (defer). Written in
+    // place, field by field: building it and copying it over stalled on store
+    // forwarding (a tenth of this function's time).
+    bool lit = false;
+    Deferred& dl = defer ? *defer : own_light;
     // The interior a refracted child starts with: the far side of a prioritised
     // surface that counts, else the node's own (plain dielectrics are not tracked).
     [[maybe_unused]] std::conditional_t<K::interiors, Interior, NoInterior> far_side{};
@@ -487,16 +574,13 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
             lifted.p = hit.ps;
             o_light = spawn_origin(lifted, nf, offset_scale_);
           }
-          if constexpr (K::finish) {
-            Color spec(0);
-            contrib =
-                s.lit->reflect(w, direct_timed(p, o_light, frame.ns, {s.highlight, -d, &spec}));
-            // §16: the highlight's radiance f_spec · L_i · cosθ_i, weighted like the
-            // diffuse light; never carried by a branch.
-            if (s.highlight.on()) contrib += w * spec;
-          } else {
-            contrib = s.lit->reflect(w, direct_timed(p, o_light, frame.ns, {}));
-          }
+          dl.q.p = p, dl.q.o = o_light, dl.q.n = frame.ns;
+          dl.q.time = node.ray.time, dl.q.key = node.key;
+          if constexpr (K::finish) dl.q.highlight = s.highlight, dl.q.wo = -d;
+          // Field by field: a 16-byte copy of the lobe stalled on store forwarding.
+          dl.lobe.albedo = s.lit->albedo, dl.lobe.scale = s.lit->scale;
+          dl.w = w;
+          lit = true;
         }
         for (int i = 0; i < s.count; ++i) {
           const Branch& b = s.branches[i];
@@ -517,6 +601,16 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
         }
       }
     }
+    if (lit) {
+      if (defer && nkids == 0 && !K::interiors) {
+        defer->on = true;
+      } else {
+        Color spec(0);
+        Color e = direct_timed(dl.q, spec);
+        contrib = lit_radiance<K>(dl.lobe, dl.q, dl.w, e, spec);
+      }
+    }
+    defer = nullptr;  // only the root defers
     total += contrib;
     if constexpr (P::on) {
       if (cost) cost->ns[int(node.kind)] += std::fmax(0.0, cost->since(t_node) - nested);

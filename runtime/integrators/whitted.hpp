@@ -63,11 +63,35 @@ class WhittedIntegrator final : public Integrator {
  public:
   WhittedIntegrator(const ir::Scene& scene, const EmbreeScene& embree, const ImageTextures* images);
 
+  // A lit node's direct-light question: the shading point, the shadow rays' origin
+  // (p moved off the surface, spawn_origin), the lobes' normal on the viewer's
+  // side, the ray's time, the node's path key (its sampler dimensions) and, for
+  // the §16 highlight, the lobe and the direction to the viewer.
+  struct DirectQuery {
+    Vec3f p, o, n;
+    float time = 0;
+    std::uint64_t key = 0;
+    Highlight highlight;
+    Vec3f wo;
+  };
+  // A camera ray's root node whose direct light the pixel loop gathers for the
+  // whole packet (finish_deferred): set by radiance() only when the root is lit
+  // and has no children, so what radiance() returned plus lit_radiance is the
+  // tree's sum in li's order. Kernels with interiors never defer.
+  struct Deferred {
+    bool on = false;
+    DirectQuery q;
+    DiffuseLobe lobe;
+    Color w;
+  };
   // The ray tree's stack: scratch owned by each thread.
   struct Scratch {
     std::vector<NodeOf<false>> plain;
     std::vector<NodeOf<true>> tracked;  // kernels with interiors
     SurfaceFrame surface;               // §17 "uv": the frame of the hit being shaded
+    NodeOf<false> plain_kids[2];        // a node's children, before they are traced
+    NodeOf<true> tracked_kids[2];
+    Deferred light;  // a lit node's direct-light query when it is not deferred
     template <bool Tracked>
     auto& stack() {
       if constexpr (Tracked)
@@ -75,15 +99,30 @@ class WhittedIntegrator final : public Integrator {
       else
         return plain;
     }
+    template <bool Tracked>
+    auto* kids() {
+      if constexpr (Tracked)
+        return tracked_kids;
+      else
+        return plain_kids;
+    }
   };
   // Radiance along a camera ray. `probe` takes the counters and, when on, the
   // readable ray tree and the time of each ray by kind. Child and shadow rays keep
   // the camera ray's time.
   // `primary`: the camera ray's hit when the pixel loop traced it in a packet.
+  // `defer`: where the root may leave its direct light for finish_deferred.
   template <class K, class P>
   Color radiance(const Ray& camera_ray, const SampleContext& sc, Scratch& stack, P& probe,
-                 const PrimaryHit* primary = nullptr) const {
-    return li<Kernel<K::bits & kShadeAxes>>(camera_ray, sc, stack, probe, primary);
+                 const PrimaryHit* primary = nullptr, Deferred* defer = nullptr) const {
+    return li<Kernel<K::bits & kShadeAxes>>(camera_ray, sc, stack, probe, primary, defer);
+  }
+  // Adds each deferred root's light to col[i] (radiance()'s result for lane i),
+  // the lanes' shadow rays traced as packets.
+  template <class K>
+  void finish_deferred(std::uint32_t n, Deferred* defer, const SampleContext* sc,
+                       RenderStats& stats, Color* col) const {
+    finish_deferred_in<Kernel<K::bits & kShadeAxes>>(n, defer, sc, stats, col);
   }
   // The general kernel with a probe that has every instrument (tests, --pixel).
   Color li(const Ray& camera_ray, const SampleContext& sc, RenderStats& stats, Scratch& stack,
@@ -93,6 +132,8 @@ class WhittedIntegrator final : public Integrator {
   }
 
   TileFn tile_kernel(unsigned bits) const override;
+  // At most this many lanes defer at once (the pixel loop's packet).
+  static constexpr std::uint32_t kMaxDeferred = 16;
   std::string to_string() const override;
 
  private:
@@ -102,25 +143,25 @@ class WhittedIntegrator final : public Integrator {
                                          (1u << kAxis_finish);
   template <class K, class P>
   Color li(const Ray& camera_ray, const SampleContext& sc, Scratch& stack, P& probe,
-           const PrimaryHit* primary = nullptr) const;
+           const PrimaryHit* primary = nullptr, Deferred* defer = nullptr) const;
+  template <class K>
+  void finish_deferred_in(std::uint32_t n, Deferred* defer, const SampleContext* sc,
+                          RenderStats& stats, Color* col) const;
 
  private:
-  // What the surface does with the light beyond the Lambertian sum: the §16
-  // highlight seen from `wo`, summed into *spec. Kernels without highlights pass
-  // the empty NoLit, so their direct() takes no extra argument at all.
-  struct Lit {
-    Highlight highlight;
-    Vec3f wo;
-    Color* spec;
-  };
-  struct NoLit {};
+  // `lanes` queries' direct light, each as direct() alone would sum it: e[i] the
+  // Lambertian sum E, spec[i] the §16 highlight's (finish kernels). The light
+  // samples go light by light, cell by cell; each cell's shadow rays of all lanes
+  // are one occlusion query (a packet when lanes > 1). `in`: the interior at the
+  // shading point, lanes == 1 only (null without interiors).
+  template <class K, std::uint32_t kLanes>
+  void direct_lanes(std::uint32_t lanes, const DirectQuery* const* q,
+                    const SampleContext* const* sc, RenderStats& stats, const Interior* in,
+                    Color* e, Color* spec) const;
+  // What a lit node reflects of E (and the highlight's sum), li's order.
   template <class K>
-  using LitOf = std::conditional_t<K::finish, Lit, NoLit>;
-  template <class K>
-  // `o`: the shadow rays' origin, p moved off the surface (spawn_origin); `in`: the
-  // interior there (null without interiors).
-  Color direct(Vec3f p, Vec3f o, Vec3f n_facing, float time, std::uint64_t key,
-               const SampleContext& sc, RenderStats& stats, const Interior* in, LitOf<K> lit) const;
+  static Color lit_radiance(const DiffuseLobe& lobe, const DirectQuery& q, Color w, Color e,
+                            Color spec);
   // Whether a shadow ray is blocked; `tr` is multiplied by the Beer factor of the
   // medium it crosses when it is not (interiors only).
   template <class K>
