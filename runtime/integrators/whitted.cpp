@@ -234,6 +234,30 @@ void WhittedIntegrator::direct_lanes(std::uint32_t lanes, const DirectQuery* con
         if (lit[i] && !blocked[slot[i]] && std::isfinite(ls[i].g)) add(i, Color(1));
     }
   };
+  // Each lane's jitter in light cell `cell` (its node's dimension for the cell):
+  // sobol draws of a packet go four lanes at a time (sobol2_lanes: the same numbers
+  // as one by one), when the lanes share a sample index and a path key (a
+  // packet's roots do).
+  alignas(16) float ju[(kLanes + 3) / 4 * 4], jv[(kLanes + 3) / 4 * 4];
+  auto draw_cell = [&](std::uint64_t cell) {
+    if constexpr (kLanes > 1) {
+      bool shared = sc[0]->spec.kind == ir::SamplerKind::Sobol;
+      for (std::uint32_t i = 1; i < lanes && shared; ++i)
+        shared = sc[i]->index == sc[0]->index && q(i).key == q(0).key;
+      if (shared) {
+        const std::uint32_t dim = node_dim(q(0).key, cell);
+        Uninit<SobolLanes, 1> keys;
+        for (std::uint32_t i = 0; i < lanes; ++i) keys.v[0].set(i, key2(*sc[i], dim));
+        for (std::uint32_t i = lanes; i % 4; ++i) keys.v[0].set(i, DimKey{});
+        sobol2_lanes(keys.v[0], lanes, sc[0]->index, ju, jv);
+        return;
+      }
+    }
+    for (std::uint32_t i = 0; i < lanes; ++i) {
+      Sample2 s = draw2(*sc[i], node_dim(q(i).key, cell));
+      ju[i] = s.u, jv[i] = s.v;
+    }
+  };
   for (const PointLightF& l : lights_.points) {
     for (std::uint32_t i = 0; i < lanes; ++i)
       lit[i] = l.sample_li(q(i).p, q(i).o, q(i).n, q(i).time, ls[i]);
@@ -246,11 +270,10 @@ void WhittedIntegrator::direct_lanes(std::uint32_t lanes, const DirectQuery* con
     for (std::uint32_t iv = 0; iv < l.nv; ++iv)
       for (std::uint32_t iu = 0; iu < l.nu; ++iu) {
         const std::uint64_t cell = (std::uint64_t(li + 1) << 40) | (iv << 20) | iu;
-        for (std::uint32_t i = 0; i < lanes; ++i) {
-          Sample2 s = draw2(*sc[i], node_dim(q(i).key, cell));
-          lit[i] = l.sample_li(q(i).p, q(i).o, q(i).n, q(i).time, iu, iv, s.u, s.v, offset_scale_,
-                               ls[i]);
-        }
+        draw_cell(cell);
+        for (std::uint32_t i = 0; i < lanes; ++i)
+          lit[i] = l.sample_li(q(i).p, q(i).o, q(i).n, q(i).time, iu, iv, ju[i], jv[i],
+                               offset_scale_, ls[i]);
         trace();
       }
   }
@@ -361,9 +384,9 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
     Color contrib(0);
     std::string desc;
     // The root works on the packet's hit in place; every other node on a fresh
-    // one, made only then (a default Hit is ~90 bytes of stores).
-    std::optional<Hit> own_hit;
-    Hit& hit = primary ? *primary->hit : own_hit.emplace();
+    // one in the scratch, made only then (a default Hit is ~90 bytes of stores, and
+    // GCC zeroed even an empty std::optional<Hit> here on every node).
+    Hit& hit = primary ? *primary->hit : (scratch.hit = Hit{});
     Vec3f d = node.ray.dir;
     int nkids = 0;
     Vec3f p_surface;

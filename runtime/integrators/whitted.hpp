@@ -92,6 +92,7 @@ class WhittedIntegrator final : public Integrator {
     NodeOf<false> plain_kids[2];        // a node's children, before they are traced
     NodeOf<true> tracked_kids[2];
     Deferred light;  // a lit node's direct-light query when it is not deferred
+    Hit hit;         // the hit of a node the pixel loop did not trace
     template <bool Tracked>
     auto& stack() {
       if constexpr (Tracked)

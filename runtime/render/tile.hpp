@@ -70,6 +70,12 @@ struct SampleContext {
 };
 std::string to_string(const SampleContext& c);
 
+// The key of 2-D dimension `dim` of the sample's pixel (what draw2 draws from).
+[[gnu::always_inline]] inline DimKey key2(const SampleContext& sc, std::uint32_t dim) {
+  if (sc.dims) return sc.dims->get<false>(sc.spec, sc.pixel, dim);
+  return dim_key(sc.spec, sc.pixel, dim);
+}
+
 // Dimension `dim` of the sample: what sample2 / sample1 give for (pixel, index, dim).
 [[gnu::always_inline]] inline Sample2 draw2(const SampleContext& sc, std::uint32_t dim) {
   if (sc.dims) return sample2(sc.spec, sc.dims->get<false>(sc.spec, sc.pixel, dim), sc.index);
