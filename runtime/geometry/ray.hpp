@@ -64,9 +64,7 @@ inline Vec3f spawn_origin(const Hit& h, Vec3f n, float scale) {
   if (!(h.offset > 0)) return offset_ray_origin(h.p, n, scale);
   Vec3f o = h.p + n * h.offset;
   // Round away from the surface, so rounding never gives back part of the offset.
-  auto away = [](float x, float dir) {
-    return dir > 0 ? std::nextafter(x, INFINITY) : dir < 0 ? std::nextafter(x, -INFINITY) : x;
-  };
+  auto away = [](float x, float dir) { return dir > 0 ? next_up(x) : dir < 0 ? next_down(x) : x; };
   return {away(o.x, n.x), away(o.y, n.y), away(o.z, n.z)};
 }
 
