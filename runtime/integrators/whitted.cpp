@@ -183,10 +183,12 @@ bool WhittedIntegrator::shadow_blocked(const Ray& ray, const Interior* in, Color
 }
 
 template <class K, std::uint32_t kLanes>
-void WhittedIntegrator::direct_lanes(std::uint32_t lanes, const DirectQuery* const* qs,
+void WhittedIntegrator::direct_lanes(std::uint32_t lanes_in, const DirectQuery* const* qs,
                                      const SampleContext* const* sc, RenderStats& stats,
                                      const Interior* in, Color* e, Color* spec) const {
   static_assert(kLanes == 1 || !K::interiors, "shadow rays through interiors go one by one");
+  // A constant for one lane, so the tree's own direct light has no lane loops.
+  const std::uint32_t lanes = kLanes == 1 ? 1 : lanes_in;
   auto q = [qs](std::uint32_t i) -> const DirectQuery& { return *qs[i]; };
   // Left unset: every lane's sample is written before it is read (sample_li), and
   // default-made ones were a 1.6 KB memset per call.
@@ -203,7 +205,7 @@ void WhittedIntegrator::direct_lanes(std::uint32_t lanes, const DirectQuery* con
   (void)spec, (void)in;
   // One unblocked light sample of lane i: its share of E, and with highlights its
   // f_spec · value · g (the same G as the Lambertian sum: f · L_i · cosθ_i).
-  auto add = [&](std::uint32_t i, Color tr) {
+  auto add = [&](std::uint32_t i, Color tr) [[gnu::always_inline]] {
     (void)tr;
     if constexpr (K::interiors)
       e[i] += ls[i].value * ls[i].g * tr;
@@ -219,7 +221,7 @@ void WhittedIntegrator::direct_lanes(std::uint32_t lanes, const DirectQuery* con
     }
   };
   // The lanes' samples of one light (lit[i]: lane i has one) traced and added.
-  auto trace = [&] {
+  auto trace = [&]() [[gnu::always_inline]] {
     std::uint32_t m = 0;
     for (std::uint32_t i = 0; i < lanes; ++i)
       if (lit[i]) slot[i] = m, rays[m++] = ls[i].shadow;
