@@ -70,7 +70,35 @@ void SphereSet::refine(unsigned prim, const Ray& r, float t, Hit& hit) const {
 
 void MovingSphereSet::add(const ir::Shape& s, const ir::Sphere& g, std::uint32_t index,
                           Vec3 origin) {
-  spheres_.push_back({&s, g, origin, index});
+  Moving m{&s, g, origin, index, {}};
+  // Each part's box: the sphere's boxes at kSub + 1 times over it, grown by the
+  // most any face moves between two of them (as bounds() grows the sweep) and by
+  // 1e-6 of the box's reach, so the double slab test never turns away a ray
+  // that grazes the sphere.
+  constexpr unsigned kSub = 8;
+  for (unsigned p = 0; p < kSegments; ++p) {
+    Box3& part = m.part[p];
+    Box3 prev;
+    double grow = 0;
+    for (unsigned j = 0; j <= kSub; ++j) {
+      Box3 b;
+      double u = (double(p) + double(j) / kSub) / kSegments;
+      sphere_box(rel_at(s, origin, u).m, g.center, g.radius, b.lo, b.hi);
+      for (int k = 0; k < 3; ++k) {
+        part.lo[k] = std::fmin(part.lo[k], b.lo[k]), part.hi[k] = std::fmax(part.hi[k], b.hi[k]);
+        if (j > 0)
+          grow = std::fmax(
+              grow, std::fmax(std::fabs(b.lo[k] - prev.lo[k]), std::fabs(b.hi[k] - prev.hi[k])));
+      }
+      prev = b;
+    }
+    double reach = 0;
+    for (int k = 0; k < 3; ++k)
+      reach = std::fmax(reach, std::fmax(std::fabs(part.lo[k]), std::fabs(part.hi[k])));
+    grow += 1e-6 * reach;
+    for (int k = 0; k < 3; ++k) part.lo[k] -= grow, part.hi[k] += grow;
+  }
+  spheres_.push_back(m);
 }
 
 SphereData MovingSphereSet::at(const Moving& m, float time) {

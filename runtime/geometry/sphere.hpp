@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "runtime/geometry/motion.hpp"
 #include "runtime/geometry/ray.hpp"
 #include "runtime/geometry/xform.hpp"
 #include "runtime/ir/ir.hpp"
@@ -157,23 +158,59 @@ class MovingSphereSet {
   void bounds(unsigned prim, Box3& box) const;
   bool hit(unsigned prim, float time, Vec3f o, Vec3f d, float tnear, float tfar, float& t,
            Vec3f& n) const {
-    SphereData s = at(spheres_[prim], time);
-    return hit_general_sphere(s.object_from_rel, s.center, s.radius, o.x, o.y, o.z, d.x, d.y, d.z,
-                              tnear, tfar, t, n);
+    return may_hit(spheres_[prim], time, o, d, tnear, tfar) &&
+           hit_exact(prim, time, o, d, tnear, tfar, t, n);
   }
   // o + t·d, offset 0 (the Wächter–Binder offset covers its error).
   void refine(unsigned, const Ray& r, float t, Hit& hit) const {
     hit.p = r.org + r.dir * t, hit.offset = 0;
   }
+  // hit() without its pre-test, and the pre-test alone (tests: the pre-test never
+  // turns away a ray the exact test hits).
+  bool hit_exact(unsigned prim, float time, Vec3f o, Vec3f d, float tnear, float tfar, float& t,
+                 Vec3f& n) const {
+    SphereData s = at(spheres_[prim], time);
+    return hit_general_sphere(s.object_from_rel, s.center, s.radius, o.x, o.y, o.z, d.x, d.y, d.z,
+                              tnear, tfar, t, n);
+  }
+  bool may_hit(unsigned prim, float time, Vec3f o, Vec3f d, float tnear, float tfar) const {
+    return may_hit(spheres_[prim], time, o, d, tnear, tfar);
+  }
 
  private:
+  // The shutter in kSegments equal parts, each with the box of the sphere's sweep
+  // over it (grown like bounds(), plus a margin for the slab test's rounding).
+  // Embree's box holds the whole sweep; a ray that crosses it but not its own
+  // part's box cannot hit the sphere at its time, and is turned away before the
+  // placement (three 4x4 products in double) is computed.
+  static constexpr unsigned kSegments = 8;
   struct Moving {
     const ir::Shape* shape = nullptr;
     ir::Sphere sphere;
     Vec3 origin;
     std::uint32_t index = 0;
+    Box3 part[kSegments];
   };
   static SphereData at(const Moving& m, float time);
+  // False only when the ray's segment (tnear, tfar) misses its part's box.
+  static bool may_hit(const Moving& m, float time, Vec3f o, Vec3f d, float tnear, float tfar) {
+    double u = shutter_fraction(time) * kSegments;
+    const Box3& b = m.part[u < kSegments - 1 ? unsigned(u) : kSegments - 1];
+    double t0 = tnear, t1 = tfar;
+    const float os[3] = {o.x, o.y, o.z}, ds[3] = {d.x, d.y, d.z};
+    for (int k = 0; k < 3; ++k) {
+      if (ds[k] == 0) {
+        if (!(os[k] >= b.lo[k] && os[k] <= b.hi[k])) return false;
+        continue;
+      }
+      double inv = 1.0 / double(ds[k]);
+      double ta = (b.lo[k] - os[k]) * inv, tb = (b.hi[k] - os[k]) * inv;
+      if (ta > tb) std::swap(ta, tb);
+      t0 = std::fmax(t0, ta), t1 = std::fmin(t1, tb);
+      if (!(t0 <= t1)) return false;
+    }
+    return true;
+  }
   std::vector<Moving> spheres_;
 };
 
