@@ -35,8 +35,14 @@ bool PlaneSet::hit_plane(const PlaneData& p, const Ray& r, double tmax, double t
   }
   n_out = n;
   double denom = ir::dot(n, d);
+  double num = pd - ir::dot(n, o);
+  // A ray leaving the plane (num and denom of opposite signs, or num 0) has t <= 0,
+  // which the test below rejects anyway (tnear >= 0): turned away before the
+  // division, as every shadow ray leaving the floor upwards is. NaN goes on and
+  // fails below.
+  if (r.tnear >= 0 && (num == 0 || (num > 0 && denom < 0) || (num < 0 && denom > 0))) return false;
   if (denom == 0) return false;
-  t = (pd - ir::dot(n, o)) / denom;
+  t = num / denom;
   double tnear = r.tnear;
   if (!((t > tnear) && (t < tmax + tie / std::fabs(denom)) && (static_cast<float>(t) > 0)))
     return false;
