@@ -54,10 +54,11 @@ class EmbreeScene {
   bool occluded(const Ray& ray) const;
   // The same queries over a batch: found[i] / blocked[i] and hits[i] exactly as
   // the one-ray forms return them, traced as packets of up to 16 rays. They pay
-  // for coherent rays (camera rays of neighbouring pixels: 2.4-2.9x in
-  // bench_trace); a light grid's shadow rays from one point to a large light
-  // through many spheres ran 1.3x slower as packets, so the integrator keeps those
-  // one at a time.
+  // for coherent rays: camera rays of neighbouring pixels (2.4-2.9x in
+  // bench_trace), and the shadow rays of a packet's hits to one light cell (the
+  // pixel loop's deferred direct light). A light grid's shadow rays from one point
+  // to a large light through many spheres ran 1.3x slower as packets, so a lone
+  // point's grid goes one ray at a time.
   void intersect(std::span<const Ray> rays, std::span<Hit> hits,
                  std::span<std::uint8_t> found) const;
   void occluded(std::span<const Ray> rays, std::span<std::uint8_t> blocked) const;
