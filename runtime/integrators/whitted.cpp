@@ -4,7 +4,6 @@
 
 #include <chrono>
 #include <cmath>
-#include <optional>
 
 #include "runtime/ir/bounds.hpp"
 #include "runtime/shading/bump.hpp"
@@ -344,10 +343,8 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
   if constexpr (K::interiors) node.interior = interiors_.camera();
   const auto& mats = scene_.materials;
   // A node's children are collected here; kids[0] (the reflection) is traced next.
-  // Made once per thread, not per node: spawn() sets every field, and building
-  // two default nodes per ray was a measurable part of this function.
-  // In the thread's scratch, not on this frame: default nodes and queries made
-  // per tree were a 200-byte memset per camera sample.
+  // In the thread's scratch, made once per thread: spawn() sets every field, and
+  // default nodes and queries made per tree were a 200-byte memset per sample.
   N* const kids = scratch.template kids<K::interiors>();
   Deferred& own_light = scratch.light;  // a lit node's light when it is not deferred
 
@@ -360,10 +357,6 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
       Color e;
       const SampleContext* scp = &sc;
       const DirectQuery* qp = &q;
-      if constexpr (!P::on) {
-        direct_lanes<K, 1>(1, &qp, &scp, stats, in_here, &e, &spec);
-        return e;
-      }
       double t0 = cost ? CostClock::now_ns() : 0;
       direct_lanes<K, 1>(1, &qp, &scp, stats, in_here, &e, &spec);
       if (cost) {
