@@ -18,6 +18,7 @@ import argparse
 import json
 import math
 import os
+import re
 import subprocess
 import sys
 import time
@@ -65,7 +66,7 @@ def run_mitsuba(a, scene, out, spp, seed, slices, sampler):
 
 
 def run_snell(a, scene, out, spp, seed=0):
-    cmd = [str(a.snell), "render", str(HERE / f"{scene}.scn"), "-o", str(out), "--spp", str(spp),
+    cmd = [str(a.snell), "render", str(snell_scene(a, scene)), "-o", str(out), "--spp", str(spp),
            "--threads", str(a.threads), "--seed", str(seed), "--quiet"]
     t0 = time.perf_counter()
     p = subprocess.run(cmd, capture_output=True, text=True)
@@ -75,6 +76,22 @@ def run_snell(a, scene, out, spp, seed=0):
     import mitsuba as mi
     render = float(mi.Bitmap(str(out)).metadata()["snell:render_seconds"])
     return wall, render
+
+
+def snell_scene(a, scene):
+    """The Snell scene as shipped, or with --light-grid N a copy in --out whose area light
+    takes an N x N jittered grid of shadow rays per camera sample (the same image in the
+    limit: a sampling choice of the scene, stated beside the ratios it gives)."""
+    src = HERE / f"{scene}.scn"
+    if a.light_grid == 1:
+        return src
+    text, n = re.subn(r"area_light \{", f"area_light {{ samples <{a.light_grid}, {a.light_grid}>",
+                      src.read_text())
+    if n != 1:
+        sys.exit(f"run.py: {src} has {n} area lights, --light-grid expects one")
+    dst = a.out / f"{scene}-light{a.light_grid}.scn"
+    dst.write_text(text)
+    return dst
 
 
 def reference(a, scene):
@@ -173,6 +190,8 @@ def main():
     ap.add_argument("--ref-sampler", default="stratified")
     ap.add_argument("--snell-start-spp", type=int, default=4)
     ap.add_argument("--snell-max-spp", type=int, default=16384)
+    ap.add_argument("--light-grid", type=int, default=1,
+                    help="Snell's area light sampled as an N x N grid per camera sample (default: as shipped, 1)")
     ap.add_argument("--json", type=Path, help="also write the results here")
     a = ap.parse_args()
     ensure_venv(a.venv)
@@ -185,6 +204,9 @@ def main():
     results = [bench_scene(a, s, m) for s in a.scenes for m in a.mitsuba_samplers]
 
     print()
+    if a.light_grid != 1:
+        print(f"snell's area light: samples <{a.light_grid}, {a.light_grid}> per camera sample "
+              f"(Mitsuba: emitter_samples 1, its default)")
     print(f"time to equal error, {a.threads} threads, whole-process wall times "
           f"(minimum of {a.repeats} rounds); RMSE against the converged Mitsuba reference")
     hdr = (f"{'scene':9} | {'mitsuba sampler':>15} {'spp':>5} {'RMSE':>8} {'wall s':>7} {'render s':>8} | "
