@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -19,6 +20,7 @@
 #include "language/parser.hpp"
 #include "runtime/atomic_file.hpp"
 #include "runtime/image_format.hpp"
+#include "runtime/image_helper.hpp"
 #include "runtime/memory_estimate.hpp"
 #include "runtime/render.hpp"
 #include "runtime/scene_checks.hpp"
@@ -225,6 +227,22 @@ struct FrameJob {
   rt::RenderStats* total = nullptr;
 };
 
+// What the image helper found, said as the in-process checks of render_frame
+// would say it: exit 3 with the message, or -1 when the writer is ready.
+int helper_verdict(const rt::ImageHelperStatus& status, const std::vector<std::string>& outputs) {
+  if (!status.load_error.empty()) {
+    std::cerr << "snell: error: cannot write images: " << status.load_error << "\n";
+    return kExitIo;
+  }
+  if (!status.display_error.empty())
+    for (const std::string& out : outputs)
+      if (rt::lower_extension(out) != ".exr") {
+        std::cerr << "snell: error: cannot write " << out << ": " << status.display_error << "\n";
+        return kExitIo;
+      }
+  return -1;
+}
+
 int render_frame(FrameJob& job) {
   const CliArgs& o = job.o;
   compile::CompileOptions copts = job.copts;
@@ -269,6 +287,9 @@ int render_frame(FrameJob& job) {
   }
 
   if (int code = check_not_an_input(job.outputs, scene_inputs(scene)); code >= 0) return code;
+  // §17 images need the image module in this process (the texture system reads
+  // them during the render): the helper would only load it a second time.
+  if (!scene.images.empty()) rt::stop_image_helper();
   if (job.first) {
     for (const std::string& out : job.outputs) {
       if (int code = check_output_folder(out); code >= 0) return code;
@@ -278,24 +299,31 @@ int render_frame(FrameJob& job) {
         return kExitIo;
       }
     }
-    // The image writer (OIIO, ~0.25 s to load) loads before the render: a writer
-    // that cannot load fails now, not after the render is done. Not on a thread
-    // beside the render: its dlopen holds the loader lock, which Embree's and TBB's
-    // thread start-up wait for, and its CPU time is taken from the render's cores
-    // (measured: 0.33 -> 0.25 s for a tiny render, 3.8 -> 3.6 s for a 3.5 s one).
-    if (std::string err = rt::preload_image_writer(); !err.empty()) {
-      std::cerr << "snell: error: cannot write images: " << err << "\n";
-      return kExitIo;
-    }
-    // A display-referred output needs the OCIO config's display transform.
-    for (const std::string& out : job.outputs)
-      if (rt::lower_extension(out) != ".exr") {
-        if (std::string err = rt::check_display_transform(o.display_view()); !err.empty()) {
-          std::cerr << "snell: error: cannot write " << out << ": " << err << "\n";
-          return kExitIo;
-        }
-        break;
+    // The image writer (OIIO, ~0.25 s to load) is loading in the helper process
+    // since run_render began (image_helper.hpp); what it has found so far is
+    // said now, the rest as soon as it is known (the render is then cancelled).
+    // Without a helper it loads here, before the render, so a writer that cannot
+    // load fails now, not after the render is done. Not on a thread beside the
+    // render: its dlopen holds the loader lock, which Embree's and TBB's thread
+    // start-up wait for (measured: 0.33 -> 0.25 s for a tiny render).
+    if (rt::image_helper_running()) {
+      if (auto status = rt::image_helper_status(false))
+        if (int code = helper_verdict(*status, job.outputs); code >= 0) return code;
+    } else {
+      if (std::string err = rt::preload_image_writer(); !err.empty()) {
+        std::cerr << "snell: error: cannot write images: " << err << "\n";
+        return kExitIo;
       }
+      // A display-referred output needs the OCIO config's display transform.
+      for (const std::string& out : job.outputs)
+        if (rt::lower_extension(out) != ".exr") {
+          if (std::string err = rt::check_display_transform(o.display_view()); !err.empty()) {
+            std::cerr << "snell: error: cannot write " << out << ": " << err << "\n";
+            return kExitIo;
+          }
+          break;
+        }
+    }
   }
   // §17: every image opens through the texture system before the render (exit 3).
   if (std::string err = rt::check_images(scene, o.ocio_config); !err.empty()) {
@@ -322,9 +350,24 @@ int render_frame(FrameJob& job) {
     for (const std::string& w : rt::scene_warnings(scene))
       std::cerr << o.scene << ": warning: " << w << "\n";
   Progress progress(!o.quiet, isatty(STDERR_FILENO));
-  ropts.progress = [&](double f) { progress.update(f); };
+  // A helper still loading is asked after each tile: a writer that cannot load
+  // or a display transform that cannot be made cancels the render at once.
+  std::atomic<bool> helper_pending{job.first && rt::image_helper_running()};
+  std::atomic<bool> cancel{false};
+  ropts.cancel = &cancel;
+  ropts.progress = [&](double f) {
+    progress.update(f);
+    if (!helper_pending.load(std::memory_order_relaxed)) return;
+    if (auto status = rt::image_helper_status(false)) {
+      helper_pending.store(false, std::memory_order_relaxed);
+      if (!status->load_error.empty() || !status->display_error.empty()) cancel.store(true);
+    }
+  };
   rt::RenderResult result = rt::render(scene, ropts);
   progress.finish();
+  if (job.first && rt::image_helper_running())
+    if (int code = helper_verdict(*rt::image_helper_status(true), job.outputs); code >= 0)
+      return code;
   if (!result.trace.empty()) std::cerr << result.trace;
 
   rt::OutputInfo info;
@@ -370,6 +413,18 @@ int run_render(const CliArgs& o) {
   compile::CompileOptions copts;
   std::string error;
   if (!build_compile_options(o, copts, error)) return usage_error(error);
+
+  // The image module loads in a helper process while the scene compiles and
+  // renders (image_helper.hpp); stopped, however this returns.
+  if (!o.dump_ir) {
+    std::optional<rt::DisplayView> display;
+    for (const std::string& out : outputs)
+      if (rt::lower_extension(out) != ".exr") display = o.display_view();
+    rt::start_image_helper(display);
+  }
+  struct StopHelper {
+    ~StopHelper() { rt::stop_image_helper(); }
+  } stop_helper;
 
   // §18: one frame (clock from --clock, default 0), or --frames A..B.
   if (o.frames.empty() && o.frame)

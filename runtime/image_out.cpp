@@ -1,7 +1,8 @@
 // write_image() and read_image() without linking OpenImageIO: the encoder and
 // reader (image_io.cpp, OIIO and OCIO) are in the image module (image_module.cpp),
-// loaded on first use; `snell render` loads it just before the render
-// (preload_image_writer), so a missing module fails before the work. The module
+// loaded on first use; `snell render` has it loaded in a helper process beside
+// the work (image_helper.hpp), or here before the render (preload_image_writer),
+// so a missing module fails at the start, not after the render. The module
 // only encodes into memory; the file itself is written here, all or nothing
 // (atomic_file.cpp), so the signal handler and the fault tests see one writer.
 #include <fmt/format.h>
@@ -11,6 +12,7 @@
 
 #include "runtime/atomic_file.hpp"
 #include "runtime/image_format.hpp"
+#include "runtime/image_helper.hpp"
 #include "runtime/image_module.hpp"
 #include "runtime/render.hpp"
 
@@ -56,13 +58,21 @@ std::string write_image(const std::string& path, const Image& image, const Outpu
   if (!is_supported_image_extension(path))
     return fmt::format("{}: unsupported image format (use .exr, .png, .jpg, .tif)", path);
   if (image.width == 0 || image.height == 0) return fmt::format("{}: empty image", path);
-  const Encoder& e = encoder();
-  if (!e.encode) return fmt::format("cannot write {}: {}", path, e.error);
   std::vector<unsigned char> bytes;
-  std::string error;
-  e.encode(path, image, info, display, bytes, error);
+  std::string error = image_helper_running()
+                          ? image_helper_encode(path, image, info, display, bytes)
+                          : encode_image_here(path, image, info, display, bytes);
   if (!error.empty()) return error;
   return write_file_atomically(path, bytes.data(), bytes.size());
+}
+
+std::string encode_image_here(const std::string& path, const Image& image, const OutputInfo& info,
+                              const DisplayView& display, std::vector<unsigned char>& bytes) {
+  const Encoder& e = encoder();
+  if (!e.encode) return fmt::format("cannot write {}: {}", path, e.error);
+  std::string error;
+  e.encode(path, image, info, display, bytes, error);
+  return error;
 }
 
 std::string read_image(const std::string& path, ImageFile& out) {

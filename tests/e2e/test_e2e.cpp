@@ -496,3 +496,48 @@ TEST_CASE("a render estimated to need more memory than the limit fails before it
                         (tmp / "crop.exr"),
                     err, tmp) == 0);
 }
+
+TEST_CASE("the image helper process writes what the in-process writer writes", "[e2e]") {
+  // The same renders with the image module loaded in a helper process (the
+  // default) and here (SNELL_IMAGE_HELPER=0): the same pixels, for linear EXR and
+  // display-referred PNG, for each frame of a sequence, and for a scene whose §17
+  // image stops the helper (the module is needed in process then).
+  Scratch tmp;
+  std::string err;
+  std::ofstream(tmp / "s.scn") << "settings { resolution <24, 16> samples 2 }\n"
+                                  "camera { location <0, 1, -4> look_at <0, 0.5, 0> }\n"
+                                  "sphere { center <0, 0.5 + clock, 0> radius 0.6 }\n"
+                                  "plane { normal <0, 1, 0> }\n"
+                                  "point_light { position <2, 4, -3> intensity 40 }\n";
+  std::ofstream(tmp / "img.scn") << "settings { resolution <16, 16> samples 1 }\n"
+                                    "plane { normal <0, 1, 0> material diffuse image { file \""
+                                 << kSrc
+                                 << "/tests/conformance/image/texels.png\" rotate <90, 0, 0> } }\n"
+                                 << "point_light { position <0, 5, 0> intensity 50 }\n";
+  for (const char* scene : {"s.scn", "img.scn"})
+    for (const char* frames : {"", " --frames 0..2"}) {
+      INFO(scene << frames);
+      for (const char* helper : {"1", "0"}) {
+        std::string out = tmp / (std::string("h") + helper);
+        ::setenv("SNELL_IMAGE_HELPER", helper, 1);
+        int code = run_capture(
+            "render " + (tmp / scene) + frames + " --quiet -o " + out + ".exr -o " + out + ".png",
+            err, tmp);
+        ::unsetenv("SNELL_IMAGE_HELPER");
+        INFO(err);
+        REQUIRE(code == 0);
+      }
+      std::vector<std::string> names = {"h1.exr", "h1.png"};
+      if (*frames) names = {"h1_0000.exr", "h1_0001.png"};
+      for (const std::string& name : names) {
+        INFO(name);
+        std::string other = name;
+        other[1] = '0';
+        int w = 0, h = 0, w0 = 0, h0 = 0;
+        std::vector<float> a = read_rgb(tmp / name, w, h), b = read_rgb(tmp / other, w0, h0);
+        CHECK(w == w0);
+        CHECK(h == h0);
+        CHECK(a == b);
+      }
+    }
+}

@@ -188,6 +188,70 @@ expect_message "a JPEG holds at most 65500 pixels a side"
 grep -qF "kernel:" "$tmp/err" && fail "$CASE: it rendered first"
 [ -e "$d/w.png" ] && fail "$CASE: an output was written although the command failed before the render"
 
+# 9. The image helper (runtime/image_helper.hpp), the child that loads the image
+#    module beside the render: killed, its encoding is an error (exit 3), not a
+#    crash or a file half written; and it never outlives a killed snell.
+# helper_of PID: the helper child of snell PID, once it has one (or empty).
+helper_of() {
+  local kids="" i
+  for i in $(seq 50); do
+    kids="$(cat /proc/"$1"/task/*/children 2> /dev/null | tr -s ' ' '\n' | head -1)"
+    [ -n "$kids" ] && break
+    sleep 0.02
+  done
+  echo "$kids"
+}
+# alive PID: running, not gone and not a zombie waiting for whoever adopted it
+# (kill -0 finds those too).
+alive() {
+  local st
+  st="$(awk '{print $3}' /proc/"$1"/stat 2> /dev/null)"
+  [ -n "$st" ] && [ "$st" != Z ]
+}
+# Killed while it loads (at once) and once it has loaded (the render takes
+# 3 s): the one is said as a writer that could not load, the other when the
+# render's image is to be encoded.
+for when in loading encoding; do
+  CASE="image helper killed while $when"
+  d="$tmp/helper-$when"
+  mkdir -p "$d"
+  old_file "$d" out.png
+  "$snell" render "$scene" --res 640x360 --spp 24 --quiet -o "$d/out.png" 2> "$tmp/err" &
+  pid=$!
+  child="$(helper_of $pid)"
+  if [ -z "$child" ]; then
+    fail "$CASE: snell started no helper process"
+  else
+    [ $when = encoding ] && sleep 1.5
+    kill -KILL "$child"
+  fi
+  wait "$pid"
+  expect_status 3 $?
+  if [ $when = loading ]; then
+    expect_message "cannot write images: the image helper ended while loading (it was ended by signal 9)"
+  else
+    expect_message "cannot write $d/out.png: the image helper ended while encoding (it was ended by signal 9)"
+  fi
+  untouched "$d" out.png
+  no_leftovers "$d"
+done
+
+CASE="snell killed: its image helper goes too"
+"$snell" render "$scene" --res 640x360 --spp 64 --quiet -o "$d/gone.png" 2> "$tmp/err" &
+pid=$!
+child="$(helper_of $pid)"
+kill -KILL "$pid"
+wait "$pid" 2> /dev/null
+if [ -n "$child" ]; then
+  for i in $(seq 50); do
+    alive "$child" || break
+    sleep 0.02
+  done
+  alive "$child" && fail "$CASE: the helper $child is still running"
+else
+  fail "$CASE: snell started no helper process"
+fi
+
 if [ "$failures" -gt 0 ]; then
   echo "$failures failure(s)"
   exit 1
