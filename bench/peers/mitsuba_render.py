@@ -2,7 +2,7 @@
 linear EXR. Run by run.py in a fresh Python (the venv of setup.sh) so that its wall
 time is a whole process: interpreter start, import, scene load, JIT, render, write.
 
-  python mitsuba_render.py SCENE OUT.exr --spp N [--sampler S] [--slices K] [--seed N]
+  python mitsuba_render.py SCENE OUT.exr --spp N [--sampler S] [--slices K] [--seed N] [--emitter-samples E]
 
 SCENE is thinlens or motion. Mitsuba 3.9.1 has no moving shapes, so `motion`
 renders K time slices (stratified: slice k at t = (k + u_k) / K, u_k uniform, so
@@ -35,13 +35,14 @@ def main():
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--variant", default="llvm_ad_rgb")
+    ap.add_argument("--emitter-samples", type=int, default=1, help="the direct integrator's")
     a = ap.parse_args()
 
     mi.set_variant(a.variant)
     dr.set_thread_count(a.threads)
     t0 = time.perf_counter()
     if a.scene == "thinlens":
-        scene = mi.load_dict(S.thinlens(mi, a.sampler, a.spp))
+        scene = mi.load_dict(S.thinlens(mi, a.sampler, a.spp, a.emitter_samples))
         t1 = time.perf_counter()
         img = mi.render(scene, spp=a.spp, seed=a.seed)
     else:
@@ -49,7 +50,7 @@ def main():
         if a.spp % k:
             sys.exit(f"--spp {a.spp} is not a multiple of --slices {k}")
         per = a.spp // k
-        scene = mi.load_dict(S.motion(mi, a.sampler, per))
+        scene = mi.load_dict(S.motion(mi, a.sampler, per, a.emitter_samples))
         params = mi.traverse(scene)
         key = S.moving_sphere_key() + ".to_world"
         r = S.SPHERES[0][1]

@@ -56,7 +56,7 @@ def _parallelogram_to_world(mi, corner, e1, e2):
     return mi.ScalarTransform4f(m.tolist())
 
 
-def _base(mi, sampler, spp, sensor_extra):
+def _base(mi, sampler, spp, sensor_extra, emitter_samples=1):
     T = mi.ScalarTransform4f
     sensor = {
         "to_world": T().look_at(origin=list(CAMERA["origin"]), target=list(CAMERA["target"]),
@@ -70,7 +70,9 @@ def _base(mi, sampler, spp, sensor_extra):
     sensor.update(sensor_extra)
     d = {
         "type": "scene",
-        "integrator": {"type": "direct"},
+        # emitter_samples > 1: that many independent light samples per camera sample (Mitsuba's
+        # counterpart of a Snell area light's samples grid, but not stratified); bsdf_samples 1
+        "integrator": {"type": "direct", "emitter_samples": emitter_samples, "bsdf_samples": 1},
         "sensor": sensor,
         "light": {
             "type": "rectangle",
@@ -90,14 +92,14 @@ def _base(mi, sampler, spp, sensor_extra):
     return d
 
 
-def thinlens(mi, sampler="independent", spp=256):
+def thinlens(mi, sampler="independent", spp=256, emitter_samples=1):
     return _base(mi, sampler, spp, {"type": "thinlens", "aperture_radius": APERTURE / 2,
-                                    "focus_distance": FOCAL_DISTANCE})
+                                    "focus_distance": FOCAL_DISTANCE}, emitter_samples)
 
 
-def motion(mi, sampler="independent", spp=256):
+def motion(mi, sampler="independent", spp=256, emitter_samples=1):
     """The scene at shutter open; move_sphere() places the moving sphere at time t."""
-    return _base(mi, sampler, spp, {"type": "perspective"})
+    return _base(mi, sampler, spp, {"type": "perspective"}, emitter_samples)
 
 
 def moving_sphere_key():

@@ -51,9 +51,10 @@ def mitsuba_env():
     return env
 
 
-def run_mitsuba(a, scene, out, spp, seed, slices, sampler):
+def run_mitsuba(a, scene, out, spp, seed, slices, sampler, emitter_samples=1):
     cmd = [sys.executable, str(HERE / "mitsuba_render.py"), scene, str(out), "--spp", str(spp),
-           "--sampler", sampler, "--seed", str(seed), "--threads", str(a.threads)]
+           "--sampler", sampler, "--seed", str(seed), "--threads", str(a.threads),
+           "--emitter-samples", str(emitter_samples)]
     if scene == "motion":
         cmd += ["--slices", str(slices)]
     t0 = time.perf_counter()
@@ -127,11 +128,11 @@ def bench_scene(a, scene, sampler):
     s_out = a.out / f"snell-{scene}.exr"
 
     # Warm-ups, untimed: Dr.Jit's kernel cache (~/.drjit), the page cache for both binaries.
-    run_mitsuba(a, scene, m_out, a.mitsuba_spp, 1, a.slices, sampler)
+    run_mitsuba(a, scene, m_out, a.mitsuba_spp, 1, a.slices, sampler, a.mitsuba_emitter_samples)
     run_snell(a, scene, s_out, 4)
 
     # Round 1: Mitsuba, then Snell at doubling spp until it reaches Mitsuba's error.
-    m_wall, m_render = run_mitsuba(a, scene, m_out, a.mitsuba_spp, 1, a.slices, sampler)
+    m_wall, m_render = run_mitsuba(a, scene, m_out, a.mitsuba_spp, 1, a.slices, sampler, a.mitsuba_emitter_samples)
     m_rmse = imgs.rmse(imgs.read_exr(m_out), ref)
     print(f"[{scene}] mitsuba {sampler} {a.mitsuba_spp} spp: RMSE {m_rmse:.5f}, wall {m_wall:.2f} s "
           f"(render {m_render:.2f} s)", flush=True)
@@ -154,7 +155,7 @@ def bench_scene(a, scene, sampler):
     # Rounds 2..R: the same renders again, interleaved; keep the minimum wall times.
     m_walls, m_renders = [m_wall], [m_render]
     for r in range(1, a.repeats):
-        w, rr = run_mitsuba(a, scene, m_out, a.mitsuba_spp, 1, a.slices, sampler)
+        w, rr = run_mitsuba(a, scene, m_out, a.mitsuba_spp, 1, a.slices, sampler, a.mitsuba_emitter_samples)
         m_walls.append(w)
         m_renders.append(rr)
         for st in ([lo, hi] if lo else [hi]):
@@ -192,6 +193,8 @@ def main():
     ap.add_argument("--snell-max-spp", type=int, default=16384)
     ap.add_argument("--light-grid", type=int, default=1,
                     help="Snell's area light sampled as an N x N grid per camera sample (default: as shipped, 1)")
+    ap.add_argument("--mitsuba-emitter-samples", type=int, default=1,
+                    help="light samples per camera sample in Mitsuba's direct integrator (default: its own, 1)")
     ap.add_argument("--json", type=Path, help="also write the results here")
     a = ap.parse_args()
     ensure_venv(a.venv)
@@ -204,9 +207,9 @@ def main():
     results = [bench_scene(a, s, m) for s in a.scenes for m in a.mitsuba_samplers]
 
     print()
-    if a.light_grid != 1:
-        print(f"snell's area light: samples <{a.light_grid}, {a.light_grid}> per camera sample "
-              f"(Mitsuba: emitter_samples 1, its default)")
+    if a.light_grid != 1 or a.mitsuba_emitter_samples != 1:
+        print(f"snell's area light: samples <{a.light_grid}, {a.light_grid}> per camera sample; "
+              f"Mitsuba's direct integrator: emitter_samples {a.mitsuba_emitter_samples}")
     print(f"time to equal error, {a.threads} threads, whole-process wall times "
           f"(minimum of {a.repeats} rounds); RMSE against the converged Mitsuba reference")
     hdr = (f"{'scene':9} | {'mitsuba sampler':>15} {'spp':>5} {'RMSE':>8} {'wall s':>7} {'render s':>8} | "
