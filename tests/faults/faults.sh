@@ -208,21 +208,34 @@ alive() {
   st="$(awk '{print $3}' /proc/"$1"/stat 2> /dev/null)"
   [ -n "$st" ] && [ "$st" != Z ]
 }
+# waiting PID: returns once the helper PID has loaded and waits for a request
+# (blocked reading its socket), or after 4 s where the kernel hides wchan. A
+# fixed sleep was not enough: beside a 2-thread render on a loaded 2-core
+# machine the load can take over a second.
+waiting() {
+  local i
+  for i in $(seq 200); do
+    case "$(cat /proc/"$1"/wchan 2> /dev/null)" in *unix_stream* | *sock* | *recv*) return ;; esac
+    sleep 0.02
+  done
+}
 # Killed while it loads (at once) and once it has loaded (the render takes
-# 3 s): the one is said as a writer that could not load, the other when the
-# render's image is to be encoded.
+# 6 s alone): the one is said as a writer that could not load, the other when
+# the render's image is to be encoded.
 for when in loading encoding; do
   CASE="image helper killed while $when"
   d="$tmp/helper-$when"
   mkdir -p "$d"
   old_file "$d" out.png
-  "$snell" render "$scene" --res 640x360 --spp 24 --quiet -o "$d/out.png" 2> "$tmp/err" &
+  spp=24
+  [ $when = encoding ] && spp=48
+  "$snell" render "$scene" --res 640x360 --spp $spp --quiet -o "$d/out.png" 2> "$tmp/err" &
   pid=$!
   child="$(helper_of $pid)"
   if [ -z "$child" ]; then
     fail "$CASE: snell started no helper process"
   else
-    [ $when = encoding ] && sleep 1.5
+    [ $when = encoding ] && waiting "$child"
     kill -KILL "$child"
   fi
   wait "$pid"
