@@ -51,10 +51,11 @@ def mitsuba_env():
     return env
 
 
-def run_mitsuba(a, scene, out, spp, seed, slices, sampler, emitter_samples=1):
+def run_mitsuba(a, scene, out, spp, seed, slices, sampler, emitter_samples=None):
+    """emitter_samples: --mitsuba-emitter-samples unless given (the reference gives 1)."""
     cmd = [sys.executable, str(HERE / "mitsuba_render.py"), scene, str(out), "--spp", str(spp),
            "--sampler", sampler, "--seed", str(seed), "--threads", str(a.threads),
-           "--emitter-samples", str(emitter_samples)]
+           "--emitter-samples", str(emitter_samples or a.mitsuba_emitter_samples)]
     if scene == "motion":
         cmd += ["--slices", str(slices)]
     t0 = time.perf_counter()
@@ -104,7 +105,8 @@ def reference(a, scene):
     if not path.exists():
         print(f"[{scene}] rendering the reference ({tag}); once, then cached as {path}", flush=True)
         tmp = path.with_name("tmp-" + path.name)
-        wall, _ = run_mitsuba(a, scene, tmp, a.ref_spp, 1000, a.ref_slices, a.ref_sampler)
+        wall, _ = run_mitsuba(a, scene, tmp, a.ref_spp, 1000, a.ref_slices, a.ref_sampler,
+                              emitter_samples=1)
         tmp.rename(path)
         print(f"[{scene}] reference done in {wall:.0f} s", flush=True)
     import imgs
@@ -128,11 +130,11 @@ def bench_scene(a, scene, sampler):
     s_out = a.out / f"snell-{scene}.exr"
 
     # Warm-ups, untimed: Dr.Jit's kernel cache (~/.drjit), the page cache for both binaries.
-    run_mitsuba(a, scene, m_out, a.mitsuba_spp, 1, a.slices, sampler, a.mitsuba_emitter_samples)
+    run_mitsuba(a, scene, m_out, a.mitsuba_spp, 1, a.slices, sampler)
     run_snell(a, scene, s_out, 4)
 
     # Round 1: Mitsuba, then Snell at doubling spp until it reaches Mitsuba's error.
-    m_wall, m_render = run_mitsuba(a, scene, m_out, a.mitsuba_spp, 1, a.slices, sampler, a.mitsuba_emitter_samples)
+    m_wall, m_render = run_mitsuba(a, scene, m_out, a.mitsuba_spp, 1, a.slices, sampler)
     m_rmse = imgs.rmse(imgs.read_exr(m_out), ref)
     print(f"[{scene}] mitsuba {sampler} {a.mitsuba_spp} spp: RMSE {m_rmse:.5f}, wall {m_wall:.2f} s "
           f"(render {m_render:.2f} s)", flush=True)
@@ -155,7 +157,7 @@ def bench_scene(a, scene, sampler):
     # Rounds 2..R: the same renders again, interleaved; keep the minimum wall times.
     m_walls, m_renders = [m_wall], [m_render]
     for r in range(1, a.repeats):
-        w, rr = run_mitsuba(a, scene, m_out, a.mitsuba_spp, 1, a.slices, sampler, a.mitsuba_emitter_samples)
+        w, rr = run_mitsuba(a, scene, m_out, a.mitsuba_spp, 1, a.slices, sampler)
         m_walls.append(w)
         m_renders.append(rr)
         for st in ([lo, hi] if lo else [hi]):
