@@ -24,6 +24,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "runtime/ir/ir.hpp"
 
@@ -160,13 +161,14 @@ template <class U>
 }
 // Laine–Karras style hash that only lets lower bits affect higher ones; applied to
 // bit-reversed values it is a nested uniform (Owen) scramble.
+// (The multipliers are shared with the SIMD paths of sampler_lanes.cpp, which
+// cannot call this template on their wide vectors under clang.)
+inline constexpr std::uint32_t kLkMultipliers[4] = {0x6c50b47cu, 0xb82f1e52u, 0xc7afe638u,
+                                                    0x8d22f6e6u};
 template <class U>
 [[gnu::always_inline]] inline U lk_permutation(U x, U seed) {
   x += seed;
-  x ^= x * 0x6c50b47cu;
-  x ^= x * 0xb82f1e52u;
-  x ^= x * 0xc7afe638u;
-  x ^= x * 0x8d22f6e6u;
+  for (std::uint32_t c : kLkMultipliers) x ^= x * c;
   return x;
 }
 inline std::uint32_t owen_scramble(std::uint32_t x, std::uint32_t seed) {
@@ -295,10 +297,10 @@ struct DimKey {
 }
 
 // One sobol dimension pair of up to kLanes pixels, as arrays of their DimKeys'
-// seeds: sobol2_lanes draws one sample index for all of them four lanes at a time,
-// in GCC/clang vector types (SSE2 on x86-64, NEON on ARM; plain loops would stay
-// scalar, as GCC turns the bit reversal into a scalar bswap). Each lane draws
-// exactly what sample2(spec, its key, index) does (tests/runtime/test_sampler.cpp).
+// seeds: sobol2_lanes draws one sample index for all of them at once (plain loops
+// would stay scalar, as GCC turns the bit reversal into a scalar bswap). Each lane
+// draws exactly what sample2(spec, its key, index) does
+// (tests/runtime/test_sampler.cpp).
 struct SobolLanes {
   static constexpr std::uint32_t kLanes = 16;
   alignas(16) std::uint32_t index_seed[kLanes] = {}, seed_u[kLanes] = {}, seed_v[kLanes] = {};
@@ -307,36 +309,16 @@ struct SobolLanes {
   }
 };
 
-namespace detail {
-using U32x4 = std::uint32_t __attribute__((vector_size(16)));
-using I32x4 = std::int32_t __attribute__((vector_size(16)));
-using F32x4 = float __attribute__((vector_size(16)));
-// to_unit_float of four lanes.
-inline F32x4 to_unit_float4(U32x4 bits) {
-  return __builtin_convertvector(I32x4(bits >> 8), F32x4) * (1.0f / 16777216.0f);
-}
-}  // namespace detail
-
-// u[0, n), v[0, n) (both with room for kLanes rounded up to 4).
-inline void sobol2_lanes(const SobolLanes& k, std::uint32_t n, std::uint32_t index, float* u,
-                         float* v) {
-  using namespace detail;
-  for (std::uint32_t l = 0; l < n; l += 4) {
-    U32x4 seed0, su, sv;
-    __builtin_memcpy(&seed0, k.index_seed + l, 16);
-    __builtin_memcpy(&su, k.seed_u + l, 16);
-    __builtin_memcpy(&sv, k.seed_v + l, 16);
-    const U32x4 idx = U32x4{} + index;
-    // owen_scramble(index, seed0), then dimension 0 is reverse(i) scrambled.
-    U32x4 i = reverse_bits(lk_permutation(reverse_bits(idx), seed0));
-    F32x4 fu = to_unit_float4(reverse_bits(lk_permutation(i, su)));
-    U32x4 s1 = {reversed_sobol1(i[0]), reversed_sobol1(i[1]), reversed_sobol1(i[2]),
-                reversed_sobol1(i[3])};
-    F32x4 fv = to_unit_float4(reverse_bits(lk_permutation(s1, sv)));
-    __builtin_memcpy(u + l, &fu, 16);
-    __builtin_memcpy(v + l, &fv, 16);
-  }
-}
+// u[0, n), v[0, n), in the widest SIMD path this CPU has (sampler_lanes.cpp);
+// every path draws the same numbers. Both arrays need room for kLanes floats: a
+// path may write all of them (lanes from n on are unspecified), since a masked
+// store would keep the caller's loads of single lanes from being forwarded.
+void sobol2_lanes(const SobolLanes& k, std::uint32_t n, std::uint32_t index, float* u, float* v);
+// The paths this build and CPU offer, best (the one sobol2_lanes uses) first, and
+// one of them by name (false if it is not offered): for tests and benchmarks.
+std::vector<std::string> sobol2_lanes_paths();
+bool sobol2_lanes_with(const std::string& path, const SobolLanes& k, std::uint32_t n,
+                       std::uint32_t index, float* u, float* v);
 
 // A pixel's keys of the dimensions its ray trees draw, remembered across its
 // samples: a ray tree's per-node dimensions (an area light's cells at the first

@@ -239,7 +239,8 @@ void WhittedIntegrator::direct_lanes(std::uint32_t lanes_in, const DirectQuery* 
   // sobol draws of a packet go four lanes at a time (sobol2_lanes: the same numbers
   // as one by one), when the lanes share a sample index and a path key (a
   // packet's roots do).
-  alignas(16) float ju[(kLanes + 3) / 4 * 4], jv[(kLanes + 3) / 4 * 4];
+  constexpr std::uint32_t kJitter = kLanes > SobolLanes::kLanes ? kLanes : SobolLanes::kLanes;
+  alignas(64) float ju[kJitter], jv[kJitter];
   auto draw_cell = [&](std::uint64_t cell) {
     if constexpr (kLanes > 1) {
       bool shared = sc[0]->spec.kind == ir::SamplerKind::Sobol;

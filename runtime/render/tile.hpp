@@ -114,8 +114,9 @@ void camera_rays(const TileContext& c, std::uint32_t n, const CameraKeys* keys,
                  const SobolLanes* film, const SobolLanes* lens, const std::uint32_t* px,
                  const std::uint32_t* py, std::uint32_t s, Ray* rays, RenderStats& stats) {
   double fx[Camera::kMaxBlock], fy[Camera::kMaxBlock];
-  float ju[Camera::kMaxBlock], jv[Camera::kMaxBlock];
-  float lu[Camera::kMaxBlock], lv[Camera::kMaxBlock];
+  static_assert(Camera::kMaxBlock >= SobolLanes::kLanes);  // sobol2_lanes writes kLanes
+  alignas(64) float ju[Camera::kMaxBlock], jv[Camera::kMaxBlock];
+  alignas(64) float lu[Camera::kMaxBlock], lv[Camera::kMaxBlock];
   if (c.spec.kind == ir::SamplerKind::Sobol) {
     sobol2_lanes(*film, n, s, ju, jv);
     if constexpr (K::lens) sobol2_lanes(*lens, n, s, lu, lv);

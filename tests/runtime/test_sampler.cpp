@@ -1,5 +1,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <cstring>
+#include <string>
 #include <vector>
 
 #include "runtime/sampler.hpp"
@@ -230,34 +232,53 @@ TEST_CASE("keyed draws and the pixel's key cache give the unkeyed numbers", "[sa
   CHECK(mismatches == 0);
 }
 
-TEST_CASE("sobol draws four lanes at a time give the one-by-one numbers", "[sampler]") {
+TEST_CASE("sobol draws in lanes give the one-by-one numbers, on every SIMD path", "[sampler]") {
   // Every block size 1..16 (a block at the image's edge is smaller), lanes left over
-  // from a larger block beyond n, indices across power-of-two boundaries.
-  std::uint64_t mismatches = 0, draws = 0;
-  for (std::uint32_t spp : {1u, 16u, 64u, 1000u}) {
-    SamplerSpec spec{ir::SamplerKind::Sobol, 0x51 + spp, spp};
-    SobolLanes lanes;
-    for (std::uint32_t n = 16; n >= 1; --n)
-      for (std::uint32_t dim : {std::uint32_t(kDimPixel), std::uint32_t(kDimLens), 0x9e3779b9u}) {
-        DimKey keys[SobolLanes::kLanes];
-        for (std::uint32_t l = 0; l < n; ++l) {
-          keys[l] = dim_key(spec, pixel_hash(spec, l * 3 + n, dim % 7), dim);
-          lanes.set(l, keys[l]);
-        }
-        for (std::uint32_t i = 0; i < spp + 2; i += 1 + spp / 50) {
-          float u[SobolLanes::kLanes], v[SobolLanes::kLanes];
-          sobol2_lanes(lanes, n, i, u, v);
+  // from a larger block beyond n, indices across power-of-two boundaries; each path
+  // this CPU runs (the generic one always; avx512 where the CPU has it).
+  const std::vector<std::string> paths = sobol2_lanes_paths();
+  REQUIRE(!paths.empty());
+  CHECK(paths.back() == "generic");
+  for (const std::string& path : paths) {
+    INFO("path " << path);
+    std::uint64_t mismatches = 0, draws = 0;
+    for (std::uint32_t spp : {1u, 16u, 64u, 1000u, 1u << 20}) {
+      SamplerSpec spec{ir::SamplerKind::Sobol, 0x51 + spp, spp};
+      SobolLanes lanes;
+      for (std::uint32_t n = 16; n >= 1; --n)
+        for (std::uint32_t dim : {std::uint32_t(kDimPixel), std::uint32_t(kDimLens), 0x9e3779b9u}) {
+          DimKey keys[SobolLanes::kLanes];
           for (std::uint32_t l = 0; l < n; ++l) {
-            Sample2 one = sample2(spec, keys[l], i);
-            mismatches += (one.u != u[l]) + (one.v != v[l]);
-            ++draws;
+            keys[l] = dim_key(spec, pixel_hash(spec, l * 3 + n, dim % 7), dim);
+            lanes.set(l, keys[l]);
+          }
+          for (std::uint32_t i = 0; i < spp + 2; i += 1 + spp / 50) {
+            float u[SobolLanes::kLanes], v[SobolLanes::kLanes];
+            REQUIRE(sobol2_lanes_with(path, lanes, n, i, u, v));
+            for (std::uint32_t l = 0; l < n; ++l) {
+              Sample2 one = sample2(spec, keys[l], i);
+              mismatches += (one.u != u[l]) + (one.v != v[l]);
+              ++draws;
+            }
           }
         }
-      }
+    }
+    INFO(draws << " draws");
+    CHECK(draws > 10000);
+    CHECK(mismatches == 0);
   }
-  INFO(draws << " draws");
-  CHECK(draws > 10000);
-  CHECK(mismatches == 0);
+  // The dispatched entry point is the first (best) path.
+  SamplerSpec spec{ir::SamplerKind::Sobol, 3, 64};
+  SobolLanes lanes;
+  for (std::uint32_t l = 0; l < SobolLanes::kLanes; ++l)
+    lanes.set(l, dim_key(spec, pixel_hash(spec, l, 1), kDimLens));
+  float u[SobolLanes::kLanes], v[SobolLanes::kLanes], u2[SobolLanes::kLanes],
+      v2[SobolLanes::kLanes];
+  sobol2_lanes(lanes, SobolLanes::kLanes, 37, u, v);
+  REQUIRE(sobol2_lanes_with(paths.front(), lanes, SobolLanes::kLanes, 37, u2, v2));
+  CHECK(std::memcmp(u, u2, sizeof u) == 0);
+  CHECK(std::memcmp(v, v2, sizeof v) == 0);
+  CHECK_FALSE(sobol2_lanes_with("no such path", lanes, 1, 0, u, v));
 }
 
 TEST_CASE("the exact divisor agrees with division for every kind of divisor", "[sampler]") {
