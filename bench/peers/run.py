@@ -81,16 +81,17 @@ def run_snell(a, scene, out, spp, seed=0):
 
 
 def snell_scene(a, scene):
-    """The Snell scene as shipped, or with --light-grid N a copy in --out whose area light
-    takes an N x N jittered grid of shadow rays per camera sample (the same image in the
-    limit: a sampling choice of the scene, stated beside the ratios it gives)."""
+    """The Snell scene as shipped (its area light takes a 2 x 2 jittered grid of shadow
+    rays per camera sample), or with --light-grid N a copy in --out whose area light
+    takes N x N (the same image in the limit: a sampling choice of the scene, stated
+    beside the ratios it gives)."""
     src = HERE / f"{scene}.scn"
-    if a.light_grid == 1:
+    if a.light_grid is None:
         return src
-    text, n = re.subn(r"area_light \{", f"area_light {{ samples <{a.light_grid}, {a.light_grid}>",
-                      src.read_text())
+    text, n = re.subn(r"(area_light \{[^}]*?)samples <\d+, \d+>",
+                      rf"\g<1>samples <{a.light_grid}, {a.light_grid}>", src.read_text())
     if n != 1:
-        sys.exit(f"run.py: {src} has {n} area lights, --light-grid expects one")
+        sys.exit(f"run.py: {src} has {n} area lights with samples, --light-grid expects one")
     dst = a.out / f"{scene}-light{a.light_grid}.scn"
     dst.write_text(text)
     return dst
@@ -193,8 +194,8 @@ def main():
     ap.add_argument("--ref-sampler", default="stratified")
     ap.add_argument("--snell-start-spp", type=int, default=4)
     ap.add_argument("--snell-max-spp", type=int, default=16384)
-    ap.add_argument("--light-grid", type=int, default=1,
-                    help="Snell's area light sampled as an N x N grid per camera sample (default: as shipped, 1)")
+    ap.add_argument("--light-grid", type=int, default=None,
+                    help="Snell's area light sampled as an N x N grid per camera sample (default: as shipped, 2)")
     ap.add_argument("--mitsuba-emitter-samples", type=int, default=1,
                     help="light samples per camera sample in Mitsuba's direct integrator (default: its own, 1)")
     ap.add_argument("--json", type=Path, help="also write the results here")
@@ -209,8 +210,10 @@ def main():
     results = [bench_scene(a, s, m) for s in a.scenes for m in a.mitsuba_samplers]
 
     print()
-    if a.light_grid != 1 or a.mitsuba_emitter_samples != 1:
-        print(f"snell's area light: samples <{a.light_grid}, {a.light_grid}> per camera sample; "
+    for scene in a.scenes:
+        m = re.search(r"area_light \{[^}]*?samples <(\d+), (\d+)>", snell_scene(a, scene).read_text())
+        grid = f"<{m[1]}, {m[2]}>" if m else "<1, 1>"
+        print(f"{scene}: snell's area light samples {grid} per camera sample; "
               f"Mitsuba's direct integrator: emitter_samples {a.mitsuba_emitter_samples}")
     print(f"time to equal error, {a.threads} threads, whole-process wall times "
           f"(minimum of {a.repeats} rounds); RMSE against the converged Mitsuba reference")
