@@ -236,8 +236,8 @@ void WhittedIntegrator::direct_lanes(std::uint32_t lanes_in, const DirectQuery* 
     }
   };
   // Each lane's jitter in light cell `cell` (its node's dimension for the cell):
-  // sobol draws of a packet go four lanes at a time (sobol2_lanes: the same numbers
-  // as one by one), when the lanes share a sample index and a path key (a
+  // sobol draws of a packet go through sobol2_lanes (all lanes at once, the same
+  // numbers as one by one), when the lanes share a sample index and a path key (a
   // packet's roots do).
   constexpr std::uint32_t kJitter = kLanes > SobolLanes::kLanes ? kLanes : SobolLanes::kLanes;
   alignas(64) float ju[kJitter], jv[kJitter];
