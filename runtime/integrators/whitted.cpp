@@ -8,6 +8,7 @@
 #include "runtime/ir/bounds.hpp"
 #include "runtime/shading/bump.hpp"
 #include "runtime/shading/fresnel.hpp"
+#include "runtime/shading/glossy_mis.hpp"
 #include "runtime/shading/shading_normal.hpp"
 
 namespace snell::rt {
@@ -131,6 +132,8 @@ WhittedIntegrator::WhittedIntegrator(const ir::Scene& scene, const EmbreeScene& 
   fresnel_ = scene.settings.fresnel;
   stochastic_branching_ = scene.settings.branching == ir::Branching::Stochastic;
   roulette_ = scene.settings.termination == ir::Termination::Roulette;
+  glossy_mis_ =
+      scene.settings.glossy_sampling == ir::GlossySampling::Mis && !scene.area_lights.empty();
 }
 
 Color WhittedIntegrator::sky(Vec3f dir, float time, RenderStats& stats) const {
@@ -281,6 +284,52 @@ void WhittedIntegrator::direct_lanes(std::uint32_t lanes_in, const DirectQuery* 
   }
 }
 
+// The cells' jitter: the node's dimensions named by the cell with the top bit set,
+// which no direct-light cell (< 2^63) uses; a glossy node is never lit, so its
+// dimensions are its own either way.
+template <class K>
+Color WhittedIntegrator::glossy_lights(const GlossySquare& lobe, Vec3f wo, Vec3f p, Vec3f o,
+                                       Vec3f nf, float time, std::uint64_t key,
+                                       const SampleContext& sc, const Interior* in,
+                                       std::uint64_t& n_rays) const {
+  Color sum(0);
+  if constexpr (K::area) {
+    const Vec3f r = incident(wo, nf).mirror();
+    for (std::size_t li = 0; li < lights_.areas.size(); ++li) {
+      const AreaLightF& l = lights_.areas[li];
+      if (l.dark()) continue;
+      const Vec3f half = (l.e1 + l.e2) * 0.5f;
+      if (!lobe_meets_ball(r, nf, lobe.blur, l.corner + half - p,
+                           0.5 * double(std::fmax(length(l.e1 + l.e2), length(l.e1 - l.e2)))))
+        continue;
+      const double cell_area = double(l.area) / double(l.nu * l.nv);
+      for (std::uint32_t iv = 0; iv < l.nv; ++iv)
+        for (std::uint32_t iu = 0; iu < l.nu; ++iu) {
+          const std::uint64_t cell = (std::uint64_t(li + 1) << 40) | (iv << 20) | iu;
+          Sample2 j = draw2(sc, node_dim(key, cell | (std::uint64_t(1) << 63)));
+          float u = (float(iu) + j.u) / float(l.nu), v = (float(iv) + j.v) / float(l.nv);
+          LightSample ls;
+          float cos_s, cos_l, d2;
+          if (!l.shadow_to(l.corner + l.e1 * u + l.e2 * v, p, o, nf, time, offset_scale_, ls, cos_s,
+                           cos_l, d2))
+            continue;
+          const double d = std::sqrt(double(d2));
+          const Vec3f wi = ls.to * float(1 / d);
+          const double x = mis_light_factor(lobe.pdf(wo, nf, wi),
+                                            cell_density(double(d2), double(cos_l) / d, cell_area));
+          if (!(x > 0)) continue;  // the lobe cannot reach it: no shadow ray
+          ++n_rays;
+          Color tr(1);
+          if (shadow_blocked<K>(ls.shadow, in, tr)) continue;
+          sum += ls.value * tr * float(x);
+        }
+    }
+  }
+  (void)lobe, (void)wo, (void)p, (void)o, (void)nf, (void)time, (void)key, (void)sc, (void)in,
+      (void)n_rays;
+  return sum;
+}
+
 template <class K>
 Color WhittedIntegrator::lit_radiance(const DiffuseLobe& lobe, const DirectQuery& q, Color w,
                                       Color e, [[maybe_unused]] Color spec) {
@@ -424,6 +473,7 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
       k.weight = w;
       k.depth = node.depth + 1;
       k.kind = kind;
+      k.mis_pdf = 0;
       k.key = child_key(node.key, slot);
       if constexpr (K::interiors)
         k.interior = kind == RayKind::Refraction ? far_side : node.interior;
@@ -479,7 +529,15 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
         if (!node.interior.empty()) contrib = contrib * medium_beer(INFINITY);
       if (trace) desc = "escapes: background";
     } else if (hit.kind == Hit::Kind::AreaLight) {
-      contrib = node.weight * lights_.areas[hit.index].le(d);
+      const AreaLightF& l = lights_.areas[hit.index];
+      contrib = node.weight * l.le(d);
+      if (K::area && node.mis_pdf > 0) {
+        // The glossy ray's MIS weight against the light cell it hit (glossy_mis.hpp).
+        Vec3f path = (node.ray.org - node.start) + d * hit.t;
+        double d2 = double(dot(path, path));
+        double p_c = cell_density(d2, double(dot(d, l.n)), double(l.area) / double(l.nu * l.nv));
+        contrib = contrib * float(mis_ray_weight(node.mis_pdf, p_c));
+      }
       if constexpr (K::interiors && K::absorption)
         if (!node.interior.empty()) {
           Vec3f path = (node.ray.org - node.start) + d * hit.t;
@@ -620,6 +678,32 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
               spawn(b.kind, node.ray.org, d, w * b.weight, b.slot,
                     std::nextafter(hit.t, float(INFINITY)));
               break;
+          }
+        }
+        // glossy_sampling "mis": a glossy ray that was traced (not pruned) shares the
+        // area lights with one light sample per cell. Not on a bent frame (a smooth
+        // mesh or a bump), where the ray is folded above the geometric surface and
+        // the lobe's density is no longer p_b.
+        if constexpr (K::area) {
+          const ir::Glossy* gm;
+          if (glossy_mis_ && nkids == 1 && !frame.smooth && s.count == 1 &&
+              s.branches[0].kind == RayKind::Glossy && (gm = mat.as<ir::Glossy>()) &&
+              gm->blur > 0) {
+            const GlossySquare lobe{s.branches[0].weight, float(gm->blur)};
+            N& k = kids[0];
+            float p_b = lobe.pdf(-d, frame.nf, k.ray.dir);
+            if (p_b > 0 && std::isfinite(p_b)) {
+              k.mis_pdf = p_b;
+              const Interior* in_mis = nullptr;
+              if constexpr (K::interiors) in_mis = &node.interior;
+              std::uint64_t n0 = stats.shadow_rays;
+              Color ll = glossy_lights<K>(lobe, -d, p, o_out, nf, node.ray.time, node.key, sc,
+                                          in_mis, stats.shadow_rays);
+              contrib += k.weight * ll;
+              if (trace)
+                desc += fmt::format(" glossy mis: lobe pdf {:.6g}, {} light sample(s)", p_b,
+                                    stats.shadow_rays - n0);
+            }
           }
         }
       }

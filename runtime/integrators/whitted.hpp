@@ -46,6 +46,10 @@ struct NodeOf {
   Color weight{1, 1, 1};
   std::uint32_t depth = 0;  // reflection/refraction rays after the camera ray
   RayKind kind = RayKind::Camera;
+  // glossy_sampling "mis": the density (per unit solid angle) with which the glossy
+  // lobe that spawned this ray drew its direction, for the ray's MIS weight where
+  // it hits an area light (shading/glossy_mis.hpp); 0: the ray's light counts whole.
+  float mis_pdf = 0;
   std::uint64_t key = 0;  // hashed path: names this node's sampler dimensions
   [[no_unique_address]] std::conditional_t<Tracked, Interior, NoInterior> interior;
 };
@@ -167,6 +171,15 @@ class WhittedIntegrator final : public Integrator {
   // medium it crosses when it is not (interiors only).
   template <class K>
   bool shadow_blocked(const Ray& r, const Interior* in, Color& tr) const;
+  // glossy_sampling "mis": the area lights' share seen through light samples at a
+  // glossy hit (p the shading point, o the shadow rays' origin, nf the normal on the
+  // viewer's side, `lobe` the lobe the glossy ray was drawn from): the sum of
+  // Le · x / (1 + x²) over one sample per light cell (shading/glossy_mis.hpp), to be
+  // multiplied by the glossy ray's weight. Counts its shadow rays in `n_rays`.
+  template <class K>
+  Color glossy_lights(const GlossySquare& lobe, Vec3f wo, Vec3f p, Vec3f o, Vec3f nf, float time,
+                      std::uint64_t key, const SampleContext& sc, const Interior* in,
+                      std::uint64_t& n_rays) const;
 
   const ir::Scene& scene_;
   const EmbreeScene& embree_;
@@ -186,6 +199,7 @@ class WhittedIntegrator final : public Integrator {
   float offset_scale_ = 1;             // the scene's size around the camera, at most 1
   bool stochastic_branching_ = false;  // settings.branching "stochastic"
   bool roulette_ = false;              // settings.termination "roulette"
+  bool glossy_mis_ = false;            // settings.glossy_sampling "mis" with area lights
 };
 
 }  // namespace snell::rt

@@ -120,6 +120,9 @@ inline std::string to_string(Termination v) {
 inline std::string to_string(LightSampling v) {
   return std::string(spelling(v));
 }
+inline std::string to_string(GlossySampling v) {
+  return std::string(spelling(v));
+}
 inline std::string to_string(IntegratorKind v) {
   return std::string(spelling(v));
 }

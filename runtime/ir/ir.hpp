@@ -73,6 +73,7 @@ struct Settings {
   Branching branching = Branching::Split;
   Termination termination = Termination::Cutoff;
   LightSampling light_sampling = LightSampling::Area;
+  GlossySampling glossy_sampling = GlossySampling::Mis;
   std::uint64_t seed = 0;
   IntegratorKind integrator = IntegratorKind::Whitted;
   SourceRef src;
@@ -87,6 +88,7 @@ struct Settings {
                       field("branching", &Settings::branching),
                       field("termination", &Settings::termination),
                       field("light_sampling", &Settings::light_sampling),
+                      field("glossy_sampling", &Settings::glossy_sampling),
                       field("seed", &Settings::seed),
                       field("integrator", &Settings::integrator)};
   }
