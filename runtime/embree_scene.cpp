@@ -16,6 +16,7 @@
 #include <variant>
 
 #include "runtime/geometry/motion.hpp"
+#include "runtime/geometry/sphere_lanes.hpp"
 #include "runtime/geometry/traits.hpp"
 #include "runtime/ir/bounds.hpp"
 
@@ -63,17 +64,67 @@ bool user_hit(const Set& set, unsigned prim, RTCRayN* ray, unsigned n, unsigned 
     return set.hit(prim, time, o, d, tnear, tfar, t, ng);
 }
 
+// A 16-ray packet's lanes against a static sphere at once, where the CPU has a
+// SIMD path (sphere_lanes.hpp; the same bits as user_hit): `hits` the lanes that
+// hit, with their t and normal in `out`; false when the lanes go one by one (no
+// path, another packet width, a non-similarity transform). Lanes in `undecided`
+// still go one by one.
+const SphereLanesFn g_sphere_lanes = sphere_lanes();
+template <class Set>
+bool packet_hits(const Set& set, unsigned prim, RTCRayN* ray, unsigned n, const int* valid,
+                 HitLanes& out, std::uint32_t& hits, std::uint32_t& undecided) {
+  if constexpr (std::is_same_v<Set, SphereSet>) {
+    Vec3 c;
+    double r;
+    if (n != 16 || !g_sphere_lanes || !set.similar(prim, c, r)) return false;
+    RayLanes rays{&RTCRayN_org_x(ray, n, 0),
+                  &RTCRayN_org_y(ray, n, 0),
+                  &RTCRayN_org_z(ray, n, 0),
+                  &RTCRayN_dir_x(ray, n, 0),
+                  &RTCRayN_dir_y(ray, n, 0),
+                  &RTCRayN_dir_z(ray, n, 0),
+                  &RTCRayN_tnear(ray, n, 0),
+                  &RTCRayN_tfar(ray, n, 0),
+                  valid,
+                  n};
+    undecided = 0;
+    hits = g_sphere_lanes(c, r, rays, out, undecided);
+    return true;
+  }
+  (void)set, (void)prim, (void)ray, (void)n, (void)valid, (void)out, (void)hits, (void)undecided;
+  return false;
+}
+
+// Lane i of a packet: from packet_hits when it decided the lane, else user_hit.
+template <class Set>
+bool lane_hit(const Set& set, unsigned prim, RTCRayN* ray, unsigned n, unsigned i, bool packet,
+              const HitLanes& lanes, std::uint32_t hits, std::uint32_t undecided, float& t,
+              Vec3f& ng, unsigned& sub) {
+  if (packet && !((undecided >> i) & 1)) {
+    if (!((hits >> i) & 1)) return false;
+    t = lanes.t[i], ng = Vec3f(lanes.nx[i], lanes.ny[i], lanes.nz[i]);
+    return true;
+  }
+  return user_hit(set, prim, ray, n, i, t, ng, sub);
+}
+
 template <class Set>
 void user_intersect(const RTCIntersectFunctionNArguments* args) {
   const Set& set = *static_cast<const Set*>(args->geometryUserPtr);
   RTCRayN* ray = RTCRayHitN_RayN(args->rayhit, args->N);
   RTCHitN* hit = RTCRayHitN_HitN(args->rayhit, args->N);
+  HitLanes lanes;
+  std::uint32_t hits = 0, undecided = 0;
+  const bool packet =
+      packet_hits(set, args->primID, ray, args->N, args->valid, lanes, hits, undecided);
+  if (packet && hits == 0 && undecided == 0) return;
   for (unsigned i = 0; i < args->N; ++i) {
     if (!args->valid[i]) continue;
     float t;
     Vec3f n;
     unsigned sub = 0;
-    if (!user_hit(set, args->primID, ray, args->N, i, t, n, sub)) continue;
+    if (!lane_hit(set, args->primID, ray, args->N, i, packet, lanes, hits, undecided, t, n, sub))
+      continue;
     RTCRayN_tfar(ray, args->N, i) = t;
     RTCHitN_Ng_x(hit, args->N, i) = n.x;
     RTCHitN_Ng_y(hit, args->N, i) = n.y;
@@ -91,12 +142,17 @@ template <class Set>
 void user_occluded(const RTCOccludedFunctionNArguments* args) {
   const Set& set = *static_cast<const Set*>(args->geometryUserPtr);
   RTCRayN* ray = args->ray;
+  HitLanes lanes;
+  std::uint32_t hits = 0, undecided = 0;
+  const bool packet =
+      packet_hits(set, args->primID, ray, args->N, args->valid, lanes, hits, undecided);
+  if (packet && hits == 0 && undecided == 0) return;
   for (unsigned i = 0; i < args->N; ++i) {
     if (!args->valid[i]) continue;
     float t;
     Vec3f n;
     unsigned sub;
-    if (user_hit(set, args->primID, ray, args->N, i, t, n, sub))
+    if (lane_hit(set, args->primID, ray, args->N, i, packet, lanes, hits, undecided, t, n, sub))
       RTCRayN_tfar(ray, args->N, i) = -INFINITY;
   }
 }

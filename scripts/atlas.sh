@@ -36,7 +36,11 @@ for scene in showcase glass material_gallery; do
   sweep "$scene" depth     --vary max_depth=1,2,3,4,6,8,12 --set samples=16 --no-images
   sweep "$scene" weight    --vary min_weight=0.3,0.1,0.03,0.01,0.001,0 --set samples=16 --no-images
   sweep "$scene" area      --vary area_samples=1,2,4,8 --set samples=4 --no-images
-  sweep "$scene" lights    --vary samples=1,4,16,64 --series light_sampling=area,solid_angle
+  sweep "$scene" lights    --vary samples=1,4,16,64 --series light_sampling=area,solid_angle,adaptive
+  # Only scenes with glossy surfaces: elsewhere the knob changes nothing.
+  if grep -q glossy "examples/$scene.scn"; then
+    sweep "$scene" glossy  --vary samples=1,4,16,64 --series glossy_sampling=lobe,mis
+  fi
 done
 
 {
@@ -45,7 +49,8 @@ done
     echo
     echo "## $scene"
     echo
-    for part in sampler fresnel branching termination kernel depth weight area lights; do
+    for part in sampler fresnel branching termination kernel depth weight area lights glossy; do
+      [ -f "$OUT/$scene-$part.md" ] || continue
       sed "s#](#](accuracy/#g; s#(accuracy/http#(http#g" "$OUT/$scene-$part.md"
     done
   done

@@ -127,6 +127,13 @@ class SphereSet {
   }
   // The hit point projected onto the sphere in double, and its bounded offset.
   void refine(unsigned prim, const Ray& r, float t, Hit& hit) const;
+  // A similarity's sphere, camera-relative (what hit() tests), for a packet's test
+  // of all its lanes at once (sphere_lanes.hpp); false for any other transform.
+  bool similar(unsigned prim, Vec3& centre, double& radius) const {
+    const Static& s = spheres_[prim];
+    centre = s.rel_center, radius = s.rel_radius;
+    return s.general == kSimilar;
+  }
 
  private:
   static constexpr std::uint32_t kSimilar = 0xffffffffu;

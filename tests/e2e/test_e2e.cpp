@@ -498,10 +498,11 @@ TEST_CASE("a render estimated to need more memory than the limit fails before it
 }
 
 TEST_CASE("sobol renders the same pixels on every SIMD path", "[e2e]") {
-  // The packet's sobol draws (film, lens, area-light cells) in the CPU's widest path
-  // (AVX-512 with GFNI where it has them) and with SNELL_SIMD=generic (four lanes):
-  // the same image bit for bit. On a CPU without AVX-512 both runs take the generic
-  // path and the case still checks determinism.
+  // The packet's sobol draws (film, lens, area-light cells) and its static spheres'
+  // tests in the CPU's widest paths (AVX-512 with GFNI where it has them) and with
+  // SNELL_SIMD=generic (four lanes; spheres lane by lane): the same image bit for
+  // bit. On a CPU without AVX-512 both runs take the generic paths and the case
+  // still checks determinism.
   Scratch tmp;
   std::string err;
   std::ofstream(tmp / "s.scn")
@@ -510,6 +511,8 @@ TEST_CASE("sobol renders the same pixels on every SIMD path", "[e2e]") {
          "area_light { corner <-1, 3, -1> edge1 <2, 0, 0> edge2 <0, 0, 2> radiance 5 "
          "samples <2, 2> }\n"
          "sphere { center <0, 0.5, 0> radius 0.6 motion { translate <0.4, 0, 0> } }\n"
+         "sphere { center <-1, 0.3, 0.5> radius 0.3 }\n"
+         "sphere { center <0.7, 0.2, -0.3> radius 0.15 scale 1.5 rotate <0, 30, 0> }\n"
          "plane { normal <0, 1, 0> }\n";
   for (const char* simd : {"", "generic"}) {
     if (*simd) ::setenv("SNELL_SIMD", simd, 1);
