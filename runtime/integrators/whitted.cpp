@@ -207,21 +207,22 @@ void WhittedIntegrator::direct_lanes(std::uint32_t lanes_in, const DirectQuery* 
   (void)spec, (void)in;
   // One unblocked light sample of lane i: its share of E, and with highlights its
   // f_spec · value · g (the same G as the Lambertian sum: f · L_i · cosθ_i).
-  auto add = [&](std::uint32_t i, Color tr) [[gnu::always_inline]] {
+  auto add_sample = [&](std::uint32_t i, const LightSample& s, Color tr) [[gnu::always_inline]] {
     (void)tr;
     if constexpr (K::interiors)
-      e[i] += ls[i].value * ls[i].g * tr;
+      e[i] += s.value * s.g * tr;
     else
-      e[i] += ls[i].value * ls[i].g;
+      e[i] += s.value * s.g;
     if constexpr (K::finish) {
       if (q(i).highlight.on()) {
-        float f = q(i).highlight.eval(q(i).wo, q(i).n, normalize(ls[i].to));
-        Color c = ls[i].value * (ls[i].g * f);
+        float f = q(i).highlight.eval(q(i).wo, q(i).n, normalize(s.to));
+        Color c = s.value * (s.g * f);
         if constexpr (K::interiors) c = c * tr;
         spec[i] += c;
       }
     }
   };
+  auto add = [&](std::uint32_t i, Color tr) [[gnu::always_inline]] { add_sample(i, ls[i], tr); };
   // The lanes' samples of one light (lit[i]: lane i has one) traced and added.
   auto trace = [&]() [[gnu::always_inline]] {
     std::uint32_t m = 0;
@@ -269,6 +270,40 @@ void WhittedIntegrator::direct_lanes(std::uint32_t lanes_in, const DirectQuery* 
     trace();
   }
   if constexpr (!K::area) return;
+  if constexpr (kLanes == 1 && !K::interiors) {
+    // One shading point: its cells' shadow rays leave one origin towards one light,
+    // so they are traced as one packet (up to kCells at a time), then added in
+    // cell order, the order and the sums of tracing them one by one.
+    constexpr std::uint32_t kCells = 16;
+    Uninit<LightSample, kCells> cs;
+    Uninit<Ray, kCells> cr;
+    std::uint8_t has[kCells], cblocked[kCells];
+    for (std::size_t li = 0; li < lights_.areas.size(); ++li) {
+      const AreaLightF& l = lights_.areas[li];
+      if (l.dark()) continue;
+      const std::uint32_t ncells = l.nu * l.nv;
+      for (std::uint32_t c = 0; c < ncells;) {
+        std::uint32_t n = 0, m = 0;
+        for (; c < ncells && n < kCells; ++c, ++n) {
+          const std::uint32_t iu = c % l.nu, iv = c / l.nu;
+          const std::uint64_t cell = (std::uint64_t(li + 1) << 40) | (iv << 20) | iu;
+          draw_cell(cell);
+          has[n] = l.sample_li(q(0).p, q(0).o, q(0).n, q(0).time, iu, iv, ju[0], jv[0],
+                               offset_scale_, cs.v[n]);
+          if (has[n]) cr.v[m++] = cs.v[n].shadow;
+        }
+        stats.shadow_rays += m;
+        if (m == 1)
+          cblocked[0] = embree_.occluded(cr.v[0]);
+        else if (m > 1)
+          embree_.occluded(std::span<const Ray>(cr.v, m), std::span<std::uint8_t>(cblocked, m));
+        for (std::uint32_t j = 0, k = 0; j < n; ++j)
+          if (has[j] && !cblocked[k++] && std::isfinite(cs.v[j].g))
+            add_sample(0, cs.v[j], Color(1));
+      }
+    }
+    return;
+  }
   for (std::size_t li = 0; li < lights_.areas.size(); ++li) {
     const AreaLightF& l = lights_.areas[li];
     if (l.dark()) continue;
