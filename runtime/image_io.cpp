@@ -64,6 +64,11 @@ std::string encode_image_oiio(const std::string& path, const Image& image, const
     if (view.find("sRGB") != std::string::npos) spec.attribute("oiio:ColorSpace", "sRGB");
     spec.attribute("snell:display", view);
     if (ext == ".jpg" || ext == ".jpeg") spec.attribute("CompressionQuality", 95);
+    // OIIO 2.4's TIFF writer, writing through a proxy, re-reads what it wrote to
+    // add an Exif directory (oiio:ColorSpace goes there) and cannot: the file came
+    // out without its image directory (OIIO PR #4300). No Exif directory, then;
+    // the colour space and Snell's attributes stay in the main directory's tags.
+    if (ext == ".tif" || ext == ".tiff") spec.attribute("tiff:write_exif", 0);
   }
   spec.attribute("Software", "snell 0.1");
   spec.attribute("snell:scene", info.scene_path);
@@ -102,9 +107,7 @@ std::string encode_image_oiio(const std::string& path, const Image& image, const
     return fail(e);
   }
   if (!out->close()) return fail(out->geterror());
-  // OIIO 2.4's TIFF writer reports an Exif directory it cannot write to a proxy
-  // (there is no Exif data to write) while the file itself is whole: the pending
-  // message is dropped, not shown.
+  // Any message left pending after a successful close is dropped, not shown.
   (void)out->geterror();
   return {};
 }

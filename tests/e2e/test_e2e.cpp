@@ -364,6 +364,46 @@ TEST_CASE("outputs that cannot be written fail before the render (exit 3)", "[e2
   }
 }
 
+TEST_CASE("every display format reads back as the PNG's codes (TIFF, JPEG)", "[e2e]") {
+  // §10: .png/.jpg/.tif hold display-referred sRGB. OIIO 2.4's TIFF writer made
+  // files without an image directory when writing through a proxy (image_io.cpp):
+  // every .tif Snell wrote was unreadable until it was told to write no Exif.
+  Scratch tmp;
+  std::string err;
+  std::ofstream(tmp / "s.scn") << "settings { resolution <24, 16> samples 2 }\n"
+                                  "camera { location <0, 1, -4> look_at <0, 0.5, 0> }\n"
+                                  "sphere { center <0, 0.5, 0> radius 0.6 }\n"
+                                  "plane { normal <0, 1, 0> material diffuse checker { color1 "
+                                  "0.8 color2 0.1 size 0.5 } }\n"
+                                  "point_light { position <2, 4, -3> intensity 40 }\n";
+  for (const char* helper : {"1", "0"}) {
+    INFO("SNELL_IMAGE_HELPER=" << helper);
+    ::setenv("SNELL_IMAGE_HELPER", helper, 1);
+    int code =
+        run_capture("render " + (tmp / "s.scn") + " --quiet -o " + (tmp / "a.png") + " -o " +
+                        (tmp / "a.tif") + " -o " + (tmp / "a.tiff") + " -o " + (tmp / "a.jpg"),
+                    err, tmp);
+    ::unsetenv("SNELL_IMAGE_HELPER");
+    INFO(err);
+    REQUIRE(code == 0);
+    int w = 0, h = 0;
+    std::vector<float> png = read_rgb(tmp / "a.png", w, h);
+    REQUIRE(w == 24);
+    for (const char* name : {"a.tif", "a.tiff"}) {
+      INFO(name);
+      int w1 = 0, h1 = 0;
+      CHECK(read_rgb(tmp / name, w1, h1) == png);  // lossless: the very codes
+    }
+    int w2 = 0, h2 = 0;
+    std::vector<float> jpg = read_rgb(tmp / "a.jpg", w2, h2);
+    REQUIRE(jpg.size() == png.size());
+    double worst = 0;
+    for (std::size_t i = 0; i < png.size(); ++i)
+      worst = std::fmax(worst, std::fabs(double(jpg[i]) - png[i]));
+    CHECK(worst < 0.25);  // quality 95 on a 24x16 checker: lossy at edges only
+  }
+}
+
 TEST_CASE("any studio OCIO config works: its default display and view, or --display/--view",
           "[e2e]") {
   // tests/ocio/studio.ocio has no "sRGB - Display" / "Standard" (the names Snell's
