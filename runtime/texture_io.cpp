@@ -18,7 +18,8 @@
 //   8- and 16-bit files is sRGB and none on float files linear; a name the OCIO
 //   config (--ocio-config, else $OCIO, else Snell's) knows is converted from that
 //   space to the config's scene_linear role; of the rest, OIIO's own names
-//   ("sRGB", any "linear" one, "GammaG" for a PNG gAMA chunk) mean what they say
+//   ("sRGB", any "linear" one, "GammaG" for a PNG gAMA chunk) mean what they say,
+//   "Rec709" (OIIO's tag for any PPM) is read as an untagged file of its format,
 //   and anything else is an error. Primaries: a file with `chromaticities` (an
 //   OpenEXR attribute) other than Rec.709/D65 is converted to Rec.709 by a matrix
 //   (runtime/primaries.hpp) after that decoding, unless its colour space came from
@@ -84,6 +85,11 @@ bool source_colour(const OIIO::ImageSpec& spec, const std::string& ocio_config, 
     out.kind = SourceColour::Linear;  // OIIO's own names, which configs seldom list
   } else if (cs == "srgb") {
     out.kind = SourceColour::Srgb;
+  } else if (cs == "rec709") {
+    // OIIO's tag for every PPM/PGM (the format's convention, not the file's word),
+    // which converting one with oiiotool carries into a PNG: §17's rule for a file
+    // of that format, as for an untagged one (8-bit sRGB, float linear).
+    out.kind = spec.format.is_floating_point() ? SourceColour::Linear : SourceColour::Srgb;
   } else if (cs.rfind("gamma", 0) == 0 && std::isfinite(gamma) && gamma > 0) {
     out.kind = SourceColour::Gamma;  // OIIO's "Gamma2.2" for a PNG gAMA chunk
     out.gamma = gamma;

@@ -213,6 +213,8 @@ TEST_CASE("an image's colour space tag decides how it becomes linear", "[images]
   // (Not an EXR: OIIO 2.4 reads every EXR as "Linear", whatever it was tagged.)
   s.images.push_back({write("x2.png", "Scaled Linear x2", false), {}});
   s.images.push_back({write("linear.png", "Linear", false), {}});
+  // OIIO's tag for a PPM, carried into a PNG by oiiotool: §17's 8-bit sRGB.
+  s.images.push_back({write("rec709.png", "Rec709", false), {}});
   std::string err;
   auto tex = rt::ImageTextures::open(s, SNELL_STUDIO_OCIO, err);
   INFO(err);
@@ -224,6 +226,7 @@ TEST_CASE("an image's colour space tag decides how it becomes linear", "[images]
       Color o = at(*tex, image_texture(1, ir::ImageMapping::Planar), q);
       Color x = at(*tex, image_texture(2, ir::ImageMapping::Planar), q);
       Color l = at(*tex, image_texture(3, ir::ImageMapping::Planar), q);
+      Color r709 = at(*tex, image_texture(4, ir::ImageMapping::Planar), q);
       for (int c = 0; c < 3; ++c) {
         INFO("texel " << i << "," << row << " channel " << c);
         float v = code(i, row, c) / 255.0f;
@@ -232,6 +235,8 @@ TEST_CASE("an image's colour space tag decides how it becomes linear", "[images]
         CHECK(o[c] == Approx(std::pow(v, 2.2f)).epsilon(1e-3));
         CHECK(x[c] == Approx(2 * v).epsilon(1e-3));
         CHECK(l[c] == Approx(v).epsilon(1e-3));
+        float srgb = v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
+        CHECK(r709[c] == Approx(srgb).epsilon(1e-3).margin(1e-6));
       }
     }
   // A colour space the config does not have: an error naming the file, the space
