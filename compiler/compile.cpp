@@ -125,6 +125,19 @@ std::string canonical_path(const std::string& path) {
   return ec ? fs::path(path).lexically_normal().string() : c.string();
 }
 
+// §17 writes `background sky_gradient`: a gradient along y over the unit
+// direction, (y + 1) · 0.4995 (the pattern point is the direction moved up by 1),
+// so the nadir is 0, the horizon 0.4995 and the zenith 0.999, never wrapping.
+ir::Texture sky_gradient() {
+  ir::Texture t;
+  t.pattern = ir::Gradient{ir::Vec3(0, 0.4995, 0)};
+  t.world_from_pattern = ir::Transform::translate(ir::Vec3(0, -1, 0));
+  t.color_map = {{0, ir::Vec3(0.3, 0.28, 0.26)},
+                 {0.4995, ir::Vec3(0.9, 0.93, 1)},
+                 {0.999, ir::Vec3(0.22, 0.42, 0.85)}};
+  return t;
+}
+
 std::string find_import(const std::string& name, const std::string& from,
                         const CompileOptions& options, std::vector<std::string>* searched,
                         bool* skipped_self) {
@@ -319,9 +332,10 @@ std::unique_ptr<Compilation> compile_source(const std::string& path, std::string
         [&](const std::string& name, lang::Span span) { return driver.load_import(name, span); },
         options.step_budget);
     if (options.on_define) eval.set_define_observer(options.on_define);
-    static_assert(std::size(kPredeclared) == 2, "a predeclared name without its value here");
+    static_assert(std::size(kPredeclared) == 3, "a predeclared name without its value here");
     eval.predeclare(kPredeclared[0].name, Value::number(options.clock));
     eval.predeclare(kPredeclared[1].name, Value::number(options.frame));
+    eval.predeclare(kPredeclared[2].name, Value::of_pattern(sky_gradient()));
     // The main file counts as imported: importing it again is a cycle.
     eval.run_file(*program);
     if (c->diags.has_errors()) return;

@@ -36,8 +36,9 @@ struct CompileOptions {
   double frame = 0;
 };
 
-// §18: the names every file sees above its top level (compile_source predeclares
-// them from CompileOptions::clock and ::frame), with what editors show for them.
+// The names every file sees above its top level (compile_source predeclares §18's
+// from CompileOptions::clock and ::frame, and sky_gradient), with what editors show
+// for them.
 struct PredeclaredName {
   const char* name;
   const char* doc;
@@ -49,7 +50,13 @@ inline constexpr PredeclaredName kPredeclared[] = {
     {"frame",
      "predeclared number (§18): the frame being rendered under `--frames A..B`, "
      "0 otherwise"},
+    {"sky_gradient",
+     "predeclared pattern (§17's `background sky_gradient`): a daylight sky over the "
+     "escaping ray's direction, from a dark ground below the horizon through a pale "
+     "horizon to a blue zenith (docs/language.md)"},
 };
+// The value of `sky_gradient` (compile.cpp).
+ir::Texture sky_gradient();
 
 // Where `import "NAME";` written in the file `from` finds its file, searched as
 // the compiler does (§9: the importing file's folder, each -I folder, the standard
