@@ -150,15 +150,20 @@ Evaluator::Flow Evaluator::exec(const Stmt& s, const std::shared_ptr<Env>& env, 
     case StmtKind::Background: {
       if (inside_group_error("background", s.span)) return Flow::Normal;
       Value v = eval(*s.exprs[0], env);
-      if (v.is_error()) return Flow::Normal;
+      const Span at = s.name_span.end > s.name_span.begin ? s.name_span : s.span;
+      if (v.is_error()) {
+        builder_.failed_singleton("background", at);
+        return Flow::Normal;
+      }
       PropInfo color{
           "background", "background", PropType::ColorOrPattern, Check::NonNegative, 0, {}};
       std::string msg = check_value(color, v);
       if (!msg.empty()) {
         error(DiagKind::InvalidValue, s.exprs[0]->span, msg);
+        builder_.failed_singleton("background", at);
         return Flow::Normal;
       }
-      builder_.set_background(v, s.name_span.end > s.name_span.begin ? s.name_span : s.span);
+      builder_.set_background(v, at);
       return Flow::Normal;
     }
     case StmtKind::Error:
@@ -362,7 +367,10 @@ void Evaluator::exec_item(const Stmt& s, const std::shared_ptr<Env>& env) {
   bool ok = true;
   PropsLease props(*this);
   eval_props(*block, *s.block, s.name_span, env, props.list(), ok);
-  if (ok) builder_.add_item(*block, s.name_span, props.list());
+  if (ok)
+    builder_.add_item(*block, s.name_span, props.list());
+  else if (block->name == "settings" || block->name == "camera")
+    builder_.failed_singleton(block->name, s.name_span);
 }
 
 // ---------------------------------------------------------------------------

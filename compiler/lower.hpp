@@ -65,6 +65,9 @@ class SceneBuilder {
   void add_item(const BlockInfo& block, lang::Span keyword_span,
                 const std::vector<EvaluatedProp>& props);
   void set_background(const Value& color, lang::Span span);
+  // A settings, camera or background item that had errors of its own still takes
+  // its place, so a second one is reported too (§10: every independent error).
+  void failed_singleton(std::string_view kind, lang::Span span) { first_of_kind(kind, span); }
   // §17: the image file an `image` pattern names, relative to the file naming it;
   // false (an error reported at span, exit 3) when it is not a readable file.
   bool add_image(const std::string& file, lang::Span span, std::uint32_t& index);
