@@ -460,8 +460,16 @@ void Evaluator::eval_props(const BlockInfo& block, const lang::Block& body, Span
     if (!info) {
       auto d = error(DiagKind::UnknownProperty, p.name_span,
                      "'" + std::string(block.name) + "' has no property '" + p.name + "'");
-      std::string guess = lang::closest_match(p.name, prop_names(block));
-      if (!guess.empty()) d.note("did you mean '" + guess + "'?");
+      const auto names = prop_names(block);
+      std::string guess = lang::closest_match(p.name, names);
+      if (!guess.empty()) {
+        d.note("did you mean '" + guess + "'?");
+      } else if (!names.empty()) {
+        // §5: the error says what the block accepts.
+        std::string list;
+        for (const auto& n : names) list += (list.empty() ? "" : ", ") + std::string(n);
+        d.note("'" + std::string(block.name) + "' takes " + list);
+      }
       ok = false;
       continue;
     }

@@ -318,3 +318,17 @@ TEST_CASE("non-finite values are errors at the expression", "[compiler]") {
   CHECK(first_error("let x = tan(90);") == "NonFiniteValue");
   CHECK(first_error("let x = normalize(<0, 0, 0>);") == "TypeMismatch");
 }
+
+TEST_CASE("an unknown property says what the block takes, or the near miss", "[compiler]") {
+  // §5: the error names the property and what the block accepts.
+  auto c = run("torus { major 1 minor 0.2 open true }\nsphere { radus 2 }\n");
+  const auto& d = c->diags.diagnostics();
+  REQUIRE(d.size() == 2);
+  CHECK(d[0].kind == lang::DiagKind::UnknownProperty);
+  REQUIRE(d[0].notes.size() == 1);
+  CHECK(d[0].notes[0].message ==
+        "'torus' takes major, minor, material, translate, rotate, "
+        "scale, motion");
+  REQUIRE(d[1].notes.size() == 1);
+  CHECK(d[1].notes[0].message == "did you mean 'radius'?");
+}
