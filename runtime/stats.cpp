@@ -53,7 +53,8 @@ std::string RenderStats::to_string() const {
         "lost\n",
         interior_passes, interior_overflows, interior_lost);
   if (function_nonfinite > 0)
-    s += fmt::format("shading functions: {} non-finite values (0 used)\n", function_nonfinite);
+    s += fmt::format("shading functions: {} non-finite values (each replaced by 0)\n",
+                     function_nonfinite);
   if (cost_stride == 0) return s;  // RenderOptions::measure_cost was off
   double cost = camera_seconds + shadow_seconds + reflection_seconds + refraction_seconds +
                 glossy_seconds + lens_seconds + time_seconds;

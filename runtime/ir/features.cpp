@@ -5,6 +5,15 @@
 
 namespace snell::ir {
 
+namespace {
+// "a marble pattern", "an image", "a shading-function pattern" (snell check).
+std::string pattern_phrase(const Texture& t) {
+  if (std::holds_alternative<ImageTexture>(t.pattern)) return "an image";
+  if (std::holds_alternative<FunctionPattern>(t.pattern)) return "a shading-function pattern";
+  return "a " + to_string(t.kind()) + " pattern";
+}
+}  // namespace
+
 Features Features::all() {
   Features f;
   f.motion_blur = f.depth_of_field = f.point_lights = f.area_lights = f.mirror = f.glossy =
@@ -79,8 +88,7 @@ Features analyze_features(const Scene& scene) {
                  ": a Blinn-Phong term per light sample");
     };
     auto textured = [&](const Texture& t) {
-      if (!t.is_constant())
-        once(f.textures, "textures", "a " + to_string(t.kind()) + " pattern at " + where);
+      if (!t.is_constant()) once(f.textures, "textures", pattern_phrase(t) + " at " + where);
     };
     if (m.bump.on())
       once(f.bumps, "bumps",
@@ -122,6 +130,9 @@ Features analyze_features(const Scene& scene) {
         },
         m.model);
   }
+  if (!scene.background.is_constant())
+    why("background", pattern_phrase(scene.background) +
+                          " as the background, evaluated at each escaping ray's direction");
   f.finish = f.highlights || f.bumps;
   return f;
 }
