@@ -300,7 +300,10 @@ Evaluator::Flow Evaluator::exec_if(const Stmt& s, const std::shared_ptr<Env>& en
 void Evaluator::exec_import(const Stmt& s, const std::shared_ptr<Env>& env) {
   const ImportedFile* f =
       loader_(s.name, s.name_span.end > s.name_span.begin ? s.name_span : s.span);
-  if (!f) return;
+  if (!f) {
+    env->failed_import = true;
+    return;
+  }
   for (std::size_t i = 0; i < running_.size(); ++i) {
     if (running_[i] != f->file) continue;
     std::string chain;
@@ -308,6 +311,7 @@ void Evaluator::exec_import(const Stmt& s, const std::shared_ptr<Env>& env) {
       chain += sources_.file(running_[j]).path() + " -> ";
     chain += sources_.file(f->file).path();
     error(DiagKind::ImportCycle, s.span, "import cycle: " + chain);
+    env->failed_import = true;
     return;
   }
   std::shared_ptr<Env> exported;

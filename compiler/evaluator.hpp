@@ -34,6 +34,10 @@ struct Binding {
 struct Env {
   std::shared_ptr<Env> parent;
   std::vector<Binding> vars;
+  // An import here failed (not found, unreadable, syntax errors, a cycle): the
+  // names it would have bound are unknown, so a name not found below this scope is
+  // not reported again as undefined (its cause is reported at the import).
+  bool failed_import = false;
   const Binding* find_local(std::int32_t symbol) const {
     for (const Binding& b : vars)
       if (b.symbol == symbol) return &b;

@@ -96,6 +96,8 @@ Value Evaluator::eval_name(const Expr& e, const std::shared_ptr<Env>& env) {
   for (const Env* s = env.get(); s; s = s->parent.get())
     if (const Binding* b = s->find_local(sym)) return b->value;
   if (int id = symbol_builtin_[sym]; id >= 0) return builtin_value(id);
+  for (const Env* s = env.get(); s; s = s->parent.get())
+    if (s->failed_import) return Value::error();  // reported at the import
   std::vector<std::string_view> visible;
   for (const Env* s = env.get(); s; s = s->parent.get())
     for (const Binding& b : s->vars) visible.push_back(symbol_names_[b.symbol]);
