@@ -74,8 +74,17 @@ void Evaluator::define(const std::shared_ptr<Env>& env, std::int32_t symbol, Val
 }
 
 void Evaluator::report_non_finite(const Value& v, const Expr& e) {
+  bool nan = false;
+  if (v.type == Type::Number) nan = std::isnan(v.n);
+  if (v.type == Type::Vec2 || v.type == Type::Vec3)
+    nan = std::isnan(v.v.x) || std::isnan(v.v.y) || std::isnan(v.v.z);
+  // glibc prints a NaN as "-nan" or "nan" by its sign bit: say what it is instead.
+  std::string shown = v.type == Type::Number && nan ? "NaN" : to_string(v);
   error(DiagKind::NonFiniteValue, e.span,
-        "this expression evaluates to " + to_string(v) + " (not a finite number)");
+        "this expression evaluates to " + shown + " (not a finite number)")
+      .note(nan ? "an operation with no real result: the square root or logarithm of a negative "
+                  "number, 0 / 0, x % 0, asin or acos outside [-1, 1], or inf - inf"
+                : "an overflow or a division by zero: a number beyond ±1.8e308, x / 0, or log(0)");
 }
 
 // ---------------------------------------------------------------------------

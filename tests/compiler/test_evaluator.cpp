@@ -332,3 +332,15 @@ TEST_CASE("an unknown property says what the block takes, or the near miss", "[c
   REQUIRE(d[1].notes.size() == 1);
   CHECK(d[1].notes[0].message == "did you mean 'radius'?");
 }
+
+TEST_CASE("a non-finite value says NaN or infinity and what makes one", "[compiler]") {
+  auto c = run("let a = sqrt(-1);\nlet b = log(0);\n");
+  const auto& d = c->diags.diagnostics();
+  REQUIRE(d.size() == 2);
+  CHECK(d[0].message == "this expression evaluates to NaN (not a finite number)");
+  REQUIRE(d[0].notes.size() == 1);
+  CHECK(d[0].notes[0].message.find("square root") != std::string::npos);
+  CHECK(d[1].message == "this expression evaluates to -inf (not a finite number)");
+  REQUIRE(d[1].notes.size() == 1);
+  CHECK(d[1].notes[0].message.find("division by zero") != std::string::npos);
+}
