@@ -86,6 +86,15 @@ Scanner::Scanner(const SourceManager& sources, FileId file, DiagnosticEngine& di
   }
 }
 
+bool Scanner::stray_angle_on_line(std::uint32_t from) const {
+  for (std::size_t i = from; i < src_.size(); ++i) {
+    char c = src_[i];
+    if (c == '\n' || c == '{' || c == '}') return false;
+    if (c == '>') return true;
+  }
+  return false;
+}
+
 bool Scanner::newline_between(std::uint32_t from, std::uint32_t to) const {
   if (to > src_.size()) to = static_cast<std::uint32_t>(src_.size());
   return from < to && src_.substr(from, to - from).find('\n') != std::string_view::npos;

@@ -304,7 +304,12 @@ ExprPtr Parser::parse_vector() {
   for (;;) {
     scratch_exprs_.push_back(parse_expr());
     if (accept(TokenKind::Comma)) continue;
-    if (accept(TokenKind::Greater)) break;
+    if (at(TokenKind::Greater)) {
+      vector_close_ = here();
+      vector_closed_ = true;
+      advance();
+      break;
+    }
     missing_closer(open, ">", "the vector literal");
     break;
   }
@@ -317,7 +322,8 @@ ExprPtr Parser::parse_vector() {
 
 // property -> IDENT ( block | expr )
 bool Parser::parse_property(Property& prop) {
-  panic_ = false;  // a property name is a recovery point
+  panic_ = false;                          // a property name is a recovery point
+  const std::uint32_t before = last_end_;  // the end of the token before the name
   prop.name = std::string(cur_.text);
   prop.name_span = here();
   advance();
@@ -326,8 +332,15 @@ bool Parser::parse_property(Property& prop) {
   } else if (starts_operand(cur_.kind) || at(TokenKind::Error)) {
     prop.value = parse_expr();
   } else {
-    error_here(DiagKind::ExpectedExpression,
-               "expected a value for '" + prop.name + "', found " + describe(cur_));
+    auto d = error_here(DiagKind::ExpectedExpression,
+                        "expected a value for '" + prop.name + "', found " + describe(cur_));
+    // `center <1, a > b, 2>`: the '>' of the comparison closed the vector (§3), so
+    // 'b' was taken for a property name.
+    if (vector_closed_ && vector_close_.file == file_ && vector_close_.end == before &&
+        at(TokenKind::Comma) && scanner_.stray_angle_on_line(cur_.span.end))
+      d.note(vector_close_,
+             "this '>' closed the vector (§3); a comparison inside a vector literal must be "
+             "parenthesised: <(a > b), ...>");
     prop.value = error_expr(here());
     return false;
   }

@@ -94,6 +94,10 @@ class Parser {
   std::uint64_t consumed_ = 0;  // tokens consumed so far (progress checks)
   bool panic_ = false;
   bool in_vector_ = false;  // parsing an element of a vector literal at its top level
+  // The '>' that closed the last vector literal (a hint when a comparison in a
+  // vector closed it early: `<1, a > b, 2>`).
+  Span vector_close_{0, 0, 0};
+  bool vector_closed_ = false;
   bool no_object_ = false;  // an `if` condition or loop bound: IDENT '{' is not a value
   int depth_ = 0;           // nesting of expressions, blocks and chains built so far
   std::unique_ptr<ExprArena> arena_ = std::make_unique<ExprArena>();  // moved into the Program

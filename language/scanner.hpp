@@ -30,6 +30,10 @@ class Scanner {
   // "first token on its line" recovery heuristic).
   bool newline_between(std::uint32_t from, std::uint32_t to) const;
 
+  // True when the rest of the line from `from` has a '>' before any brace: what is
+  // left of a vector literal a comparison closed early (`<1, a > b, 2>`).
+  bool stray_angle_on_line(std::uint32_t from) const;
+
  private:
   void skip_trivia();
   void skip_line_comment();

@@ -250,6 +250,29 @@ TEST_CASE("unclosed delimiters point at the opener", "[parser]") {
   CHECK(d.notes[0].message == "to close '(' opened here");
 }
 
+TEST_CASE("a comparison that closed a vector early says so", "[parser]") {
+  // §3: a '>' that could close the innermost vector does, so 'b' below is taken
+  // for the next property name and ', 2>' is left over.
+  SourceManager sm;
+  FileId f = sm.add("t.scn", "sphere { center <1, a > b, 2> }\n");
+  DiagnosticEngine diags(sm);
+  parse(sm, f, diags);
+  REQUIRE(!diags.diagnostics().empty());
+  const Diagnostic& d = diags.diagnostics()[0];
+  CHECK(d.kind == DiagKind::ExpectedExpression);
+  REQUIRE(d.notes.size() == 1);
+  REQUIRE(d.notes[0].span);
+  CHECK(d.notes[0].span->begin == 22);  // the '>' after 'a'
+  CHECK(d.notes[0].message.find("must be parenthesised") != std::string::npos);
+  // A missing value after an ordinary vector gets no such note.
+  SourceManager sm2;
+  FileId g = sm2.add("u.scn", "sphere { center <1, 2, 3> radius , }\n");
+  DiagnosticEngine diags2(sm2);
+  parse(sm2, g, diags2);
+  REQUIRE(!diags2.diagnostics().empty());
+  CHECK(diags2.diagnostics()[0].notes.empty());
+}
+
 TEST_CASE("the error limit stops the parse", "[parser]") {
   std::string text;
   for (int i = 0; i < 1000; ++i) text += "let = 1;\n";
