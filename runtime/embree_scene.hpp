@@ -56,9 +56,13 @@ class EmbreeScene {
   // the one-ray forms return them, traced as packets of up to 16 rays. They pay
   // for coherent rays: camera rays of neighbouring pixels (2.4-2.9x in
   // bench_trace), and the shadow rays of a packet's hits to one light cell (the
-  // pixel loop's deferred direct light). A light grid's shadow rays from one point
-  // to a large light through many spheres ran 1.3x slower as packets, so a lone
-  // point's grid goes one ray at a time.
+  // pixel loop's deferred direct light), and a shading point's light-grid cells
+  // (one origin; since static spheres meet a packet eight lanes at a time, 6-9 %
+  // faster whole renders of examples/glass and lights than one ray at a time,
+  // where they had been 1.3x slower). Shadow packets use Embree's incoherent
+  // (hybrid) mode: the coherent one made boxes' point-light packets 1.8 -> 2.5x
+  // one at a time, but spheres' and examples/hello's slower, and a grid's cells
+  // from one point 3-6 % slower.
   void intersect(std::span<const Ray> rays, std::span<Hit> hits,
                  std::span<std::uint8_t> found) const;
   void occluded(std::span<const Ray> rays, std::span<std::uint8_t> blocked) const;
