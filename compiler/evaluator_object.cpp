@@ -83,7 +83,10 @@ Value Evaluator::eval_object(std::string_view keyword, const BlockInfo* block,
     collectors_.pop_back();
     eval_props(*block, body, kw, scope, node->props, ok);
     if (node->children.empty() && !aborted_) {
-      error(DiagKind::EmptyCsg, kw, "this '" + std::string(block->name) + "' holds no object");
+      // A warning, as POV-Ray's: a loop that made no children (a generated scene)
+      // leaves nothing here, and the scene renders without it.
+      error(DiagKind::EmptyCsg, kw,
+            "this '" + std::string(block->name) + "' holds no object: it adds nothing");
       ok = false;
     }
     return ok ? Value::of_object(std::move(node)) : Value::error();
