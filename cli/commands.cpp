@@ -403,7 +403,10 @@ int render_frame(FrameJob& job) {
 int run_render(const CliArgs& o) {
   if (o.dump_ast) return dump_ast(o.scene);
   std::vector<std::string> outputs = o.outputs;
-  if (outputs.empty()) outputs.push_back(fs::path(o.scene).stem().string() + ".png");
+  // --pixel alone is a look at one pixel's ray tree: it writes an image only where
+  // -o asks for one, never over the default SCENE-STEM.png.
+  if (outputs.empty() && o.pixel.empty())
+    outputs.push_back(fs::path(o.scene).stem().string() + ".png");
   for (const std::string& out : outputs)
     if (!rt::is_supported_image_extension(out))
       return usage_error("cannot tell the image format of '" + out +

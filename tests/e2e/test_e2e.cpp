@@ -277,6 +277,29 @@ int run_capture(const std::string& args, std::string& err, const Scratch& tmp) {
 }
 }  // namespace
 
+TEST_CASE("a render with --pixel alone prints the ray tree and writes no image", "[e2e]") {
+  Scratch tmp;
+  std::ofstream(tmp / "ok.scn") << "settings { resolution <8, 8> }\nsphere { center <0, 0, 3> }\n"
+                                   "point_light { position <0, 3, -3> intensity 10 }\n";
+  std::ofstream(tmp / "ok.png") << "the user's own image";
+  auto in_tmp = [&](const std::string& args) {
+    int status = std::system(("cd " + tmp.dir.string() + " && timeout 20 " + kSnell + " render " +
+                              args + " > out.txt 2>&1")
+                                 .c_str());
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  };
+  REQUIRE(in_tmp("ok.scn --quiet --pixel 4,4") == 0);
+  std::ifstream out(tmp / "out.txt");
+  std::string text((std::istreambuf_iterator<char>(out)), std::istreambuf_iterator<char>());
+  CHECK(text.find("pixel (4, 4) sample 0") != std::string::npos);
+  std::ifstream old(tmp / "ok.png");
+  CHECK(std::string(std::istreambuf_iterator<char>(old), std::istreambuf_iterator<char>()) ==
+        "the user's own image");
+  // With -o it writes what it is asked to.
+  REQUIRE(in_tmp("ok.scn --quiet --pixel 4,4 -o traced.png") == 0);
+  CHECK(fs::exists(tmp / "traced.png"));
+}
+
 TEST_CASE("inputs that are not files, sizes and numbers are reported as they are", "[e2e]") {
   Scratch tmp;
   std::string err;
