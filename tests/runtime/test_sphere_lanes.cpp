@@ -67,7 +67,7 @@ TEST_CASE("a packet's sphere test is the one-ray test, bit for bit", "[shapes][s
           continue;
         }
         ++lanes;
-        float t;
+        float t = 0;
         Vec3f n;
         bool hit = hit_similar_sphere(c, radius, ox[i], oy[i], oz[i], dx[i], dy[i], dz[i], tn[i],
                                       tf[i], t, n);
