@@ -14,7 +14,7 @@ namespace {
 
 #ifdef SNELL_HAVE_AVX512_PATH
 
-// The whole section for AVX-512 (lambdas do not take a function's target attribute).
+// The whole section for AVX-512, so its small helpers inline into eight().
 #pragma GCC push_options
 #pragma GCC target("avx512f,avx512vl")
 // GCC 12's AVX-512 headers warn falsely on their own masked builtins

@@ -28,6 +28,10 @@ std::uint64_t child_key(std::uint64_t key, std::uint64_t slot) {
 std::uint32_t node_dim(std::uint64_t key, std::uint64_t what) {
   return kDimFirstFree + std::uint32_t(hash_combine(key, what) & 0x7fffffffu);
 }
+// The name of area light li's grid cell (iu, iv) among a node's dimensions.
+std::uint64_t light_cell(std::size_t li, std::uint32_t iu, std::uint32_t iv) {
+  return (std::uint64_t(li + 1) << 40) | (iv << 20) | iu;
+}
 
 // An array of n trivially destructible T made without running T's default
 // member initialisers (each element is assigned before it is read).
@@ -281,16 +285,15 @@ void WhittedIntegrator::direct_lanes(std::uint32_t lanes_in, const DirectQuery* 
     for (std::size_t li = 0; li < lights_.areas.size(); ++li) {
       const AreaLightF& l = lights_.areas[li];
       if (l.dark()) continue;
-      const std::uint32_t ncells = l.nu * l.nv;
-      for (std::uint32_t c = 0; c < ncells;) {
+      // Row by row, as the one-by-one loop goes; a batch may end inside a row.
+      for (std::uint32_t iu = 0, iv = 0; iv < l.nv;) {
         std::uint32_t n = 0, m = 0;
-        for (; c < ncells && n < kCells; ++c, ++n) {
-          const std::uint32_t iu = c % l.nu, iv = c / l.nu;
-          const std::uint64_t cell = (std::uint64_t(li + 1) << 40) | (iv << 20) | iu;
-          draw_cell(cell);
+        for (; iv < l.nv && n < kCells; ++n) {
+          draw_cell(light_cell(li, iu, iv));
           has[n] = l.sample_li(q(0).p, q(0).o, q(0).n, q(0).time, iu, iv, ju[0], jv[0],
                                offset_scale_, cs.v[n]);
           if (has[n]) cr.v[m++] = cs.v[n].shadow;
+          if (++iu == l.nu) iu = 0, ++iv;
         }
         stats.shadow_rays += m;
         if (m == 1)
@@ -309,7 +312,7 @@ void WhittedIntegrator::direct_lanes(std::uint32_t lanes_in, const DirectQuery* 
     if (l.dark()) continue;
     for (std::uint32_t iv = 0; iv < l.nv; ++iv)
       for (std::uint32_t iu = 0; iu < l.nu; ++iu) {
-        const std::uint64_t cell = (std::uint64_t(li + 1) << 40) | (iv << 20) | iu;
+        const std::uint64_t cell = light_cell(li, iu, iv);
         draw_cell(cell);
         for (std::uint32_t i = 0; i < lanes; ++i)
           lit[i] = l.sample_li(q(i).p, q(i).o, q(i).n, q(i).time, iu, iv, ju[i], jv[i],
@@ -321,47 +324,43 @@ void WhittedIntegrator::direct_lanes(std::uint32_t lanes_in, const DirectQuery* 
 
 // The cells' jitter: the node's dimensions named by the cell with the top bit set,
 // which no direct-light cell (< 2^63) uses; a glossy node is never lit, so its
-// dimensions are its own either way.
+// dimensions are its own either way. Instantiated only for kernels with area lights
+// (li calls it under K::area).
 template <class K>
 Color WhittedIntegrator::glossy_lights(const GlossySquare& lobe, Vec3f wo, Vec3f p, Vec3f o,
                                        Vec3f nf, float time, std::uint64_t key,
                                        const SampleContext& sc, const Interior* in,
                                        std::uint64_t& n_rays) const {
   Color sum(0);
-  if constexpr (K::area) {
-    const Vec3f r = incident(wo, nf).mirror();
-    for (std::size_t li = 0; li < lights_.areas.size(); ++li) {
-      const AreaLightF& l = lights_.areas[li];
-      if (l.dark()) continue;
-      const Vec3f half = (l.e1 + l.e2) * 0.5f;
-      if (!lobe_meets_ball(r, nf, lobe.blur, l.corner + half - p,
-                           0.5 * double(std::fmax(length(l.e1 + l.e2), length(l.e1 - l.e2)))))
-        continue;
-      const double cell_area = double(l.area) / double(l.nu * l.nv);
-      for (std::uint32_t iv = 0; iv < l.nv; ++iv)
-        for (std::uint32_t iu = 0; iu < l.nu; ++iu) {
-          const std::uint64_t cell = (std::uint64_t(li + 1) << 40) | (iv << 20) | iu;
-          Sample2 j = draw2(sc, node_dim(key, cell | (std::uint64_t(1) << 63)));
-          float u = (float(iu) + j.u) / float(l.nu), v = (float(iv) + j.v) / float(l.nv);
-          LightSample ls;
-          float cos_s, cos_l, d2;
-          if (!l.shadow_to(l.corner + l.e1 * u + l.e2 * v, p, o, nf, time, offset_scale_, ls, cos_s,
-                           cos_l, d2))
-            continue;
-          const double d = std::sqrt(double(d2));
-          const Vec3f wi = ls.to * float(1 / d);
-          const double x = mis_light_factor(lobe.pdf(wo, nf, wi),
-                                            cell_density(double(d2), double(cos_l) / d, cell_area));
-          if (!(x > 0)) continue;  // the lobe cannot reach it: no shadow ray
-          ++n_rays;
-          Color tr(1);
-          if (shadow_blocked<K>(ls.shadow, in, tr)) continue;
-          sum += ls.value * tr * float(x);
-        }
-    }
+  const Vec3f r = incident(wo, nf).mirror();
+  for (std::size_t li = 0; li < lights_.areas.size(); ++li) {
+    const AreaLightF& l = lights_.areas[li];
+    if (l.dark()) continue;
+    const Vec3f half = (l.e1 + l.e2) * 0.5f;
+    if (!lobe_meets_ball(r, nf, lobe.blur, l.corner + half - p,
+                         0.5 * double(std::fmax(length(l.e1 + l.e2), length(l.e1 - l.e2)))))
+      continue;
+    for (std::uint32_t iv = 0; iv < l.nv; ++iv)
+      for (std::uint32_t iu = 0; iu < l.nu; ++iu) {
+        const std::uint64_t cell = light_cell(li, iu, iv);
+        Sample2 j = draw2(sc, node_dim(key, cell | (std::uint64_t(1) << 63)));
+        float u = (float(iu) + j.u) / float(l.nu), v = (float(iv) + j.v) / float(l.nv);
+        LightSample ls;
+        float cos_s, cos_l, d2;
+        if (!l.shadow_to(l.corner + l.e1 * u + l.e2 * v, p, o, nf, time, offset_scale_, ls, cos_s,
+                         cos_l, d2))
+          continue;
+        const double d = std::sqrt(double(d2));
+        const Vec3f wi = ls.to * float(1 / d);
+        const double x = mis_light_factor(
+            lobe.pdf(wo, nf, wi), cell_density(double(d2), double(cos_l) / d, l.cell_area()));
+        if (!(x > 0)) continue;  // the lobe cannot reach it: no shadow ray
+        ++n_rays;
+        Color tr(1);
+        if (shadow_blocked<K>(ls.shadow, in, tr)) continue;
+        sum += ls.value * tr * float(x);
+      }
   }
-  (void)lobe, (void)wo, (void)p, (void)o, (void)nf, (void)time, (void)key, (void)sc, (void)in,
-      (void)n_rays;
   return sum;
 }
 
@@ -570,7 +569,7 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
         // The glossy ray's MIS weight against the light cell it hit (glossy_mis.hpp).
         Vec3f path = (node.ray.org - node.start) + d * hit.t;
         double d2 = double(dot(path, path));
-        double p_c = cell_density(d2, double(dot(d, l.n)), double(l.area) / double(l.nu * l.nv));
+        double p_c = cell_density(d2, double(dot(d, l.n)), l.cell_area());
         contrib = contrib * float(mis_ray_weight(node.mis_pdf, p_c));
       }
       if constexpr (K::interiors && K::absorption)
@@ -721,8 +720,7 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
         // the lobe's density is no longer p_b.
         if constexpr (K::area) {
           const ir::Glossy* gm;
-          if (glossy_mis_ && nkids == 1 && !frame.smooth && s.count == 1 &&
-              s.branches[0].kind == RayKind::Glossy && (gm = mat.as<ir::Glossy>()) &&
+          if (glossy_mis_ && nkids == 1 && !frame.smooth && (gm = mat.as<ir::Glossy>()) &&
               gm->blur > 0) {
             const GlossySquare lobe{s.branches[0].weight, float(gm->blur)};
             N& k = kids[0];

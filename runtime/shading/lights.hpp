@@ -81,6 +81,8 @@ struct AreaLightF {
   float near_cell2 = 0;
 
   bool dark() const { return radiance.x == 0 && radiance.y == 0 && radiance.z == 0; }
+  // The area of one cell of the nu × nv grid.
+  double cell_area() const { return double(area) / double(nu * nv); }
   // Radiance sent along `dir` (the ray's direction, towards the light): one-sided
   // lights emit only towards cross(edge1, edge2).
   Color le(Vec3f dir) const {
