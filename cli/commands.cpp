@@ -386,7 +386,9 @@ int render_frame(FrameJob& job) {
       std::cerr << "wrote " << out << "\n";
     }
   }
-  if (o.stats) std::cerr << result.stats.to_string() << result.texture_stats;
+  if (o.stats)
+    std::cerr << result.stats.to_string() << result.texture_stats
+              << "images encoded by: " << rt::image_writer_kind() << "\n";
   if (result.stats.nonfinite_samples > 0)
     std::cerr << "snell: warning: " << result.stats.nonfinite_samples
               << " non-finite sample(s) were dropped\n";
@@ -426,7 +428,7 @@ int run_render(const CliArgs& o) {
     rt::start_image_helper(display);
   }
   struct StopHelper {
-    ~StopHelper() { rt::stop_image_helper(); }
+    ~StopHelper() { rt::stop_image_helper(/*leave_resident=*/true); }
   } stop_helper;
 
   // §18: one frame (clock from --clock, default 0), or --frames A..B.

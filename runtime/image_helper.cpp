@@ -1,12 +1,6 @@
-// The image helper process (image_helper.hpp). The protocol, on a socket pair,
-// all integers in this machine's order (both ends are the same binary):
-//   child -> parent, once loaded:  u32 kind (0 ready, 1 load error, 2 display
-//                                  error), string message
-//   parent -> child, per image:    string path, Image, OutputInfo, DisplayView
-//   child -> parent, per image:    string error, bytes encoded
-// where a string or byte run is a u64 length and its bytes. The child ends at
-// end of file; the parent's sends never raise SIGPIPE (MSG_NOSIGNAL), so a child
-// that died is an error message, not the end of the render.
+// The image helper process (image_helper.hpp), on a socket pair or a connection
+// to the resident image server (image_server.hpp); the protocol is image_wire.hpp's.
+// The child ends at end of file.
 #include "runtime/image_helper.hpp"
 
 #include <fcntl.h>
@@ -24,138 +18,18 @@
 #include <cstring>
 #include <mutex>
 
+#include "runtime/image_server.hpp"
+#include "runtime/image_wire.hpp"
 #include "runtime/render.hpp"
 
 namespace snell::rt {
 
 namespace {
 
-// A message being built or read back.
-struct Wire {
-  std::vector<unsigned char> bytes;
-  std::size_t at = 0;
-  bool bad = false;  // a read ran past the end
+using image_wire::Wire;
 
-  void put(const void* p, std::size_t n) {
-    const auto* b = static_cast<const unsigned char*>(p);
-    bytes.insert(bytes.end(), b, b + n);
-  }
-  template <class T>
-  void put(const T& v) {
-    put(&v, sizeof v);
-  }
-  void put_string(const std::string& s) {
-    put(std::uint64_t(s.size()));
-    put(s.data(), s.size());
-  }
-  bool get(void* p, std::size_t n) {
-    if (bad || bytes.size() - at < n) return !(bad = true);
-    if (n) std::memcpy(p, bytes.data() + at, n);
-    at += n;
-    return true;
-  }
-  template <class T>
-  T get() {
-    T v{};
-    get(&v, sizeof v);
-    return v;
-  }
-  std::string get_string() {
-    auto n = get<std::uint64_t>();
-    if (bad || bytes.size() - at < n) return bad = true, std::string();
-    std::string s(reinterpret_cast<const char*>(bytes.data() + at), n);
-    at += n;
-    return s;
-  }
-};
-
-bool send_all(int fd, const void* p, std::size_t n) {
-  const auto* b = static_cast<const unsigned char*>(p);
-  while (n > 0) {
-    ssize_t k = ::send(fd, b, n, MSG_NOSIGNAL);
-    if (k < 0 && errno == EINTR) continue;
-    if (k <= 0) return false;
-    b += k;
-    n -= std::size_t(k);
-  }
-  return true;
-}
-
-bool recv_all(int fd, void* p, std::size_t n) {
-  auto* b = static_cast<unsigned char*>(p);
-  while (n > 0) {
-    ssize_t k = ::recv(fd, b, n, 0);
-    if (k < 0 && errno == EINTR) continue;
-    if (k <= 0) return false;
-    b += k;
-    n -= std::size_t(k);
-  }
-  return true;
-}
-
-// One message: its length, then its bytes.
-bool send_message(int fd, const Wire& w) {
-  std::uint64_t n = w.bytes.size();
-  return send_all(fd, &n, sizeof n) && send_all(fd, w.bytes.data(), w.bytes.size());
-}
-bool recv_message(int fd, Wire& w) {
-  std::uint64_t n = 0;
-  if (!recv_all(fd, &n, sizeof n)) return false;
-  // A length no image of this process could have is a broken stream, not an
-  // allocation to attempt.
-  if (n > (std::uint64_t(1) << 40)) return false;
-  w.bytes.resize(n);
-  w.at = 0;
-  return recv_all(fd, w.bytes.data(), n);
-}
-
-void put_request(Wire& w, const std::string& path, const Image& image, const OutputInfo& info,
-                 const DisplayView& display) {
-  w.put_string(path);
-  for (std::uint32_t v :
-       {image.width, image.height, image.x0, image.y0, image.full_width, image.full_height})
-    w.put(v);
-  w.put(std::uint64_t(image.rgb.size()));
-  w.put(image.rgb.data(), image.rgb.size() * sizeof(float));
-  w.put_string(info.scene_path);
-  w.put(info.samples);
-  w.put(info.seed);
-  w.put(info.render_seconds);
-  w.put(std::uint64_t(info.attributes.size()));
-  for (const auto& [k, v] : info.attributes) {
-    w.put_string(k);
-    w.put_string(v);
-  }
-  w.put_string(display.config);
-  w.put_string(display.display);
-  w.put_string(display.view);
-}
-
-bool get_request(Wire& w, std::string& path, Image& image, OutputInfo& info, DisplayView& display) {
-  path = w.get_string();
-  for (std::uint32_t* v :
-       {&image.width, &image.height, &image.x0, &image.y0, &image.full_width, &image.full_height})
-    *v = w.get<std::uint32_t>();
-  auto n = w.get<std::uint64_t>();
-  if (w.bad || n > (w.bytes.size() - w.at) / sizeof(float)) return false;
-  image.rgb.resize(n);
-  w.get(image.rgb.data(), n * sizeof(float));
-  info.scene_path = w.get_string();
-  info.samples = w.get<std::uint32_t>();
-  info.seed = w.get<std::uint64_t>();
-  info.render_seconds = w.get<double>();
-  auto attributes = w.get<std::uint64_t>();
-  for (std::uint64_t i = 0; i < attributes && !w.bad; ++i) {
-    std::string k = w.get_string();
-    info.attributes.emplace_back(std::move(k), w.get_string());
-  }
-  display.config = w.get_string();
-  display.display = w.get_string();
-  display.view = w.get_string();
-  return !w.bad;
-}
-
-// The child: load, say how that went, then encode until end of file.
+// The child: load, say how that went, then encode until end of file; at its
+// run's goodbye, stay as the resident server (image_server.hpp).
 [[noreturn]] void serve(int sock, pid_t parent, const std::optional<DisplayView>& check_display) {
   ::prctl(PR_SET_PDEATHSIG, SIGKILL);
   if (::getppid() != parent) ::_exit(0);  // the parent died before the prctl
@@ -165,40 +39,32 @@ bool get_request(Wire& w, std::string& path, Image& image, OutputInfo& info, Dis
     for (int fd = 0; fd <= 2; ++fd) ::dup2(null, fd);
     if (null > 2) ::close(null);
   }
-  Wire status;
-  std::uint32_t kind = 0;
+  // Whatever else the run had open is not the helper's to hold (a server would
+  // hold it for minutes); the libraries the load opens come after.
+  if (sock > 3) ::close_range(3, unsigned(sock) - 1, 0);
+  ::close_range(unsigned(sock) + 1, ~0u, 0);
+  std::uint32_t kind = image_wire::kReady;
   std::string message = preload_image_writer();
   if (!message.empty()) {
-    kind = 1;
+    kind = image_wire::kLoadError;
   } else if (check_display) {
     message = check_display_transform(*check_display);
-    if (!message.empty()) kind = 2;
+    if (!message.empty()) kind = image_wire::kDisplayError;
   }
-  status.put(kind);
-  status.put_string(message);
-  if (!send_message(sock, status) || kind != 0) ::_exit(0);
-  for (Wire in; recv_message(sock, in);) {
-    std::string path;
-    Image image;
-    OutputInfo info;
-    DisplayView display;
-    std::vector<unsigned char> bytes;
-    std::string error = get_request(in, path, image, info, display)
-                            ? encode_image_here(path, image, info, display, bytes)
-                            : "a request to the image helper was cut short";
-    Wire out;
-    out.put_string(error);
-    out.put(std::uint64_t(bytes.size()));
-    out.put(bytes.data(), bytes.size());
-    if (!send_message(sock, out)) break;
-    in = Wire{};
-  }
-  ::_exit(0);
+  if (!image_wire::send_status(sock, kind, message) || kind == image_wire::kLoadError) ::_exit(0);
+  if (!image_wire::serve_requests(sock)) ::_exit(0);
+  // The goodbye: no longer the run's to die with, said before the run may end.
+  ::prctl(PR_SET_PDEATHSIG, 0);
+  bool said = image_wire::send_message(sock, Wire{});
+  ::close(sock);
+  if (!said) ::_exit(0);
+  become_image_server();
 }
 
 struct Helper {
   std::mutex mutex;
-  bool engaged = false;  // started and not stopped: writes go through it, even once it died
+  bool engaged = false;   // started and not stopped: writes go through it, even once it died
+  bool resident = false;  // connected to the resident server (no child of ours)
   pid_t pid = -1;
   int sock = -1;
   std::optional<ImageHelperStatus> status;
@@ -224,8 +90,23 @@ struct Helper {
   // that crashed there could crash this process the same way.
   void failed(const char* what) {
     close_socket();
+    if (resident) {
+      status = ImageHelperStatus{
+          fmt::format("the resident image server {} (it closed the connection)", what), {}};
+      return;
+    }
     std::string how = reap();
     status = ImageHelperStatus{fmt::format("the image helper {} ({})", what, how), {}};
+  }
+  // Takes a status message (false: a broken one).
+  bool take_status(Wire& w) {
+    auto kind = w.get<std::uint32_t>();
+    std::string message = w.get_string();
+    if (w.bad) return false;
+    ImageHelperStatus s;
+    (kind == image_wire::kDisplayError ? s.display_error : s.load_error) = std::move(message);
+    status = std::move(s);
+    return true;
   }
   // Reads the status message; with `wait` false only when one is there.
   void read_status(bool wait) {
@@ -235,13 +116,8 @@ struct Helper {
       if (::poll(&p, 1, 0) <= 0) return;
     }
     Wire w;
-    if (!recv_message(sock, w)) return failed("ended while loading");
-    auto kind = w.get<std::uint32_t>();
-    std::string message = w.get_string();
-    if (w.bad) return failed("sent a broken status");
-    ImageHelperStatus s;
-    (kind == 2 ? s.display_error : s.load_error) = std::move(message);
-    status = std::move(s);
+    if (!image_wire::recv_message(sock, w)) return failed("ended while loading");
+    if (!take_status(w)) failed("sent a broken status");
   }
 };
 
@@ -258,6 +134,20 @@ void start_image_helper(const std::optional<DisplayView>& check_display) {
   if (h.engaged) return;
   if (const char* env = std::getenv("SNELL_IMAGE_HELPER"); env && std::strcmp(env, "0") == 0)
     return;
+  // A resident server that answers saves this run the module's load.
+  Wire status;
+  if (int fd = connect_image_server(check_display, status); fd >= 0) {
+    h.resident = true;
+    h.sock = fd;
+    h.status.reset();
+    if (h.take_status(status)) {
+      h.engaged = true;
+      return;
+    }
+    h.close_socket();
+    h.resident = false;
+    h.status.reset();
+  }
   int fds[2];
   if (::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, fds) != 0) return;
   pid_t parent = ::getpid();
@@ -273,9 +163,17 @@ void start_image_helper(const std::optional<DisplayView>& check_display) {
   }
   ::close(fds[1]);
   h.engaged = true;
+  h.resident = false;
   h.pid = pid;
   h.sock = fds[0];
   h.status.reset();
+}
+
+std::string image_writer_kind() {
+  Helper& h = helper();
+  std::lock_guard lock(h.mutex);
+  if (!h.engaged) return "this process";
+  return h.resident ? "the resident image server" : "a helper process";
 }
 
 bool image_helper_running() {
@@ -292,10 +190,25 @@ std::optional<ImageHelperStatus> image_helper_status(bool wait) {
   return h.status;
 }
 
-void stop_image_helper() {
+void stop_image_helper(bool leave_resident) {
   Helper& h = helper();
   std::lock_guard lock(h.mutex);
   h.engaged = false;
+  // A child that loaded stays as the resident server when it answers the goodbye
+  // at once; one still loading is killed (a run that wrote nothing must not wait
+  // for it). Not reaped: it is no longer ours to wait for.
+  if (leave_resident && h.pid >= 0 && h.sock >= 0 && !image_server_socket().empty()) {
+    h.read_status(false);
+    if (!h.status || h.status->load_error.empty()) {
+      Wire in;
+      pollfd p{h.sock, POLLIN, 0};
+      if (image_wire::send_message(h.sock, Wire{}) && ::poll(&p, 1, 50) > 0 &&
+          image_wire::recv_message(h.sock, in) && in.bytes.empty()) {
+        h.close_socket();
+        h.pid = -1;
+      }
+    }
+  }
   h.status.reset();
   h.close_socket();
   if (h.pid < 0) return;
@@ -313,9 +226,9 @@ std::string image_helper_encode(const std::string& path, const Image& image, con
     return fmt::format("cannot write {}: {}", path, h.status->load_error);
   if (h.sock < 0) return fmt::format("cannot write {}: the image helper is not running", path);
   Wire out;
-  put_request(out, path, image, info, display);
+  image_wire::put_request(out, path, image, info, display);
   Wire in;
-  if (!send_message(h.sock, out) || !recv_message(h.sock, in)) {
+  if (!image_wire::send_message(h.sock, out) || !image_wire::recv_message(h.sock, in)) {
     h.failed("ended while encoding");
     return fmt::format("cannot write {}: {}", path, h.status->load_error);
   }

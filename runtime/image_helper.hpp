@@ -11,6 +11,10 @@
 // fault tests see the one writer they always did. The child never writes a file
 // or the terminal; it ends when this process closes its socket or dies
 // (PR_SET_PDEATHSIG), and an encoder that crashes there is an error message here.
+//
+// The load is the whole fixed cost of a small render, so a helper that loaded
+// leaves a resident image server behind (image_server.hpp): a later run on the
+// same binary connects to it and forks no helper at all.
 #pragma once
 
 #include <optional>
@@ -32,6 +36,10 @@ struct OutputInfo;
 // already runs, or when SNELL_IMAGE_HELPER=0 is set in the environment.
 void start_image_helper(const std::optional<DisplayView>& check_display);
 
+// Who encodes this run's images, for --stats: "the resident image server", "a
+// helper process" or "this process".
+std::string image_writer_kind();
+
 // Whether a helper was started and not stopped. write_image encodes through it;
 // one that died makes every write report how (image_helper_status).
 bool image_helper_running();
@@ -49,7 +57,9 @@ std::optional<ImageHelperStatus> image_helper_status(bool wait);
 
 // Ends the helper and reaps it (kills one still loading); write_image then loads
 // the module in process. For a scene whose §17 images need the module here anyway.
-void stop_image_helper();
+// With `leave_resident` (a run's end), a helper that loaded is left to become the
+// resident server (image_server.hpp) instead.
+void stop_image_helper(bool leave_resident = false);
 
 // Encodes `image` as write_image would in process, through the helper: the error
 // message (the encoder's own, or how the helper failed), or empty with `bytes`.

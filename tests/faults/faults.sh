@@ -14,6 +14,9 @@ shim="$2"
 src="$3"
 tmp="$(mktemp -d /tmp/snell-faults.XXXXXX)"
 trap 'rm -rf "$tmp"' EXIT
+# The resident image servers of these runs (runtime/image_server.hpp) are this
+# script's own, and end soon after it (their socket's folder goes with $tmp).
+export SNELL_IMAGE_SERVER_DIR="$tmp/servers" SNELL_IMAGE_SERVER_IDLE=5
 failures=0
 fail() {
   echo "FAIL: $*"
@@ -229,7 +232,9 @@ for when in loading encoding; do
   old_file "$d" out.png
   spp=24
   [ $when = encoding ] && spp=48
-  "$snell" render "$scene" --res 640x360 --spp $spp --quiet -o "$d/out.png" 2> "$tmp/err" &
+  # A folder with no server in it: the run starts a helper of its own.
+  SNELL_IMAGE_SERVER_DIR="$d/servers" \
+    "$snell" render "$scene" --res 640x360 --spp $spp --quiet -o "$d/out.png" 2> "$tmp/err" &
   pid=$!
   child="$(helper_of $pid)"
   if [ -z "$child" ]; then
@@ -247,10 +252,14 @@ for when in loading encoding; do
   fi
   untouched "$d" out.png
   no_leftovers "$d"
+  [ -n "$(ls -A "$d/servers" 2> /dev/null)" ] && fail "$CASE: a killed helper left a server: $(ls -A "$d/servers")"
 done
 
 CASE="snell killed: its image helper goes too"
-"$snell" render "$scene" --res 640x360 --spp 64 --quiet -o "$d/gone.png" 2> "$tmp/err" &
+d="$tmp/killed"
+mkdir -p "$d"
+SNELL_IMAGE_SERVER_DIR="$d/servers" \
+  "$snell" render "$scene" --res 640x360 --spp 64 --quiet -o "$d/gone.png" 2> "$tmp/err" &
 pid=$!
 child="$(helper_of $pid)"
 kill -KILL "$pid"
@@ -264,6 +273,54 @@ if [ -n "$child" ]; then
 else
   fail "$CASE: snell started no helper process"
 fi
+[ -n "$(ls -A "$d/servers" 2> /dev/null)" ] && fail "$CASE: it left a server: $(ls -A "$d/servers")"
+
+# 10. The resident image server (runtime/image_server.hpp): the helper of a run
+#     that ended stays, later runs encode through it (the same bytes), it ends when
+#     idle, and a server killed leaves a name the next run takes over.
+# server_pids DIR: the servers whose socket folder is DIR (by their environment).
+server_pids() {
+  local p
+  for p in /proc/[0-9]*; do
+    [ "$(cat "$p/comm" 2> /dev/null)" = snell-images ] || continue
+    tr '\0' '\n' 2> /dev/null < "$p/environ" | grep -qxF "SNELL_IMAGE_SERVER_DIR=$1" &&
+      echo "${p#/proc/}"
+  done
+}
+d="$tmp/resident"
+mkdir -p "$d"
+small_png() { "$snell" render "$scene" "${small[@]}" --stats -o "$d/$1" 2> "$tmp/err"; }
+CASE="resident server: the first run starts it"
+SNELL_IMAGE_SERVER=0 "$snell" render "$scene" "${small[@]}" -o "$d/own.png" 2> "$tmp/err"
+expect_status 0 $?
+small_png first.png
+expect_status 0 $?
+expect_message "images encoded by: a helper process"
+CASE="resident server: a later run encodes through it"
+small_png second.png
+expect_status 0 $?
+expect_message "images encoded by: the resident image server"
+cmp -s "$d/own.png" "$d/second.png" || fail "$CASE: its PNG differs from the in-process one"
+CASE="resident server: killed, the next run starts another"
+pids="$(server_pids "$SNELL_IMAGE_SERVER_DIR")"
+[ "$(echo "$pids" | wc -w)" = 1 ] || fail "$CASE: $(echo "$pids" | wc -w) servers, expected 1"
+[ -n "$pids" ] && kill -KILL $pids
+small_png third.png
+expect_status 0 $?
+expect_message "images encoded by: a helper process"
+small_png fourth.png
+expect_status 0 $?
+expect_message "images encoded by: the resident image server"
+CASE="resident server: it ends when idle"
+SNELL_IMAGE_SERVER_DIR="$d/idle" SNELL_IMAGE_SERVER_IDLE=0.5 "$snell" render "$scene" "${small[@]}" \
+  -o "$d/idle.png" 2> "$tmp/err"
+expect_status 0 $?
+for i in $(seq 100); do
+  [ -z "$(server_pids "$d/idle")" ] && [ -z "$(ls -A "$d/idle" 2> /dev/null)" ] && break
+  sleep 0.1
+done
+[ -n "$(server_pids "$d/idle")" ] && fail "$CASE: still running after 10 s"
+[ -n "$(ls -A "$d/idle" 2> /dev/null)" ] && fail "$CASE: its socket is left: $(ls -A "$d/idle")"
 
 if [ "$failures" -gt 0 ]; then
   echo "$failures failure(s)"
