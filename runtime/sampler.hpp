@@ -320,6 +320,26 @@ std::vector<std::string> sobol2_lanes_paths();
 bool sobol2_lanes_with(const std::string& path, const SobolLanes& k, std::uint32_t n,
                        std::uint32_t index, float* u, float* v);
 
+// One stratified dimension (2-D or 1-D) of up to kLanes pixels, as their DimKeys'
+// keys (dim_key for stratified2_lanes, dim_key1 for stratified1_lanes). Each lane
+// draws exactly what sample2 / sample1 draw with its key (test_sampler.cpp).
+struct StrataLanes {
+  static constexpr std::uint32_t kLanes = 16;
+  alignas(64) std::uint64_t key[kLanes] = {};
+  void set(std::uint32_t lane, const DimKey& k) { key[lane] = k.key; }
+};
+// u[0, n) (and v[0, n)) of a stratified spec at one sample index, in the widest
+// SIMD path this CPU has; room for kLanes floats each, as for sobol2_lanes.
+void stratified2_lanes(const SamplerSpec& spec, const StrataLanes& k, std::uint32_t n,
+                       std::uint32_t index, float* u, float* v);
+void stratified1_lanes(const SamplerSpec& spec, const StrataLanes& k, std::uint32_t n,
+                       std::uint32_t index, float* u);
+// The paths, best first, and one by name (v null: the 1-D draw), for tests and
+// benchmarks.
+std::vector<std::string> stratified_lanes_paths();
+bool stratified_lanes_with(const std::string& path, const SamplerSpec& spec, const StrataLanes& k,
+                           std::uint32_t n, std::uint32_t index, float* u, float* v);
+
 // A pixel's keys of the dimensions its ray trees draw, remembered across its
 // samples: a ray tree's per-node dimensions (an area light's cells at the first
 // hit, a glossy lobe) are the same for every sample of a pixel that reaches the

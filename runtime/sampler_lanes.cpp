@@ -1,5 +1,6 @@
 // sobol2_lanes: a sobol dimension pair of up to 16 pixels at one sample index, in
-// the widest integer SIMD the CPU has, chosen once at start-up. Every path computes
+// the widest integer SIMD the CPU has, chosen once at start-up; stratified2_lanes
+// and stratified1_lanes likewise for the stratified sampler (below). Every path computes
 // the same integers as the scalar sample2 (only integer operations, then an exact
 // int-to-float conversion and a multiplication by 2^-24), so the image does not
 // depend on which one runs: tests/runtime/test_sampler.cpp checks each path
@@ -124,6 +125,180 @@ bool avx512_supported() {
 
 #endif  // SNELL_HAVE_AVX512_PATH
 
+// The stratified draws of 16 pixels at one sample index (sample2 / sample1 with
+// each lane's key). The scalar draw is a Kensler permutation of the index (which
+// cycle-walks a lane-dependent number of rounds), a splitmix64 jitter hash and a
+// division in double placing the jitter in its cell; in lanes the permutation
+// walks until every lane is in range (a lane keeps its first value in range),
+// the hashes are 64-bit lane products (vpmullq), the Lemire remainders and
+// quotients are 64x32-bit products split in halves, and the divisions are
+// vdivpd: the same IEEE operations on the same operands, so the same bits.
+// generic: the scalar draws, lane by lane.
+void stratified_lanes_generic(const SamplerSpec& spec, const StrataLanes& k, std::uint32_t n,
+                              std::uint32_t index, float* u, float* v) {
+  for (std::uint32_t l = 0; l < n; ++l) {
+    if (v) {
+      Sample2 s = sample2(spec, DimKey{k.key[l]}, index);
+      u[l] = s.u, v[l] = s.v;
+    } else {
+      u[l] = sample1(spec, DimKey{k.key[l]}, index);
+    }
+  }
+}
+
+#ifdef SNELL_HAVE_AVX512_PATH
+
+#define SNELL_AVX512DQ_TARGET __attribute__((target("avx512f,avx512bw,avx512dq")))
+
+using U64x8 = std::uint64_t __attribute__((vector_size(64)));
+using F64x8 = double __attribute__((vector_size(64)));
+using F32x8 = float __attribute__((vector_size(32)));
+using U32x8 = std::uint32_t __attribute__((vector_size(32)));
+using I32x8 = std::int32_t __attribute__((vector_size(32)));
+
+SNELL_AVX512DQ_TARGET inline U64x8 hash64_8(U64x8 x) {
+  x += 0x9e3779b97f4a7c15ull;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+  return x ^ (x >> 31);
+}
+// (x · d) >> 64 for 64-bit x and 32-bit d, exactly: the halves of x times d.
+SNELL_AVX512DQ_TARGET inline U64x8 mulhi64x32(U64x8 x, std::uint64_t d) {
+  U64x8 lo = (x & 0xffffffffull) * d, hi = (x >> 32) * d;
+  return (hi + (lo >> 32)) >> 32;
+}
+// Divisor32::rem and ::quot of 8 lanes.
+SNELL_AVX512DQ_TARGET inline U64x8 rem8(U64x8 a, const Divisor32& l) {
+  return mulhi64x32(a * l.magic, l.d);
+}
+SNELL_AVX512DQ_TARGET inline U64x8 quot8(U64x8 a, const Divisor32& l) {
+  if (l.d == 1) return a;
+  // (magic · a) >> 64 with a < 2^32: the halves of magic times a.
+  U64x8 lo = (l.magic & 0xffffffffull) * a, hi = (l.magic >> 32) * a;
+  return (hi + (lo >> 32)) >> 32;
+}
+SNELL_AVX512DQ_TARGET inline U64x8 widen(U32x8 x) {
+  return __builtin_convertvector(x, U64x8);
+}
+// detail::unit of (c + double(j)) / d: exact sum, one IEEE division, rounded to
+// float, kept below 1.
+SNELL_AVX512DQ_TARGET inline F32x8 place8(U64x8 c, F32x8 j, double d) {
+  F64x8 x = (__builtin_convertvector(c, F64x8) + __builtin_convertvector(j, F64x8)) / d;
+  F32x8 f = __builtin_convertvector(x, F32x8);
+  return f < 1.0f ? f : F32x8{} + 0x1.fffffep-1f;
+}
+SNELL_AVX512DQ_TARGET inline F32x8 unit8(U64x8 bits) {
+  return __builtin_convertvector(I32x8(__builtin_convertvector(bits, U32x8) >> 8), F32x8) *
+         (1.0f / 16777216.0f);
+}
+
+// permute(index, l, w, p) of 16 lanes of p.
+SNELL_AVX512DQ_TARGET inline U32x16 permute16(std::uint32_t index, const Divisor32& l,
+                                              std::uint32_t w, U32x16 p) {
+  if (l.d <= 1) return U32x16{};
+  U32x16 i = U32x16{} + index, out = {};
+  __mmask16 todo = 0xffff;
+  while (todo) {
+    i ^= p;
+    i *= 0xe170893d;
+    i ^= p >> 16;
+    i ^= (i & w) >> 4;
+    i ^= p >> 8;
+    i *= 0x0929eb3f;
+    i ^= p >> 23;
+    i ^= (i & w) >> 1;
+    i *= 1 | p >> 27;
+    i *= 0x6935fa69;
+    i ^= (i & w) >> 11;
+    i *= 0x74dcb303;
+    i ^= (i & w) >> 2;
+    i *= 0x9e501cc3;
+    i ^= (i & w) >> 2;
+    i *= 0xc860a3df;
+    i &= w;
+    i ^= i >> 5;
+    __mmask16 in = _mm512_cmplt_epu32_mask(__m512i(i), _mm512_set1_epi32(int(l.d))) & todo;
+    out = U32x16(_mm512_mask_mov_epi32(__m512i(out), in, __m512i(i)));
+    todo &= __mmask16(~in);
+  }
+  return out;
+}
+
+SNELL_AVX512DQ_TARGET void stratified_lanes_avx512(const SamplerSpec& spec, const StrataLanes& k,
+                                                   std::uint32_t n, std::uint32_t index, float* u,
+                                                   float* v) {
+  static_assert(StrataLanes::kLanes == 16);
+  const std::uint32_t cells = v ? spec.cells : spec.n;
+  if (index >= cells) {  // past the grid (not drawn by a render): the scalar draws
+    stratified_lanes_generic(spec, k, n, index, u, v);
+    return;
+  }
+  const Divisor32& div = v ? spec.div_cells : spec.div_n;
+  U64x8 key[2];
+  std::memcpy(key, k.key, 128);
+  U32x16 p = __builtin_shufflevector(__builtin_convertvector(key[0], U32x8),
+                                     __builtin_convertvector(key[1], U32x8), 0, 1, 2, 3, 4, 5, 6, 7,
+                                     8, 9, 10, 11, 12, 13, 14, 15);
+  U32x16 perm = permute16(index, div, v ? spec.cells_mask : spec.n_mask, p);
+  // hash_combine(key ^ 0x5bd1e995, index): the index's hash is the same in every lane.
+  const std::uint64_t hb = hash64(index) + 0x9e3779b97f4a7c15ull;
+  for (int h = 0; h < 2; ++h) {
+    U64x8 cell;
+    if (div.d <= 1) {
+      cell = U64x8{};
+    } else {
+      U32x8 half;
+      std::memcpy(&half, reinterpret_cast<const std::uint32_t*>(&perm) + 8 * h, 32);
+      U32x8 ph;
+      std::memcpy(&ph, reinterpret_cast<const std::uint32_t*>(&p) + 8 * h, 32);
+      cell = rem8(widen(half + ph), div);  // the u32 sum wraps, as in permute
+    }
+    U64x8 a = key[h] ^ 0x5bd1e995u;
+    U64x8 jit = hash64_8(a ^ (hb + (a << 6) + (a >> 2)));
+    F32x8 ju = unit8(jit);
+    if (v) {
+      F32x8 jv = unit8(jit >> 32);
+      U64x8 cy = quot8(cell, spec.div_k), cx = cell - cy * spec.k;
+      F32x8 fu = place8(cx, ju, double(spec.k)), fv = place8(cy, jv, double(spec.m));
+      std::memcpy(u + 8 * h, &fu, 32);
+      std::memcpy(v + 8 * h, &fv, 32);
+    } else {
+      F32x8 fu = place8(cell, ju, double(spec.n));
+      std::memcpy(u + 8 * h, &fu, 32);
+    }
+  }
+  (void)n;  // all 16 lanes are drawn and stored: the caller has room for them
+}
+
+bool avx512dq_supported() {
+  __builtin_cpu_init();
+  return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
+         __builtin_cpu_supports("avx512dq");
+}
+
+#endif  // SNELL_HAVE_AVX512_PATH
+
+using StrataFn = void (*)(const SamplerSpec&, const StrataLanes&, std::uint32_t, std::uint32_t,
+                          float*, float*);
+struct StrataPath {
+  const char* name;
+  StrataFn fn;
+};
+const std::vector<StrataPath>& strata_available() {
+  static const std::vector<StrataPath> paths = [] {
+    std::vector<StrataPath> p;
+#ifdef SNELL_HAVE_AVX512_PATH
+    const char* force = std::getenv("SNELL_SIMD");
+    if (avx512dq_supported() && !(force && std::strcmp(force, "generic") == 0))
+      p.push_back({"avx512", stratified_lanes_avx512});
+#endif
+    p.push_back({"generic", stratified_lanes_generic});
+    return p;
+  }();
+  return paths;
+}
+const StrataFn g_stratified_lanes = strata_available().front().fn;
+
 using LanesFn = void (*)(const SobolLanes&, std::uint32_t, std::uint32_t, float*, float*);
 
 struct LanesPath {
@@ -166,6 +341,29 @@ bool sobol2_lanes_with(const std::string& path, const SobolLanes& k, std::uint32
   for (const LanesPath& p : available())
     if (path == p.name) {
       p.fn(k, n, index, u, v);
+      return true;
+    }
+  return false;
+}
+
+void stratified2_lanes(const SamplerSpec& spec, const StrataLanes& k, std::uint32_t n,
+                       std::uint32_t index, float* u, float* v) {
+  g_stratified_lanes(spec, k, n, index, u, v);
+}
+void stratified1_lanes(const SamplerSpec& spec, const StrataLanes& k, std::uint32_t n,
+                       std::uint32_t index, float* u) {
+  g_stratified_lanes(spec, k, n, index, u, nullptr);
+}
+std::vector<std::string> stratified_lanes_paths() {
+  std::vector<std::string> names;
+  for (const StrataPath& p : strata_available()) names.push_back(p.name);
+  return names;
+}
+bool stratified_lanes_with(const std::string& path, const SamplerSpec& spec, const StrataLanes& k,
+                           std::uint32_t n, std::uint32_t index, float* u, float* v) {
+  for (const StrataPath& p : strata_available())
+    if (path == p.name) {
+      p.fn(spec, k, n, index, u, v);
       return true;
     }
   return false;

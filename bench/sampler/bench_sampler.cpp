@@ -70,9 +70,9 @@ Result round(const SamplerSpec& spec, std::uint32_t spp, std::uint32_t pixels,
 }
 
 // The renderer's other pattern: 16 pixels side by side (a packet) drawing one
-// sample index together. Sobol draws go through sobol2_lanes on `path`; the other
-// kinds (and sobol on path "scalar") draw lane by lane with their keys, as the
-// render loop does for them. The
+// sample index together. Sobol draws go through sobol2_lanes on `path`, stratified
+// ones through stratified2_lanes; independent ones (and any kind on path "scalar")
+// draw lane by lane with their keys, as the render loop does for them. The
 // same pixels, samples and dimensions as round(), in another order, so the
 // checksum is order-free (a sum of per-draw hashes).
 Result lanes_round(const SamplerSpec& spec, std::uint32_t spp, std::uint32_t pixels,
@@ -83,25 +83,32 @@ Result lanes_round(const SamplerSpec& spec, std::uint32_t spp, std::uint32_t pix
   std::vector<std::uint32_t> dims(node_dims);
   for (std::uint32_t d = 0; d < node_dims; ++d) dims[d] = 0x9e3779b9u * (d + 17);
   std::vector<SobolLanes> node_lanes(node_dims);
+  std::vector<StrataLanes> node_strata(node_dims);
   std::vector<DimKey> node_keys(std::size_t(node_dims) * L);
   for (std::uint32_t p0 = 0; p0 < pixels; p0 += L) {
     const std::uint32_t n = std::min(L, pixels - p0);
     SobolLanes film, lens;
+    StrataLanes film_s, lens_s;
     DimKey film_k[L], lens_k[L];
     for (std::uint32_t l = 0; l < n; ++l) {
       std::uint32_t p = p0 + l, px = p % 640, py = p / 640;
       std::uint64_t pixel = pixel_hash(spec, px, py);
       film_k[l] = dim_key(spec, pixel, kDimPixel), lens_k[l] = dim_key(spec, pixel, kDimLens);
       film.set(l, film_k[l]), lens.set(l, lens_k[l]);
+      film_s.set(l, film_k[l]), lens_s.set(l, lens_k[l]);
       for (std::uint32_t d = 0; d < node_dims; ++d) {
         node_keys[d * L + l] = dim_key(spec, pixel, dims[d]);
         node_lanes[d].set(l, node_keys[d * L + l]);
+        node_strata[d].set(l, node_keys[d * L + l]);
       }
     }
     alignas(64) float u[L], v[L];
-    auto draw = [&](const SobolLanes& lanes, const DimKey* keys, std::uint32_t s) {
+    auto draw = [&](const SobolLanes& lanes, const StrataLanes& strata, const DimKey* keys,
+                    std::uint32_t s) {
       if (spec.kind == ir::SamplerKind::Sobol && path != "scalar") {
         sobol2_lanes_with(path, lanes, n, s, u, v);
+      } else if (spec.kind == ir::SamplerKind::Stratified && path != "scalar") {
+        stratified_lanes_with(path, spec, strata, n, s, u, v);
       } else {
         for (std::uint32_t l = 0; l < n; ++l) {
           Sample2 c = sample2(spec, keys[l], s);
@@ -112,9 +119,10 @@ Result lanes_round(const SamplerSpec& spec, std::uint32_t spp, std::uint32_t pix
       draws += n;
     };
     for (std::uint32_t s = 0; s < spp; ++s) {
-      draw(film, film_k, s);
-      draw(lens, lens_k, s);
-      for (std::uint32_t d = 0; d < node_dims; ++d) draw(node_lanes[d], &node_keys[d * L], s);
+      draw(film, film_s, film_k, s);
+      draw(lens, lens_s, lens_k, s);
+      for (std::uint32_t d = 0; d < node_dims; ++d)
+        draw(node_lanes[d], node_strata[d], &node_keys[d * L], s);
     }
   }
   double ns =
@@ -174,8 +182,12 @@ int main(int argc, char** argv) {
   // Packets: 2-D draws only (film, lens, 16 node dimensions), 16 pixels at once.
   std::vector<std::string> paths = {"scalar"};
   for (const std::string& p : sobol2_lanes_paths()) paths.push_back(p);
-  std::printf("\npackets of %u pixels, 2-D draws; sobol by SIMD path (sobol2_lanes: %s)\n",
-              SobolLanes::kLanes, paths[1].c_str());
+  std::vector<std::string> strata_paths = {"scalar"};
+  for (const std::string& p : stratified_lanes_paths()) strata_paths.push_back(p);
+  std::printf(
+      "\npackets of %u pixels, 2-D draws; by SIMD path (sobol2_lanes: %s, stratified2_lanes: "
+      "%s)\n",
+      SobolLanes::kLanes, paths[1].c_str(), strata_paths[1].c_str());
   std::printf("%-6s %-20s %10s %9s  %s\n", "spp", "sampler", "ns/draw", "÷indep", "checksum");
   for (std::uint32_t spp : {4u, 16u, 64u}) {
     std::uint32_t px = std::max<std::uint32_t>(16, pixels * 16 / spp);
@@ -185,8 +197,8 @@ int main(int argc, char** argv) {
       std::vector<double> ns;
       std::uint64_t sum = 0;
     };
-    std::vector<Row> rows = {{kinds[0], "scalar", "independent", {}},
-                             {kinds[1], "scalar", "stratified", {}}};
+    std::vector<Row> rows = {{kinds[0], "scalar", "independent", {}}};
+    for (const std::string& p : strata_paths) rows.push_back({kinds[1], p, "stratified " + p, {}});
     for (const std::string& p : paths) rows.push_back({kinds[2], p, "sobol " + p, {}});
     for (int r = 0; r < rounds; ++r)
       for (Row& row : rows) {
@@ -198,12 +210,14 @@ int main(int argc, char** argv) {
     for (const Row& row : rows)
       std::printf("%-6u %-20s %10.2f %9.2f  %016llx\n", spp, row.name.c_str(), median(row.ns),
                   median(row.ns) / base, (unsigned long long)row.sum);
-    for (std::size_t i = 3; i < rows.size(); ++i)
-      if (rows[i].sum != rows[2].sum) {
-        std::fprintf(stderr, "bench_sampler: sobol path %s draws other numbers than scalar\n",
-                     rows[i].path.c_str());
-        return 1;
-      }
+    // Every path of a kind draws what its scalar row draws.
+    for (const Row& row : rows)
+      for (const Row& scalar : rows)
+        if (scalar.kind == row.kind && scalar.path == "scalar" && row.sum != scalar.sum) {
+          std::fprintf(stderr, "bench_sampler: %s draws other numbers than scalar\n",
+                       row.name.c_str());
+          return 1;
+        }
   }
   return 0;
 }

@@ -106,20 +106,40 @@ inline bool timed_sample(std::uint32_t x, std::uint32_t y, std::uint32_t s) {
   return (h & (kCostStride - 1)) == 0;
 }
 
+// A block's keys of the camera's dimensions as SIMD lanes, for the samplers that
+// draw a packet's pixels at once (sobol2_lanes, stratified*_lanes).
+struct CameraLanes {
+  SobolLanes film, lens, time;
+  StrataLanes sfilm, slens, stime;
+  void set(std::uint32_t lane, const CameraKeys& k) {
+    film.set(lane, k.film), lens.set(lane, k.lens), time.set(lane, k.time);
+    sfilm.set(lane, k.film), slens.set(lane, k.lens), stime.set(lane, k.time);
+  }
+};
+
 // Camera sample s of n pixels (px[i], py[i]): the rays, their lens and time samples
-// drawn. The draws go pixel by pixel, the rays as one block (Camera::generate_block):
+// drawn. The draws go lane by lane (independent) or as SIMD lanes (sobol,
+// stratified: the same numbers), the rays as one block (Camera::generate_block):
 // each ray is what Camera::generate makes of its draws.
 template <class K>
 void camera_rays(const TileContext& c, std::uint32_t n, const CameraKeys* keys,
-                 const SobolLanes* film, const SobolLanes* lens, const std::uint32_t* px,
-                 const std::uint32_t* py, std::uint32_t s, Ray* rays, RenderStats& stats) {
+                 const CameraLanes& lanes, const std::uint32_t* px, const std::uint32_t* py,
+                 std::uint32_t s, Ray* rays, RenderStats& stats) {
   double fx[Camera::kMaxBlock], fy[Camera::kMaxBlock];
-  static_assert(Camera::kMaxBlock >= SobolLanes::kLanes);  // sobol2_lanes writes kLanes
+  static_assert(Camera::kMaxBlock >= SobolLanes::kLanes);  // the lanes write kLanes
+  static_assert(Camera::kMaxBlock >= StrataLanes::kLanes);
   alignas(64) float ju[Camera::kMaxBlock], jv[Camera::kMaxBlock];
   alignas(64) float lu[Camera::kMaxBlock], lv[Camera::kMaxBlock];
+  alignas(64) float tu[Camera::kMaxBlock], tv[Camera::kMaxBlock];
+  const bool timed = K::time && c.motion_on;
   if (c.spec.kind == ir::SamplerKind::Sobol) {
-    sobol2_lanes(*film, n, s, ju, jv);
-    if constexpr (K::lens) sobol2_lanes(*lens, n, s, lu, lv);
+    sobol2_lanes(lanes.film, n, s, ju, jv);
+    if constexpr (K::lens) sobol2_lanes(lanes.lens, n, s, lu, lv);
+    if (timed) sobol2_lanes(lanes.time, n, s, tu, tv);  // sample1 is the 2-D draw's u
+  } else if (c.spec.kind == ir::SamplerKind::Stratified) {
+    stratified2_lanes(c.spec, lanes.sfilm, n, s, ju, jv);
+    if constexpr (K::lens) stratified2_lanes(c.spec, lanes.slens, n, s, lu, lv);
+    if (timed) stratified1_lanes(c.spec, lanes.stime, n, s, tu);
   } else {
     for (std::uint32_t i = 0; i < n; ++i) {
       Sample2 j = sample2(c.spec, keys[i].film, s);
@@ -128,18 +148,18 @@ void camera_rays(const TileContext& c, std::uint32_t n, const CameraKeys* keys,
         Sample2 l = sample2(c.spec, keys[i].lens, s);
         lu[i] = l.u, lv[i] = l.v;
       }
+      if (timed) tu[i] = sample1(c.spec, keys[i].time, s);
     }
   }
   if constexpr (!K::lens)
     for (std::uint32_t i = 0; i < n; ++i) lu[i] = lv[i] = 0.5f;
-  (void)lens;
   for (std::uint32_t i = 0; i < n; ++i)
     fx[i] = px[i] + double(ju[i]), fy[i] = py[i] + double(jv[i]);
   c.camera->generate_block(n, fx, fy, lu, lv, rays);
   if constexpr (K::lens) stats.lens_samples += n;
   if constexpr (K::time) {
-    for (std::uint32_t i = 0; i < n; ++i)
-      rays[i].time = c.motion_on ? sample1(c.spec, keys[i].time, s) : 0.0f;
+    // Shutter fraction in [0, 1): exactly what Embree's ray time means.
+    for (std::uint32_t i = 0; i < n; ++i) rays[i].time = timed ? tu[i] : 0.0f;
     stats.time_samples += n;
   }
 }
@@ -171,7 +191,7 @@ void render_tile_packets(const TileContext& c, std::uint32_t x0, std::uint32_t y
   std::uint8_t found[kN];
   std::uint64_t pixel[kN];
   CameraKeys keys[kN];
-  SobolLanes film_lanes, lens_lanes;  // the same keys, as lanes (sobol)
+  CameraLanes lanes;  // the same keys, as SIMD lanes
   DimCache dims[kN];
   double sum[kN][3];
   std::uint32_t kept[kN], px[kN], py[kN];
@@ -182,13 +202,13 @@ void render_tile_packets(const TileContext& c, std::uint32_t x0, std::uint32_t y
         for (std::uint32_t x = bx; x < std::min(x1, bx + kBlock); ++x, ++n) {
           px[n] = x, py[n] = y, pixel[n] = pixel_hash(c.spec, x, y);
           keys[n] = CameraKeys(c.spec, pixel[n]);
-          film_lanes.set(n, keys[n].film), lens_lanes.set(n, keys[n].lens);
+          lanes.set(n, keys[n]);
           dims[n] = DimCache();
           sc[n] = SampleContext{c.spec, x, y, 0, pixel[n], &dims[n]};
           sum[n][0] = sum[n][1] = sum[n][2] = 0, kept[n] = 0;
         }
       for (std::uint32_t s = c.sample_begin; s < c.sample_end; ++s) {
-        camera_rays<K>(c, n, keys, &film_lanes, &lens_lanes, px, py, s, rays, stats);
+        camera_rays<K>(c, n, keys, lanes, px, py, s, rays, stats);
         c.embree->intersect(std::span<const Ray>(rays, n), std::span<Hit>(hits, n),
                             std::span<std::uint8_t>(found, n));
         Color col[kN];

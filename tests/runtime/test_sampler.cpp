@@ -281,6 +281,53 @@ TEST_CASE("sobol draws in lanes give the one-by-one numbers, on every SIMD path"
   CHECK_FALSE(sobol2_lanes_with("no such path", lanes, 1, 0, u, v));
 }
 
+TEST_CASE("stratified draws in lanes give the one-by-one numbers, on every SIMD path",
+          "[sampler]") {
+  // 2-D and 1-D draws; sample counts whose grids are square, oblong, prime, a
+  // power of two (no cycle-walking) or not (walks of different lengths per lane),
+  // and large enough that the remainders and quotients need their high halves;
+  // indices up to and past the grid (the scalar fallback); every block size.
+  const std::vector<std::string> paths = stratified_lanes_paths();
+  REQUIRE(!paths.empty());
+  CHECK(paths.back() == "generic");
+  for (const std::string& path : paths) {
+    INFO("path " << path);
+    std::uint64_t mismatches = 0, draws = 0;
+    for (std::uint32_t spp : {1u, 2u, 3u, 4u, 5u, 7u, 16u, 50u, 100u, 1000u, 65537u, 1u << 20}) {
+      SamplerSpec spec{ir::SamplerKind::Stratified, 0x77 + spp, spp};
+      for (std::uint32_t n : {16u, 13u, 1u})
+        for (std::uint32_t dim : {std::uint32_t(kDimPixel), std::uint32_t(kDimTime), 0x9e3779b9u})
+          for (bool two_d : {true, false}) {
+            StrataLanes lanes;
+            DimKey keys[StrataLanes::kLanes];
+            for (std::uint32_t l = 0; l < n; ++l) {
+              std::uint64_t pixel = pixel_hash(spec, l * 5 + n, dim % 11);
+              keys[l] = two_d ? dim_key(spec, pixel, dim) : dim_key1(spec, pixel, dim);
+              lanes.set(l, keys[l]);
+            }
+            for (std::uint32_t i = 0; i < spp + spp / 2 + 3; i += 1 + spp / 40) {
+              alignas(64) float u[StrataLanes::kLanes], v[StrataLanes::kLanes];
+              REQUIRE(stratified_lanes_with(path, spec, lanes, n, i, u, two_d ? v : nullptr));
+              for (std::uint32_t l = 0; l < n; ++l) {
+                if (two_d) {
+                  Sample2 one = sample2(spec, keys[l], i);
+                  mismatches += (one.u != u[l]) + (one.v != v[l]);
+                } else {
+                  mismatches += sample1(spec, keys[l], i) != u[l];
+                }
+                ++draws;
+              }
+            }
+          }
+    }
+    INFO(draws << " draws");
+    CHECK(draws > 20000);
+    CHECK(mismatches == 0);
+  }
+  CHECK_FALSE(
+      stratified_lanes_with("no such path", SamplerSpec{}, StrataLanes{}, 1, 0, nullptr, nullptr));
+}
+
 TEST_CASE("the exact divisor agrees with division for every kind of divisor", "[sampler]") {
   for (std::uint32_t d :
        {1u, 2u, 3u, 7u, 10u, 255u, 256u, 65535u, 1000003u, 0x7fffffffu, 0xfffffffeu, 0xffffffffu}) {
