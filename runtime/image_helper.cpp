@@ -150,6 +150,19 @@ void start_image_helper(const std::optional<DisplayView>& check_display) {
   }
   int fds[2];
   if (::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, fds) != 0) return;
+  // Above 2: a run started with a standard stream closed would get the socket as
+  // one, and the child points 0-2 at /dev/null.
+  for (int& fd : fds)
+    if (fd <= 2) {
+      int high = ::fcntl(fd, F_DUPFD_CLOEXEC, 3);
+      ::close(fd);
+      fd = high;
+    }
+  if (fds[0] < 0 || fds[1] < 0) {
+    for (int fd : fds)
+      if (fd >= 0) ::close(fd);
+    return;
+  }
   pid_t parent = ::getpid();
   pid_t pid = ::fork();
   if (pid < 0) {

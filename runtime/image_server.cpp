@@ -151,7 +151,12 @@ struct Server {
           }
           ++active;
           last_ns = now_ns();
-          std::thread([this, fd] { connection(fd); }).detach();
+          try {
+            std::thread([this, fd] { connection(fd); }).detach();
+          } catch (const std::exception&) {  // no thread to be had: this client starts its own
+            ::close(fd);
+            --active;
+          }
         }
         continue;
       }
