@@ -192,7 +192,9 @@ SNELL_AVX512DQ_TARGET inline F32x8 unit8(U64x8 bits) {
          (1.0f / 16777216.0f);
 }
 
-// permute(index, l, w, p) of 16 lanes of p.
+// permute(index, l, w, p) of 16 lanes of p. Kensler's rounds are written again
+// here, as lk16 is: the scalar code cannot be inlined into a function of another
+// target; test_sampler.cpp holds the two to the same bits.
 SNELL_AVX512DQ_TARGET inline U32x16 permute16(std::uint32_t index, const Divisor32& l,
                                               std::uint32_t w, U32x16 p) {
   if (l.d <= 1) return U32x16{};
@@ -278,50 +280,62 @@ bool avx512dq_supported() {
 
 #endif  // SNELL_HAVE_AVX512_PATH
 
+// A draw function by SIMD path.
+template <class Fn>
+struct Path {
+  const char* name;
+  Fn fn;
+};
+// The paths this build has and this CPU runs, best first: `simd` (named "avx512")
+// where the CPU has what it needs, then `generic`. SNELL_SIMD=generic forces the
+// portable one (A/B measurements, and the tests of both paths).
+template <class Fn>
+std::vector<Path<Fn>> paths_of([[maybe_unused]] bool simd_ok, [[maybe_unused]] Fn simd,
+                               Fn generic) {
+  std::vector<Path<Fn>> p;
+#ifdef SNELL_HAVE_AVX512_PATH
+  const char* force = std::getenv("SNELL_SIMD");
+  if (simd_ok && !(force && std::strcmp(force, "generic") == 0)) p.push_back({"avx512", simd});
+#endif
+  p.push_back({"generic", generic});
+  return p;
+}
+template <class Fn>
+std::vector<std::string> names_of(const std::vector<Path<Fn>>& paths) {
+  std::vector<std::string> names;
+  for (const Path<Fn>& p : paths) names.push_back(p.name);
+  return names;
+}
+template <class Fn>
+const Path<Fn>* path_named(const std::vector<Path<Fn>>& paths, const std::string& name) {
+  for (const Path<Fn>& p : paths)
+    if (name == p.name) return &p;
+  return nullptr;
+}
+
 using StrataFn = void (*)(const SamplerSpec&, const StrataLanes&, std::uint32_t, std::uint32_t,
                           float*, float*);
-struct StrataPath {
-  const char* name;
-  StrataFn fn;
-};
-const std::vector<StrataPath>& strata_available() {
-  static const std::vector<StrataPath> paths = [] {
-    std::vector<StrataPath> p;
+const std::vector<Path<StrataFn>>& strata_available() {
 #ifdef SNELL_HAVE_AVX512_PATH
-    const char* force = std::getenv("SNELL_SIMD");
-    if (avx512dq_supported() && !(force && std::strcmp(force, "generic") == 0))
-      p.push_back({"avx512", stratified_lanes_avx512});
+  static const auto paths =
+      paths_of<StrataFn>(avx512dq_supported(), stratified_lanes_avx512, stratified_lanes_generic);
+#else
+  static const auto paths = paths_of<StrataFn>(false, nullptr, stratified_lanes_generic);
 #endif
-    p.push_back({"generic", stratified_lanes_generic});
-    return p;
-  }();
   return paths;
 }
 const StrataFn g_stratified_lanes = strata_available().front().fn;
 
 using LanesFn = void (*)(const SobolLanes&, std::uint32_t, std::uint32_t, float*, float*);
-
-struct LanesPath {
-  const char* name;
-  LanesFn fn;
-};
-
-// The paths this build has and this CPU runs, best first; SNELL_SIMD=generic
-// forces the portable one (A/B measurements, and the tests of both paths).
-const std::vector<LanesPath>& available() {
-  static const std::vector<LanesPath> paths = [] {
-    std::vector<LanesPath> p;
+const std::vector<Path<LanesFn>>& available() {
 #ifdef SNELL_HAVE_AVX512_PATH
-    const char* force = std::getenv("SNELL_SIMD");
-    if (avx512_supported() && !(force && std::strcmp(force, "generic") == 0))
-      p.push_back({"avx512", sobol2_lanes_avx512});
+  static const auto paths =
+      paths_of<LanesFn>(avx512_supported(), sobol2_lanes_avx512, sobol2_lanes_generic);
+#else
+  static const auto paths = paths_of<LanesFn>(false, nullptr, sobol2_lanes_generic);
 #endif
-    p.push_back({"generic", sobol2_lanes_generic});
-    return p;
-  }();
   return paths;
 }
-
 const LanesFn g_sobol2_lanes = available().front().fn;
 
 }  // namespace
@@ -331,19 +345,14 @@ void sobol2_lanes(const SobolLanes& k, std::uint32_t n, std::uint32_t index, flo
 }
 
 std::vector<std::string> sobol2_lanes_paths() {
-  std::vector<std::string> names;
-  for (const LanesPath& p : available()) names.push_back(p.name);
-  return names;
+  return names_of(available());
 }
 
 bool sobol2_lanes_with(const std::string& path, const SobolLanes& k, std::uint32_t n,
                        std::uint32_t index, float* u, float* v) {
-  for (const LanesPath& p : available())
-    if (path == p.name) {
-      p.fn(k, n, index, u, v);
-      return true;
-    }
-  return false;
+  const Path<LanesFn>* p = path_named(available(), path);
+  if (p) p->fn(k, n, index, u, v);
+  return p != nullptr;
 }
 
 void stratified2_lanes(const SamplerSpec& spec, const StrataLanes& k, std::uint32_t n,
@@ -355,18 +364,14 @@ void stratified1_lanes(const SamplerSpec& spec, const StrataLanes& k, std::uint3
   g_stratified_lanes(spec, k, n, index, u, nullptr);
 }
 std::vector<std::string> stratified_lanes_paths() {
-  std::vector<std::string> names;
-  for (const StrataPath& p : strata_available()) names.push_back(p.name);
-  return names;
+  return names_of(strata_available());
 }
+
 bool stratified_lanes_with(const std::string& path, const SamplerSpec& spec, const StrataLanes& k,
                            std::uint32_t n, std::uint32_t index, float* u, float* v) {
-  for (const StrataPath& p : strata_available())
-    if (path == p.name) {
-      p.fn(spec, k, n, index, u, v);
-      return true;
-    }
-  return false;
+  const Path<StrataFn>* p = path_named(strata_available(), path);
+  if (p) p->fn(spec, k, n, index, u, v);
+  return p != nullptr;
 }
 
 }  // namespace snell::rt
