@@ -44,10 +44,13 @@ struct RenderOptions {
   std::function<void(double)> progress;
   // --pixel X,Y: print that pixel's ray tree to `trace_out` (stderr in the CLI).
   std::optional<std::pair<std::uint32_t, std::uint32_t>> trace_pixel;
-  // --stats: time a subset of camera samples by effect (RenderStats' *_seconds).
-  // Off, the render never reads the clock per sample (about 2 % of a simple
-  // scene's render time on this machine); the picture is the same either way.
+  // --stats: time a subset of camera samples by effect (RenderStats' *_seconds),
+  // each traced alone (the rest of the tile still in packets). Off, the render
+  // never reads the clock per sample; the picture is the same either way.
   bool measure_cost = false;
+  // Camera rays in packets (render/tile.hpp); off, every tile goes one ray at a time
+  // (tests: the two must make the same picture).
+  bool packets = true;
   // §18 split renders. `crop`: only the pixels x0 <= x < x1, y0 <= y < y1 of the
   // full image (the result is that window, Image::x0/y0 set). `sample_range`: only
   // samples [first, second) of every pixel's full sequence (the sampler is a pure

@@ -164,6 +164,11 @@ void camera_rays(const TileContext& c, std::uint32_t n, const CameraKeys* keys,
   }
 }
 
+template <class K, class I>
+Color sample_alone(const TileContext& c, std::uint32_t x, std::uint32_t y, std::uint32_t s,
+                   std::uint64_t pixel, const CameraKeys& keys, DimCache& dims, Worker& wk,
+                   bool tracing, bool draws_counted);
+
 // The tile in blocks of kBlock × kBlock pixels: sample s of every pixel of a block
 // is one packet of camera rays (EmbreeScene::intersect over a span, rtcIntersect16),
 // and each ray's tree starts from its packet hit. A root that is lit and has no
@@ -214,6 +219,12 @@ void render_tile_packets(const TileContext& c, std::uint32_t x0, std::uint32_t y
         Color col[kN];
         for (std::uint32_t i = 0; i < n; ++i) {
           sc[i].index = s;
+          if (c.measure_cost && timed_sample(px[i], py[i], s)) {
+            // Its clock is its own: traced alone (the packet's answer for it unused).
+            col[i] =
+                sample_alone<K, I>(c, px[i], py[i], s, pixel[i], keys[i], dims[i], wk, false, true);
+            continue;  // not deferred: finish_deferred passes it by
+          }
           Probe<false> probe{stats};
           PrimaryHit primary{&hits[i], found[i] != 0};
           col[i] =
@@ -236,81 +247,94 @@ void render_tile_packets(const TileContext& c, std::uint32_t x0, std::uint32_t y
     }
 }
 
-// `I::radiance<K, Probe<on>>(ray, sc, scratch, probe)` gives a camera ray's radiance;
-// I::Scratch is its per-thread scratch. A tile that times samples (--stats) or
-// holds the --pixel being traced goes one ray at a time, so each sample's clock
-// and tree are its own; every other tile goes as packets (render_tile_packets).
+// Camera sample s of pixel (x, y) traced alone: the ray made by Camera::generate
+// (what generate_block makes of the same draws), its tree with the probe's clock
+// when the sample is one --stats times, and the --pixel trace when `tracing`.
+// `draws_counted`: the packet that holds the sample already counted its lens and
+// time draws.
 template <class K, class I>
-void render_tile(const TileContext& c, std::uint32_t tile, Worker& wk) {
+Color sample_alone(const TileContext& c, std::uint32_t x, std::uint32_t y, std::uint32_t s,
+                   std::uint64_t pixel, const CameraKeys& keys, DimCache& dims, Worker& wk,
+                   bool tracing, bool draws_counted) {
   const I& integrator = static_cast<const I&>(*c.integrator);
   auto& scratch = wk.scratch_as<typename I::Scratch>();
-  const Image& img = *c.img;
   RenderStats& stats = wk.stats;
   CostClock& clock = wk.cost;
+  const SamplerSpec& spec = c.spec;
+  const std::uint64_t draws = draws_counted ? 0 : 1;
+  bool timed = c.measure_cost && timed_sample(x, y, s);
+  double t_cam = timed ? CostClock::now_ns() : 0, t_effects = 0;
+  SampleContext sc{spec, x, y, s, pixel, &dims};
+  Sample2 j = sample2(spec, keys.film, s);
+  Ray ray;
+  if constexpr (K::lens) {
+    double t0 = timed ? CostClock::now_ns() : 0;
+    Sample2 l = sample2(spec, keys.lens, s);
+    ray = c.camera->generate(x + double(j.u), y + double(j.v), l.u, l.v);
+    stats.lens_samples += draws;
+    if (timed) {
+      double dt = clock.since(t0);
+      clock.ns[kCostLens] += dt;
+      t_effects += dt + clock.overhead_ns;
+    }
+  } else {
+    ray = c.camera->generate(x + double(j.u), y + double(j.v));
+  }
+  if constexpr (K::time) {
+    double t0 = timed ? CostClock::now_ns() : 0;
+    float u = sample1(spec, keys.time, s);
+    // Shutter fraction in [0, 1): exactly what Embree's ray time means.
+    ray.time = c.motion_on ? u : 0.0f;
+    stats.time_samples += draws;
+    if (timed) {
+      double dt = clock.since(t0);
+      clock.ns[kCostTime] += dt;
+      t_effects += dt + clock.overhead_ns;
+    }
+  }
+  if (timed) {
+    clock.ns[kCostCamera] += std::fmax(0.0, clock.since(t_cam) - t_effects);
+    ++stats.timed_samples;
+  }
+  std::string* tr = (tracing && s == c.sample_begin) ? c.trace : nullptr;
+  if (tr) *tr += fmt::format("pixel ({}, {}) sample {}\n", x, y, s);
+  if (tr || timed) {
+    Probe<true> probe{stats, tr, timed ? &clock : nullptr};
+    return integrator.template radiance<K>(ray, sc, scratch, probe);
+  }
+  Probe<false> probe{stats};
+  return integrator.template radiance<K>(ray, sc, scratch, probe);
+}
+
+// `I::radiance<K, Probe<on>>(ray, sc, scratch, probe)` gives a camera ray's radiance;
+// I::Scratch is its per-thread scratch. A tile that holds the --pixel being traced
+// goes one ray at a time (sample_alone), and so does every tile without an Embree
+// scene or with RenderOptions::packets off (tests); every other tile goes as
+// packets (render_tile_packets), the samples --stats times among them alone.
+template <class K, class I>
+void render_tile(const TileContext& c, std::uint32_t tile, Worker& wk) {
+  const Image& img = *c.img;
+  RenderStats& stats = wk.stats;
   const SamplerSpec& spec = c.spec;
   std::uint32_t x0 = img.x0 + (tile % c.tiles_x) * kTile, y0 = img.y0 + (tile / c.tiles_x) * kTile;
   std::uint32_t x1 = std::min(x0 + kTile, img.x0 + img.width);
   std::uint32_t y1 = std::min(y0 + kTile, img.y0 + img.height);
   const auto& tp = c.options->trace_pixel;
   bool traced_here = tp && tp->first >= x0 && tp->first < x1 && tp->second >= y0 && tp->second < y1;
-  if (c.embree && !c.measure_cost && !traced_here) {
+  if (c.embree && c.options->packets && !traced_here) {
     render_tile_packets<K, I>(c, x0, y0, x1, y1, wk);
     return;
   }
   for (std::uint32_t y = y0; y < y1; ++y)
     for (std::uint32_t x = x0; x < x1; ++x) {
-      bool tracing = c.options->trace_pixel && c.options->trace_pixel->first == x &&
-                     c.options->trace_pixel->second == y;
+      bool tracing = tp && tp->first == x && tp->second == y;
       const std::uint64_t pixel = pixel_hash(spec, x, y);
       const CameraKeys keys(spec, pixel);
       DimCache dims;
       double sum[3] = {0, 0, 0};
       std::uint32_t kept = 0;
       for (std::uint32_t s = c.sample_begin; s < c.sample_end; ++s) {
-        bool timed = c.measure_cost && timed_sample(x, y, s);
-        double t_cam = timed ? CostClock::now_ns() : 0, t_effects = 0;
-        SampleContext sc{spec, x, y, s, pixel, &dims};
-        Sample2 j = sample2(spec, keys.film, s);
-        Ray ray;
-        if constexpr (K::lens) {
-          double t0 = timed ? CostClock::now_ns() : 0;
-          Sample2 l = sample2(spec, keys.lens, s);
-          ray = c.camera->generate(x + double(j.u), y + double(j.v), l.u, l.v);
-          ++stats.lens_samples;
-          if (timed) {
-            double dt = clock.since(t0);
-            clock.ns[kCostLens] += dt;
-            t_effects += dt + clock.overhead_ns;
-          }
-        } else {
-          ray = c.camera->generate(x + double(j.u), y + double(j.v));
-        }
-        if constexpr (K::time) {
-          double t0 = timed ? CostClock::now_ns() : 0;
-          float u = sample1(spec, keys.time, s);
-          // Shutter fraction in [0, 1): exactly what Embree's ray time means.
-          ray.time = c.motion_on ? u : 0.0f;
-          ++stats.time_samples;
-          if (timed) {
-            double dt = clock.since(t0);
-            clock.ns[kCostTime] += dt;
-            t_effects += dt + clock.overhead_ns;
-          }
-        }
-        if (timed) {
-          clock.ns[kCostCamera] += std::fmax(0.0, clock.since(t_cam) - t_effects);
-          ++stats.timed_samples;
-        }
-        std::string* tr = (tracing && s == c.sample_begin) ? c.trace : nullptr;
-        if (tr) *tr += fmt::format("pixel ({}, {}) sample {}\n", x, y, s);
-        Color col;
-        if (tr || timed) {
-          Probe<true> probe{stats, tr, timed ? &clock : nullptr};
-          col = integrator.template radiance<K>(ray, sc, scratch, probe);
-        } else {
-          Probe<false> probe{stats};
-          col = integrator.template radiance<K>(ray, sc, scratch, probe);
-        }
+        Color col = sample_alone<K, I>(c, x, y, s, pixel, keys, dims, wk, tracing, false);
         if (!is_finite(col)) {  // dropped and counted, never written
           ++stats.nonfinite_samples;
           continue;

@@ -183,26 +183,37 @@ TEST_CASE("stats count lens and time samples and attribute time to effects", "[k
   CHECK(p.stats.kernel.find("pinhole") != std::string::npos);
 }
 
-// #17: the pixel loop traces camera rays as packets of a 4×4-pixel block except in
-// tiles that time samples or hold the traced pixel, which go one ray at a time.
-// Both must make the same picture, bit for bit: with every effect on, each
-// sampler, and a crop and a sample range whose blocks are partial.
+// #17: the pixel loop traces camera rays as packets of a 4×4-pixel block, except in
+// the tile that holds the traced pixel (and with RenderOptions::packets off), which
+// goes one ray at a time, and for the samples --stats times, which go alone inside
+// the packets. All must make the same picture, bit for bit, and count the same
+// rays and draws: with every effect on, each sampler, and a crop and a sample range
+// whose blocks are partial.
 TEST_CASE("camera-ray packets render the one-ray picture", "[kernels][packets]") {
   for (ir::SamplerKind kind :
        {ir::SamplerKind::Independent, ir::SamplerKind::Stratified, ir::SamplerKind::Sobol}) {
     ir::Scene s = every_effect(kind);
     s.settings.width = 37, s.settings.height = 23;
-    rt::RenderOptions packets, alone;
-    packets.threads = alone.threads = 2;
-    alone.measure_cost = true;  // timed tiles go one ray at a time
-    packets.crop = alone.crop = rt::RenderOptions::Window{3, 2, 34, 21};
-    packets.sample_range = alone.sample_range = std::pair<std::uint32_t, std::uint32_t>{1, 3};
-    rt::RenderResult a = rt::render(s, packets), b = rt::render(s, alone);
+    rt::RenderOptions packets, alone, timed;
+    packets.threads = alone.threads = timed.threads = 2;
+    alone.packets = false;
+    timed.measure_cost = true;
+    for (rt::RenderOptions* o : {&packets, &alone, &timed}) {
+      o->crop = rt::RenderOptions::Window{3, 2, 34, 21};
+      o->sample_range = std::pair<std::uint32_t, std::uint32_t>{1, 3};
+    }
+    rt::RenderResult a = rt::render(s, packets), b = rt::render(s, alone),
+                     t = rt::render(s, timed);
     INFO("sampler " << ir::to_string(kind));
     REQUIRE(a.image.rgb.size() == std::size_t(31 * 19 * 3));
     CHECK(a.image.rgb == b.image.rgb);
-    CHECK(a.stats.camera_rays == b.stats.camera_rays);
-    CHECK(a.stats.shadow_rays == b.stats.shadow_rays);
-    CHECK(b.stats.timed_samples > 0);
+    CHECK(a.image.rgb == t.image.rgb);
+    for (const rt::RenderResult* r : {&b, &t}) {
+      CHECK(a.stats.camera_rays == r->stats.camera_rays);
+      CHECK(a.stats.shadow_rays == r->stats.shadow_rays);
+      CHECK(a.stats.lens_samples == r->stats.lens_samples);
+      CHECK(a.stats.time_samples == r->stats.time_samples);
+    }
+    CHECK(t.stats.timed_samples > 0);
   }
 }
