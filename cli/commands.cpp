@@ -196,9 +196,57 @@ int dump_ast(const std::string& path) {
   return code;
 }
 
+namespace {
+
+// An image the texture system could not read, as a diagnostic at its `file`
+// (FILE:LINE:COL: error: …, the source line and a caret); "" when the image has no
+// place in a scene file.
+std::string image_diagnostic(const compile::Compilation& c, std::size_t image,
+                             const std::string& why) {
+  if (image >= c.scene.images.size()) return {};
+  const ir::ImageFile& f = c.scene.images[image];
+  if (f.src.line == 0 || f.src.file >= c.sources.size()) return {};
+  const lang::SourceFile& file = c.sources.file(f.src.file);
+  std::uint32_t at = file.offset_of({f.src.line, f.src.col}), end = at + 1;
+  // The caret under the whole "name" when the place is the string.
+  std::string_view text = file.text();
+  if (at < text.size() && text[at] == '"')
+    if (std::size_t close = text.find('"', at + 1); close != std::string_view::npos)
+      end = std::uint32_t(close + 1);
+  lang::Diagnostic d;
+  d.kind = lang::DiagKind::FileUnreadable;
+  d.severity = lang::Severity::Error;
+  d.span = lang::Span{f.src.file, at, end};
+  // The reader's reason on one line (libpng's come as several).
+  std::string reason = why;
+  while (!reason.empty() && reason.back() == '\n') reason.pop_back();
+  for (std::size_t i = 0; (i = reason.find('\n', i)) != std::string::npos;)
+    reason.replace(i, 1, "; ");
+  d.message = "cannot read image '" + f.path + "': " + reason;
+  return c.diags.format(d, color_stderr());
+}
+
+// §17: every image of the scene opened through the texture system, as the render
+// does before it starts: exit 3 with the diagnostic of the first that cannot be
+// read, or -1. Loads the image module, so only for scenes with images.
+int check_scene_images(const compile::Compilation& c, const std::string& ocio_config) {
+  std::size_t bad = SIZE_MAX;
+  std::string why;
+  std::string err = rt::check_images(c.scene, ocio_config, &bad, &why);
+  if (err.empty()) return -1;
+  if (std::string diag = image_diagnostic(c, bad, why); !diag.empty())
+    std::cerr << diag;
+  else
+    std::cerr << "snell: error: " << err << "\n";
+  return kExitIo;
+}
+
+}  // namespace
+
 int run_check(const CliArgs& o) {
   std::unique_ptr<compile::Compilation> c;
   if (int code = compile_scene(o, c); code >= 0) return code;
+  if (int code = check_scene_images(*c, o.ocio_config); code >= 0) return code;
   const ir::Scene& s = c->scene;
   std::cout << o.scene << ": ok: " << s.shapes.size() << " object(s), " << s.materials.size()
             << " material(s), " << s.point_lights.size() << " point light(s), "
@@ -325,11 +373,9 @@ int render_frame(FrameJob& job) {
         }
     }
   }
-  // §17: every image opens through the texture system before the render (exit 3).
-  if (std::string err = rt::check_images(scene, o.ocio_config); !err.empty()) {
-    std::cerr << "snell: error: " << err << "\n";
-    return kExitIo;
-  }
+  // §17: every image opens through the texture system before the render (exit 3),
+  // an image it cannot read reported at its `file` as the compiler's errors are.
+  if (int code = check_scene_images(*c, o.ocio_config); code >= 0) return code;
   // Memory the render would need beyond the scene, before any of it is taken.
   {
     std::uint64_t limit = rt::physical_memory() / 10 * 9;

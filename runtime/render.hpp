@@ -157,8 +157,11 @@ std::string check_display_transform(const DisplayView& display);
 // §17: opens every image of the scene through the texture system (colour spaces
 // by name from `ocio_config`, as RenderOptions::ocio_config) (the CLI calls it
 // before the render, so an unreadable image fails with exit 3 before the work).
-// Returns an error message, or empty. Defined in shading/image_texture.cpp.
-std::string check_images(const ir::Scene& scene, const std::string& ocio_config = {});
+// Returns an error message, or empty; `failed` and `why` as ImageTextures::open
+// sets them (the image that could not be read, the reader's reason). Defined in
+// shading/image_texture.cpp.
+std::string check_images(const ir::Scene& scene, const std::string& ocio_config = {},
+                         std::size_t* failed = nullptr, std::string* why = nullptr);
 
 // One-line descriptions for logs and test failures.
 std::string to_string(const Image& image);

@@ -31,7 +31,8 @@ const ImageTextures::Api& api() {
 
 std::unique_ptr<ImageTextures> ImageTextures::open(const ir::Scene& scene,
                                                    const std::string& ocio_config,
-                                                   std::string& error) {
+                                                   std::string& error, std::size_t* failed,
+                                                   std::string* reason) {
   const Api& a = api();
   if (!a.error.empty()) {
     error = "cannot read images: " + a.error;
@@ -46,6 +47,8 @@ std::unique_ptr<ImageTextures> ImageTextures::open(const ir::Scene& scene,
     if (!h) {
       std::string where = f.src.line > 0 ? ir::to_string(f.src, scene) + ": " : "";
       error = fmt::format("{}cannot read image '{}': {}", where, f.path, why);
+      if (failed) *failed = std::size_t(&f - scene.images.data());
+      if (reason) *reason = why;
       return nullptr;
     }
     t->handles_.push_back(h);
@@ -63,10 +66,11 @@ std::string ImageTextures::stats() const {
   return s;
 }
 
-std::string check_images(const ir::Scene& scene, const std::string& ocio_config) {
+std::string check_images(const ir::Scene& scene, const std::string& ocio_config,
+                         std::size_t* failed, std::string* why) {
   if (scene.images.empty()) return {};
   std::string error;
-  ImageTextures::open(scene, ocio_config, error);
+  ImageTextures::open(scene, ocio_config, error, failed, why);
   return error;
 }
 

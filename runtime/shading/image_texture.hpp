@@ -57,8 +57,11 @@ class ImageTextures {
   // read image ...") when one cannot be read or the image module cannot load.
   // Images tagged with a colour space are converted from it through the OCIO
   // config `ocio_config` (empty: $OCIO, else Snell's).
+  // `failed`, when given: the index of the image that could not be read (else
+  // untouched), and `why` the reader's reason alone.
   static std::unique_ptr<ImageTextures> open(const ir::Scene& scene, const std::string& ocio_config,
-                                             std::string& error);
+                                             std::string& error, std::size_t* failed = nullptr,
+                                             std::string* why = nullptr);
   ~ImageTextures();
   ImageTextures(const ImageTextures&) = delete;
   ImageTextures& operator=(const ImageTextures&) = delete;

@@ -337,6 +337,49 @@ TEST_CASE("inputs that are not files, sizes and numbers are reported as they are
   CHECK(err.find("the file is 1.5 GB") != std::string::npos);
 }
 
+TEST_CASE("an image file that is not an image is an error at its file (exit 3)", "[e2e]") {
+  // §17 "a missing or unreadable image is an error at its file, exit 3", in the
+  // §10 form (FILE:LINE:COL: error: ..., the source line, a caret), from `check`
+  // as from `render`: a text file named .png and random bytes named .exr fail on
+  // their first bytes (the compiler), a PNG cut short fails in the texture system.
+  Scratch tmp;
+  std::string err;
+  std::ofstream(tmp / "bad.png") << "not an image\n";
+  std::ofstream(tmp / "bad.exr") << std::string("\x13\x37garbage bytes", 15);
+  std::ofstream(tmp / "lit.scn") << "settings { resolution <8, 8> }\n"
+                                    "point_light { position <0, 3, -3> intensity 10 }\n"
+                                    "sphere { }\n";
+  REQUIRE(run_capture("render " + (tmp / "lit.scn") + " --quiet -o " + (tmp / "good.png"), err,
+                      tmp) == 0);
+  {
+    std::ifstream in(tmp / "good.png", std::ios::binary);
+    std::string png((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    REQUIRE(png.size() > 60);
+    std::ofstream(tmp / "cut.png", std::ios::binary) << png.substr(0, 60);
+  }
+  std::ofstream(tmp / "s.scn") << "point_light { position <0, 3, -3> intensity 10 }\n"
+                                  "sphere { material diffuse image { file \"bad.png\" } }\n"
+                                  "sphere { material diffuse image { file \"bad.exr\" } }\n";
+  std::ofstream(tmp / "cut.scn") << "point_light { position <0, 3, -3> intensity 10 }\n"
+                                    "sphere { material diffuse image { file \"cut.png\" } }\n";
+  for (const char* cmd : {"check ", "render "}) {
+    INFO(cmd);
+    std::string out = std::string(cmd) == "render " ? " --quiet -o " + (tmp / "o.png") : "";
+    CHECK(run_capture(cmd + (tmp / "s.scn") + out, err, tmp) == 3);
+    CHECK(err.find("s.scn:2:40: error: image file") != std::string::npos);
+    CHECK(err.find("bad.png' is not a PNG image") != std::string::npos);
+    CHECK(err.find("s.scn:3:40: error: image file") != std::string::npos);
+    CHECK(err.find("bad.exr' is not an OpenEXR image") != std::string::npos);
+    CHECK(err.find("   |                                        ^~~~~~~~~") != std::string::npos);
+    CHECK(run_capture(cmd + (tmp / "cut.scn") + out, err, tmp) == 3);
+    CHECK(err.find("cut.scn:2:40: error: cannot read image '") != std::string::npos);
+    CHECK(err.find(" 2 | sphere { material diffuse image { file \"cut.png\" } }") !=
+          std::string::npos);
+    CHECK(err.find("^~~~~~~~~") != std::string::npos);
+    CHECK(!fs::exists(tmp / "o.png"));
+  }
+}
+
 TEST_CASE("outputs that cannot be written fail before the render (exit 3)", "[e2e]") {
   // Each error comes before any ray: --stats, printed after a render, is absent.
   Scratch tmp;
