@@ -624,13 +624,13 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
       // The lobes' normal: nf, or a smooth mesh's or a bump's (§16) shading normal made
       // valid for this viewer (hard case #20, shading/shading_normal.hpp).
       Vec3f ns_out = hit.ns;
-      bool bent = hit.smooth;
+      bool bent = hit.smooth, bumped = false;
       if constexpr (K::finish)
         if (mat.bump.on()) {
           ns_out = bump_normal(mat.bump, tex, hit.smooth ? hit.ns : ng, ng);
-          bent = true;
+          bent = bumped = true;
         }
-      const HitFrame frame = HitFrame::make(-d, nf, entering, bent, ns_out);
+      const HitFrame frame = HitFrame::make(-d, nf, entering, bent, ns_out, bumped);
       Color w = node.weight;
       if (trace)
         desc =
@@ -641,6 +641,10 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
         desc += fmt::format(
             " shading normal ({:.4g}, {:.4g}, {:.4g}) geometric ({:.4g}, {:.4g}, {:.4g})",
             frame.ns.x, frame.ns.y, frame.ns.z, nf.x, nf.y, nf.z);
+      if (trace && frame.smooth &&
+          (frame.nl.x != frame.ns.x || frame.nl.y != frame.ns.y || frame.nl.z != frame.ns.z))
+        desc +=
+            fmt::format(" lit about ({:.4g}, {:.4g}, {:.4g})", frame.nl.x, frame.nl.y, frame.nl.z);
       if constexpr (K::interiors) {
         if (trace) {
           if (passes > 0) desc += fmt::format(" after passing through {} surface(s)", passes);
@@ -699,7 +703,7 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
             lifted.p = hit.ps;
             o_light = spawn_origin(lifted, nf, offset_scale_);
           }
-          dl.q.p = p, dl.q.o = o_light, dl.q.n = frame.ns;
+          dl.q.p = p, dl.q.o = o_light, dl.q.n = frame.nl;
           dl.q.time = node.ray.time, dl.q.key = node.key;
           if constexpr (K::finish) dl.q.highlight = s.highlight, dl.q.wo = -d;
           // Field by field: a 16-byte copy of the lobe stalled on store forwarding.

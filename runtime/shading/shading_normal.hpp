@@ -84,15 +84,24 @@ inline Vec3f leave_side(Vec3f w, Vec3f n) {
 
 // The normals of one hit as the ray tree uses them: `nf` geometric on the ray's side
 // (entering, offsets, which side a branch leaves from), `ns` the lobes' normal on
-// the same side (== nf unless the surface is smooth, then bent as above).
+// the same side (== nf unless the surface is smooth, then bent as above), and `nl`
+// the normal direct light is taken about (the diffuse cosine, the §16 highlight).
+// `nl` is `ns` except under a bump: §16 gives its shading normal as
+// normalize(n − A·∇ₜP), changed only where it faces away from the viewer (then it
+// is `ns`, which faces the viewer); the bend for mirror directions is about
+// reflections and leaves the cosine alone. (A smooth mesh's `vn` keeps the bent
+// normal for both: its direct light goes with the lifted shadow origin above.)
 struct HitFrame {
-  Vec3f nf, ns;
+  Vec3f nf, ns, nl;
   bool smooth = false;
   // wo: unit, towards the viewer; ns_outward: the surface's unit shading normal on
-  // the side of its outward geometric normal.
-  static HitFrame make(Vec3f wo, Vec3f nf, bool entering, bool smooth, Vec3f ns_outward) {
-    if (!smooth) return {nf, nf, false};
-    return {nf, bend_shading_normal(wo, nf, entering ? ns_outward : -ns_outward), true};
+  // the side of its outward geometric normal; `bump`: it is a §16 bump's.
+  static HitFrame make(Vec3f wo, Vec3f nf, bool entering, bool smooth, Vec3f ns_outward,
+                       bool bump = false) {
+    if (!smooth) return {nf, nf, nf, false};
+    const Vec3f raw = entering ? ns_outward : -ns_outward;
+    const Vec3f ns = bend_shading_normal(wo, nf, raw);
+    return {nf, ns, bump && dot(wo, raw) > 0 ? raw : ns, true};
   }
   // A branch direction leaving on the ray's side (`outside`) or through the surface.
   Vec3f leave(Vec3f wi, bool outside) const {

@@ -47,8 +47,9 @@ Counts run(bool repair, std::uint64_t seed) {
     rt::Vec3f d = f(dd), ngf = f(ng), nsf = f(ns);
     bool entering = rt::dot(d, ngf) < 0;
     rt::Vec3f nf = entering ? ngf : -ngf;
-    rt::HitFrame frame = repair ? rt::HitFrame::make(-d, nf, entering, true, nsf)
-                                : rt::HitFrame{nf, entering ? nsf : -nsf, false};
+    rt::HitFrame frame =
+        repair ? rt::HitFrame::make(-d, nf, entering, true, nsf)
+               : rt::HitFrame{nf, entering ? nsf : -nsf, entering ? nsf : -nsf, false};
     if (std::fabs(rt::dot(d, nf)) > 1e-6f && !(rt::dot(-d, frame.ns) > 0)) ++c.wo_behind;
     float g1 = float(u01(rng)), g2 = float(u01(rng)), g3 = float(u01(rng));
     auto draw1 = [&] { return g1; };

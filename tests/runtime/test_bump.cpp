@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "runtime/shading/bump.hpp"
+#include "runtime/shading/shading_normal.hpp"
 #include "tests/runtime/effects_util.hpp"
 
 using namespace snell;
@@ -103,4 +104,57 @@ TEST_CASE("bump: a strongly bumped mirror sphere has no dark rims (hard case #20
   }
   CHECK(sphere > 2000);  // the sphere covers a good part of the image
   CHECK(dark == 0);
+}
+
+TEST_CASE(
+    "bump: a diffuse surface is lit about normalize(n - A grad P) where that faces the viewer",
+    "[bump]") {
+  // §16: the shading normal is normalize(n − A·∇ₜP), pulled back only where it
+  // faces away from the viewer. A floor bumped by a ramp of slope 0.5 (A = 1) has
+  // the shading normal of a plane tilted to (−0.5, 1, 0); seen and lit from a point
+  // where the mirror direction about that normal dips below the floor (where hard
+  // case #20 bends the normal for reflections), its Lambert radiance at the looked-at
+  // point is the tilted plane's there. The bent normal gave 21 % more.
+  const ir::Vec3 eye{0, 2, 0}, at{-1.975, 0, -1.037};
+  auto render_floor = [&](bool bumped) {
+    ir::Scene s = test::base_scene(3, 3, 1);
+    test::look(s, eye, at, 0.01);
+    s.point_lights.push_back({eye, {4, 4, 4}, {}});
+    ir::Material m = test::diffuse(ir::Vec3(1));
+    ir::Vec3 n{0, 1, 0};
+    if (bumped) {
+      ir::Texture t;
+      t.pattern = ir::Gradient{{0.5, 0, 0}};
+      m.bump = {t, 1.0};
+    } else {
+      n = ir::normalize(ir::Vec3{-0.5, 1, 0});
+    }
+    s.shapes.push_back(test::plane(n, ir::dot(n, at), test::add_material(s, m)));
+    rt::RenderResult r = test::render_with(s);
+    return double(r.image.rgb[3 * 4]);  // the centre pixel
+  };
+  const double bumped = render_floor(true), tilted = render_floor(false);
+  INFO("bumped " << bumped << " tilted " << tilted);
+  CHECK(bumped > 0.04);
+  CHECK_THAT(bumped, Catch::Matchers::WithinRel(tilted, 1e-3));
+}
+
+TEST_CASE("bump: the lit normal is the bump's own unless it faces away", "[bump]") {
+  // HitFrame: under a bump, nl is the raw shading normal where dot(wo, n) > 0 even
+  // when ns is bent for the mirror direction; facing away, nl is ns (it faces the
+  // viewer). A smooth mesh's frame lights about ns.
+  const rt::Vec3f nf{0, 1, 0};
+  const rt::Vec3f raw = rt::normalize(rt::Vec3f{-0.5f, 1, 0});
+  const rt::Vec3f wo = rt::normalize(rt::Vec3f{1.975f, 2, 1.037f});  // mirror about raw dips below
+  rt::HitFrame bump = rt::HitFrame::make(wo, nf, true, true, raw, true);
+  CHECK(rt::dot(wo, raw) > 0);
+  CHECK(rt::length(bump.ns - raw) > 1e-3f);  // bent for reflections
+  CHECK(rt::length(bump.nl - raw) == 0.0f);
+  rt::HitFrame smooth = rt::HitFrame::make(wo, nf, true, true, raw, false);
+  CHECK(rt::length(smooth.nl - smooth.ns) == 0.0f);
+  const rt::Vec3f away = rt::normalize(rt::Vec3f{-2, 1, 0});  // dot(wo, away) < 0
+  rt::HitFrame back = rt::HitFrame::make(wo, nf, true, true, away, true);
+  CHECK(rt::dot(wo, away) < 0);
+  CHECK(rt::length(back.nl - back.ns) == 0.0f);
+  CHECK(rt::dot(wo, back.nl) > 0);
 }
