@@ -122,13 +122,18 @@ std::vector<std::string> scene_warnings(const ir::Scene& scene) {
     return out;
   }
   if (scene.point_lights.empty() && scene.area_lights.empty())
-    for (const ir::Shape& s : scene.shapes)
-      if (s.material < scene.materials.size() && needs_light(scene.materials[s.material])) {
+    for (const ir::Shape& s : scene.shapes) {
+      bool dark = false;
+      ir::surface_materials(scene, s, [&](std::uint32_t m) {
+        dark = dark || (m < scene.materials.size() && needs_light(scene.materials[m]));
+      });
+      if (dark) {
         out.push_back(fmt::format(
             "the scene has no light: diffuse and glazed surfaces (the first at {}) will be black",
             ir::to_string(s.src, scene)));
         break;
       }
+    }
   for (const ir::Shape& s : scene.shapes)
     if (contains(scene, s, scene.camera.location, 0)) {
       const ir::Vec3 c = scene.camera.location;

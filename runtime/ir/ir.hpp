@@ -121,6 +121,39 @@ struct Scene {
   std::vector<AreaLight> area_lights;
 };
 
+// The materials of the surfaces `shape` shows, in the order written: its own; a
+// CSG object's leaves'; an instance's parts' (a part without one takes the
+// instance's, `inherited` here). Not the material a CSG block or instance carries
+// only for its children to inherit.
+template <class F>
+void surface_materials(const Scene& scene, const Shape& shape, F&& f,
+                       std::uint32_t inherited = kInheritMaterial) {
+  const std::uint32_t own = shape.material == kInheritMaterial ? inherited : shape.material;
+  if (const Csg* c = shape.as<Csg>()) {
+    std::vector<std::uint32_t> todo{c->node};
+    while (!todo.empty()) {
+      std::uint32_t i = todo.back();
+      todo.pop_back();
+      if (i >= scene.csg_nodes.size()) continue;
+      const CsgNode& n = scene.csg_nodes[i];
+      if (n.leaf()) {
+        if (n.part < scene.parts.size()) {
+          std::uint32_t m = scene.parts[n.part].material;
+          f(m == kInheritMaterial ? own : m);
+        }
+        continue;
+      }
+      for (auto it = n.children.rbegin(); it != n.children.rend(); ++it) todo.push_back(*it);
+    }
+  } else if (const Instance* in = shape.as<Instance>()) {
+    if (in->prototype < scene.prototypes.size())
+      for (std::uint32_t p : scene.prototypes[in->prototype].parts)
+        if (p < scene.parts.size()) surface_materials(scene, scene.parts[p], f, own);
+  } else {
+    f(own);
+  }
+}
+
 // The effects a scene uses (architecture: "simulate only the effects a scene calls
 // for"), computed from the IR alone, each with the reason it is on.
 struct Features {

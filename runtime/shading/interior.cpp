@@ -53,13 +53,27 @@ Interiors::Interiors(const ir::Scene& scene) : scene_(scene) {
     if (const ir::Dielectric* d = m.as<ir::Dielectric>()) any = any || d->priority > 0;
   if (!any) return;
   priority_.assign(scene.shapes.size(), 0);
+  medium_.assign(scene.shapes.size(), 0);
+  auto prioritised = [&](std::uint32_t m) -> const ir::Dielectric* {
+    if (m >= scene.materials.size()) return nullptr;
+    const ir::Dielectric* d = scene.materials[m].as<ir::Dielectric>();
+    return d && d->priority > 0 ? d : nullptr;
+  };
   for (std::size_t i = 0; i < scene.shapes.size(); ++i) {
     const ir::Shape& s = scene.shapes[i];
-    if (s.material >= scene.materials.size()) continue;
-    const ir::Dielectric* d = scene.materials[s.material].as<ir::Dielectric>();
-    if (!d || d->priority == 0) continue;
+    // A solid's medium: its material's, or for a CSG object whose block has no
+    // prioritised dielectric, the first of its children's (a glass cup written
+    // with the glass on its cylinders is as glass as one with it on the block).
+    std::uint32_t m = s.material;
+    if (!prioritised(m) && s.as<ir::Csg>())
+      ir::surface_materials(scene, s, [&](std::uint32_t leaf) {
+        if (!prioritised(m) && prioritised(leaf)) m = leaf;
+      });
+    const ir::Dielectric* d = prioritised(m);
+    if (!d) continue;
     // ir::validate keeps priorities to solids and the language to 32 bits.
     priority_[i] = std::uint32_t(d->priority);
+    medium_[i] = m;
   }
   // Camera rays start inside the solids that contain the camera, entered in the
   // scene's order (so among equal priorities the later object is the medium).
@@ -70,12 +84,12 @@ Interiors::Interiors(const ir::Scene& scene) : scene_(scene) {
 
 double Interiors::ior(std::uint32_t medium) const {
   if (medium == Interior::kAir) return 1;
-  return scene_.materials[scene_.shapes[medium].material].as<ir::Dielectric>()->ior;
+  return scene_.materials[medium_[medium]].as<ir::Dielectric>()->ior;
 }
 
 const ir::Vec3* Interiors::absorb(std::uint32_t medium) const {
   if (medium == Interior::kAir) return nullptr;
-  return &scene_.materials[scene_.shapes[medium].material].as<ir::Dielectric>()->absorb;
+  return &scene_.materials[medium_[medium]].as<ir::Dielectric>()->absorb;
 }
 
 Crossing Interiors::cross(const Interior& in, std::uint32_t shape, bool entering) const {

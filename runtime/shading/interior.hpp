@@ -132,6 +132,7 @@ class Interiors {
  private:
   const ir::Scene& scene_;
   std::vector<std::uint32_t> priority_;  // per shape; empty when the scene has none
+  std::vector<std::uint32_t> medium_;    // per prioritised shape: the material of its medium
   Interior camera_;
 };
 

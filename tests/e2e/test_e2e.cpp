@@ -581,6 +581,46 @@ TEST_CASE("warnings: no object, no light for a diffuse surface, the camera insid
   CHECK(err.find("warning: the scene has no light") != std::string::npos);
 }
 
+TEST_CASE("a glass of water with the glass on the CSG children is the glass on the block",
+          "[e2e]") {
+  // §14 tracks prioritised dielectric solids; §12 keeps each surface's material
+  // from its child. A difference whose children carry the priority-2 glass is the
+  // same glass solid as one whose block carries it: the water surface inside the
+  // wall passes through, the glass-water interface refracts with 1.5 <-> 1.33, so
+  // the two render the same pixels. (The children's glass used to be ignored: the
+  // cup was no medium, and its water met air.) Neither is warned about as unlit.
+  Scratch tmp;
+  std::string err;
+  const std::string common =
+      "settings { resolution <24, 24> samples 2 }\n"
+      "camera { location <0, 0.5, -5> look_at <0, 0.5, 0> fov 25 }\n"
+      "background <0.9, 0.8, 0.6>\n"
+      "let glass = dielectric { ior 1.5 priority 2 };\n"
+      "cylinder { base <0, -0.85, 0> cap <0, 1.2, 0> radius 0.95 "
+      "material dielectric { ior 1.33 absorb 0.5 priority 1 } }\n";
+  std::ofstream(tmp / "child.scn") << common
+                                   << "difference { cylinder { base <0, -1, 0> cap <0, 2, 0> "
+                                      "radius 1 material glass }\n"
+                                      "  cylinder { base <0, -0.8, 0> cap <0, 2.1, 0> radius 0.9 "
+                                      "material glass } }\n";
+  std::ofstream(tmp / "block.scn") << common
+                                   << "difference { cylinder { base <0, -1, 0> cap <0, 2, 0> "
+                                      "radius 1 }\n"
+                                      "  cylinder { base <0, -0.8, 0> cap <0, 2.1, 0> radius 0.9 } "
+                                      "material glass }\n";
+  for (const char* name : {"child", "block"}) {
+    INFO(name);
+    REQUIRE(run_capture(std::string("render ") + (tmp / (std::string(name) + ".scn")) +
+                            " --quiet -o " + (tmp / (std::string(name) + ".exr")),
+                        err, tmp) == 0);
+    CHECK(err.find("no light") == std::string::npos);
+  }
+  int w = 0, h = 0, w2 = 0, h2 = 0;
+  std::vector<float> a = read_rgb(tmp / "child.exr", w, h), b = read_rgb(tmp / "block.exr", w2, h2);
+  REQUIRE(w == 24);
+  CHECK(a == b);
+}
+
 TEST_CASE("a render estimated to need more memory than the limit fails before it starts", "[e2e]") {
   Scratch tmp;
   std::string err;
