@@ -273,11 +273,6 @@ void CsgSetT<kMoving>::add(const ir::Shape& s, const ir::Csg& g, std::uint32_t i
 }
 
 template <bool kMoving>
-ir::Transform CsgSetT<kMoving>::rel_from_csg(const Prim& p, float time) const {
-  return rel_at(*p.shape_ir, p.origin, shutter_fraction(time));
-}
-
-template <bool kMoving>
 void CsgSetT<kMoving>::bounds(unsigned prim, Box3& box) const {
   const Prim& p = prims_[prim];
   if constexpr (!kMoving) {
@@ -298,7 +293,11 @@ bool CsgSetT<kMoving>::hit(unsigned prim, float time, Vec3f of, Vec3f df, float 
   const Prim& p = prims_[prim];
   ir::Mat4 csg_from_rel = p.csg_from_rel;
   double u = 0;
-  if constexpr (kMoving) u = shutter_fraction(time), csg_from_rel = rel_from_csg(p, time).inv;
+  if constexpr (kMoving) {
+    // The inverse alone: rel_at(...).inv to the bit, at half the matrix products.
+    u = shutter_fraction(time);
+    csg_from_rel = rel_from_object_inverse_at(*p.shape_ir, p.origin, u);
+  }
   Vec3 o = xform_point(csg_from_rel, Vec3(of.x, of.y, of.z));
   Vec3 d = xform_vector(csg_from_rel, Vec3(df.x, df.y, df.z));
   double t;

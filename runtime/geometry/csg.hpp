@@ -123,7 +123,6 @@ class CsgSetT {
     ir::Mat4 csg_from_rel, rel_from_csg;  // the static placement
     std::uint32_t shape = 0;
   };
-  ir::Transform rel_from_csg(const Prim& p, float time) const;
   std::vector<Prim> prims_;
 };
 using CsgSet = CsgSetT<false>;
