@@ -8,6 +8,7 @@
 #include "runtime/embree_scene.hpp"
 #include "runtime/geometry/motion.hpp"
 #include "runtime/geometry/sphere.hpp"
+#include "runtime/shading/surface_uv.hpp"
 #include "tests/runtime/effects_util.hpp"
 
 using namespace snell;
@@ -333,6 +334,14 @@ TEST_CASE("a CSG leaf may move; an instanced prototype's part may not", "[motion
   CHECK(h.t == Approx(4 + std::sqrt(0.75)).epsilon(1e-6));  // the hole's far wall
   REQUIRE(e.intersect(rt::Ray{{-0.5f, 0, 0}, {0, 0, 1}, INFINITY, 1}, h));
   CHECK(h.t == Approx(4).epsilon(1e-6));  // the box's face, whole again
+  // Mapping "uv" finds the leaf's own space at the ray's time: the sphere's centre
+  // in the world at u is its object-space centre.
+  for (double u : {0.0, 0.5, 1.0}) {
+    rt::SurfaceFrame f = rt::surface_frame(s, s.shapes[0], 1, ir::kNoPart, 0, u);
+    CHECK(f.leaf == &s.parts[1]);
+    ir::Vec3 c = f.leaf_from_world.point({u, 0, 4});
+    CHECK(ir::length(c - ir::Vec3{0, 0, 4}) < 1e-12);
+  }
   // A prototype is static geometry the BVH instances.
   ir::Prototype proto;
   proto.parts = {1};
