@@ -115,17 +115,20 @@ class SceneBuilder {
   std::uint32_t material_of(const std::vector<EvaluatedProp>& props, std::uint32_t inherited);
   // What an object inherits from the objects around it (lower_objects.cpp).
   struct Placement {
-    ir::Transform world_from_parent;        // or the CSG object's / prototype's space
-    std::uint32_t material = 0;             // the material of the nearest enclosing object with one
-    const EvaluatedProp* motion = nullptr;  // an enclosing object's motion
+    ir::Transform world_from_parent;  // or the CSG object's / prototype's space
+    std::uint32_t material = 0;       // the material of the nearest enclosing object with one
+    ir::Motion motion;                // how the enclosing objects move the parent's space
   };
   // Places `node` into the scene's shapes, or, with `proto`, into prototype parts.
   void place(const ObjectNode& node, const Placement& at, std::vector<std::uint32_t>* proto);
   // The CSG node of `node` (a CSG child) in its CSG object's space, or -1 after errors.
+  // `motion`: how the objects between it and the CSG object move the parent's
+  // space, in the CSG object's space.
   std::int64_t csg_node(const ObjectNode& node, const ir::Transform& csg_from_parent,
-                        std::uint32_t material, const ObjectNode& csg);
+                        const ir::Motion& motion, std::uint32_t material, const ObjectNode& csg);
   std::int64_t csg_children(const ObjectNode& node, const ir::Transform& csg_from_node,
-                            std::uint32_t material, const ObjectNode& csg);
+                            const ir::Motion& motion, std::uint32_t material,
+                            const ObjectNode& csg);
   // The prototype of an object value placed by `object { }` (made once per value),
   // or -1 after errors.
   std::int64_t prototype_for(const std::shared_ptr<const ObjectNode>& value);

@@ -12,7 +12,10 @@
 //                    instancing), and so it is where V moves or holds a plane
 //                    outside a CSG block (the BVH instances bounded, static geometry)
 // Children inherit the transform (applied after their own), the material (when
-// they have none) and the motion of the objects around them.
+// they have none) and the motion of the objects around them. Motions compose: an
+// object's motion acts after its own transforms, in its parent's space, and the
+// parent's transforms and motion act after it (ir::nest_motion); a CSG leaf's
+// motion is kept in its CSG object's space, so the leaf moves inside the object.
 #include <cmath>
 #include <string>
 
@@ -73,22 +76,24 @@ bool instanceable(const ObjectNode& n, bool in_csg) {
 // only for an object that ends up without one (so a scene's material table is the
 // same whichever way its objects are written).
 void SceneBuilder::add_object_tree(const std::shared_ptr<const ObjectNode>& node) {
-  place(*node, Placement{ir::Transform{}, ir::kInheritMaterial, nullptr}, nullptr);
+  place(*node, Placement{ir::Transform{}, ir::kInheritMaterial, {}}, nullptr);
 }
+
+namespace {
+// The motion of `props`'s object placed in a space that `frame` places (in the
+// world, or in a CSG object's space) and that moves by `outer`.
+ir::Motion motion_in(const ir::Motion& outer, const ir::Transform& frame,
+                     const std::vector<EvaluatedProp>& props) {
+  const EvaluatedProp* own = find_evaluated(props, PropId::object_motion);
+  return own ? ir::nest_motion(outer, frame, object_motion(own)) : outer;
+}
+}  // namespace
 
 void SceneBuilder::place(const ObjectNode& n, const Placement& at,
                          std::vector<std::uint32_t>* proto) {
-  const EvaluatedProp* own_motion = find_evaluated(n.props, PropId::object_motion);
-  if (own_motion && at.motion) {
-    diags_
-        .report(DiagKind::NestedMotion, own_motion->name_span,
-                "this object has motion inside an object that moves; only one of them may "
-                "have 'motion'")
-        .note(at.motion->name_span, "the enclosing object's motion is here");
-    return;
-  }
   Placement inner{at.world_from_parent * object_transforms(n.props),
-                  material_of(n.props, at.material), own_motion ? own_motion : at.motion};
+                  material_of(n.props, at.material),
+                  motion_in(at.motion, at.world_from_parent, n.props)};
   // In the scene (not a prototype) an object without a material has the default.
   auto settle = [&] {
     if (!proto && inner.material == ir::kInheritMaterial) inner.material = default_material();
@@ -101,7 +106,7 @@ void SceneBuilder::place(const ObjectNode& n, const Placement& at,
     s.geom = std::move(geom);
     s.material = inner.material;
     s.set_world_from_object(inner.world_from_parent);
-    s.set_motion(object_motion(inner.motion));
+    s.set_motion(inner.motion);
     s.src = ref(n.keyword);
   };
   if (n.instance()) {
@@ -120,7 +125,7 @@ void SceneBuilder::place(const ObjectNode& n, const Placement& at,
       return;
     }
     settle();
-    std::int64_t root = csg_children(n, ir::Transform{}, inner.material, n);
+    std::int64_t root = csg_children(n, ir::Transform{}, ir::Motion{}, inner.material, n);
     if (root >= 0) add(ir::Csg{static_cast<std::uint32_t>(root)});
     return;
   }
@@ -130,12 +135,13 @@ void SceneBuilder::place(const ObjectNode& n, const Placement& at,
 }
 
 std::int64_t SceneBuilder::csg_children(const ObjectNode& n, const ir::Transform& csg_from_node,
-                                        std::uint32_t material, const ObjectNode& csg) {
+                                        const ir::Motion& motion, std::uint32_t material,
+                                        const ObjectNode& csg) {
   ir::CsgNode node;
   node.op = op_of(n);
   bool ok = true;
   for (const auto& c : n.children) {
-    std::int64_t k = csg_node(*c, csg_from_node, material, csg);
+    std::int64_t k = csg_node(*c, csg_from_node, motion, material, csg);
     if (k < 0) {
       ok = false;
       continue;
@@ -148,21 +154,14 @@ std::int64_t SceneBuilder::csg_children(const ObjectNode& n, const ir::Transform
 }
 
 std::int64_t SceneBuilder::csg_node(const ObjectNode& c, const ir::Transform& csg_from_parent,
-                                    std::uint32_t material, const ObjectNode& csg) {
+                                    const ir::Motion& motion, std::uint32_t material,
+                                    const ObjectNode& csg) {
   std::string_view csg_name = csg.block->name;
-  if (const EvaluatedProp* m = find_evaluated(c.props, PropId::object_motion)) {
-    diags_
-        .report(DiagKind::NestedMotion, m->name_span,
-                "the objects of a '" + std::string(csg_name) +
-                    "' cannot move on their own; give the motion to the '" + std::string(csg_name) +
-                    "' block")
-        .note(csg.keyword, "the '" + std::string(csg_name) + "' block is here");
-    return -1;
-  }
   ir::Transform xf = csg_from_parent * object_transforms(c.props);
+  ir::Motion moves = motion_in(motion, csg_from_parent, c.props);
   std::uint32_t mat = material_of(c.props, material);
-  if (c.instance()) return csg_node(*c.children[0], xf, mat, csg);
-  if (c.csg()) return csg_children(c, xf, mat, csg);
+  if (c.instance()) return csg_node(*c.children[0], xf, moves, mat, csg);
+  if (c.csg()) return csg_children(c, xf, moves, mat, csg);
   ir::ShapeGeom geom;
   LowerContext cx{*this, c.keyword, c.props, diags_};
   if (!lower_shape(*c.block, cx, geom)) return -1;
@@ -181,6 +180,7 @@ std::int64_t SceneBuilder::csg_node(const ObjectNode& c, const ir::Transform& cs
   s.geom = std::move(geom);
   s.material = mat;
   s.set_world_from_object(xf);
+  s.set_motion(std::move(moves));
   s.src = ref(c.keyword);
   ir::CsgNode leaf;
   leaf.part = static_cast<std::uint32_t>(scene_.parts.size() - 1);
@@ -193,7 +193,7 @@ std::int64_t SceneBuilder::prototype_for(const std::shared_ptr<const ObjectNode>
   ir::Prototype p;
   p.src = ref(value->keyword);
   std::size_t errors = diags_.error_count();
-  place(*value, Placement{ir::Transform{}, ir::kInheritMaterial, nullptr}, &p.parts);
+  place(*value, Placement{ir::Transform{}, ir::kInheritMaterial, {}}, &p.parts);
   std::int64_t id = -1;
   if (diags_.error_count() == errors && !p.parts.empty()) {
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};

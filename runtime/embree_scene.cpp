@@ -383,7 +383,7 @@ struct ShapeAdder {
   template <class Kind>
   void operator()(const Kind& g, const ir::Shape& s, std::uint32_t si) {
     using G = Geometry<Kind>;
-    bool moving = shutter_open && s.motion().moves();
+    bool moving = shutter_open && ir::moves(s, sc);  // a CSG object also when a leaf moves
     if constexpr (G::kind == GeometryClass::Triangles) {
       const ir::Transform& xf = s.world_from_object();
       Soup soup;

@@ -38,9 +38,18 @@ MemoryEstimate estimate_memory(const ir::Scene& scene, std::uint64_t width, std:
       std::uint64_t(std::count_if(scene.shapes.begin(), scene.shapes.end(), [](const ir::Shape& s) {
         return s.as<ir::Sphere>() && !s.motion().moves();
       }));
+  // A motion nested in others' (§12, §13) holds a frame (two matrices) and its
+  // steps per block, per object, beyond what kPerShape rounds up.
+  std::uint64_t nested = 0;
+  auto count_nested = [&](const ir::Shape& s) {
+    for (const ir::MotionBlock& b : s.motion().nested)
+      nested += sizeof(ir::MotionBlock) + b.ops.size() * sizeof(ir::TransformOp);
+  };
+  for (const ir::Shape& s : scene.shapes) count_nested(s);
+  for (const ir::Shape& s : scene.parts) count_nested(s);
   e.geometry = kFixed + spheres * kPerSphere +
                (scene.shapes.size() + scene.parts.size() - spheres) * kPerShape +
-               triangles * kPerTriangle;
+               triangles * kPerTriangle + nested;
   if (!scene.images.empty()) e.textures = std::uint64_t(kTextureCacheMB) << 20;
   // Encoded whole before it is written (atomic_file.hpp): at most its raw size
   // (zip and PNG's deflate seldom grow data, and then by a fraction of a percent).

@@ -60,7 +60,7 @@ bool csg_contains(const ir::Scene& scene, std::uint32_t node, ir::Vec3 p, int de
 // composites nest at most kMaxDepth deep here (the compiler bounds nesting far below).
 bool contains(const ir::Scene& scene, const ir::Shape& s, ir::Vec3 p, int depth) {
   constexpr int kMaxDepth = 64;
-  if (s.motion().moves() || depth > kMaxDepth) return false;
+  if (ir::moves(s, scene) || depth > kMaxDepth) return false;
   ir::Vec3 o = s.world_from_object().inverse().point(p);
   return std::visit(
       [&](const auto& g) {

@@ -76,33 +76,40 @@ struct Event {
 
 }  // namespace
 
-CsgProgram::CsgProgram(const ir::Scene& scene, std::uint32_t root) {
-  box_ = compile(scene, root);
+CsgProgram::CsgProgram(const ir::Scene& scene, std::uint32_t root, bool motion) {
+  box_ = compile(scene, root, motion);
 }
 
-Box3 CsgProgram::compile(const ir::Scene& scene, std::uint32_t index) {
+Box3 CsgProgram::compile(const ir::Scene& scene, std::uint32_t index, bool motion) {
   const ir::CsgNode& node = scene.csg_nodes[index];
   if (node.leaf()) {
     const ir::Shape& part = scene.parts[node.part];
     Leaf l;
     l.geom = part.geom;
     l.leaf_from_csg = part.world_from_object().inv;
+    if (motion && part.motion().moves()) l.moves = &part;
     l.material = part.material;
     l.part = node.part;
     l.bounded = !ir::unbounded(part);
     if (const ir::Mesh* m = part.as<ir::Mesh>(); m && m->mesh < scene.meshes.size())
       l.mesh = MeshSolid::of(scene.meshes[m->mesh]);
-    if (l.bounded)
-      ir::world_hull_points(part, scene, [&](Vec3 p) { l.box.grow(p); });
-    else
+    if (!l.bounded)
       l.box = infinite_box();
+    else if (l.moves)
+      swept_bounds([&](double u) { return (part.motion().at(u) * part.world_from_object()).m; },
+                   [&](auto&& f) {
+                     std::visit([&](const auto& g) { ir::hull_points(g, scene, f); }, part.geom);
+                   },
+                   l.box);
+    else
+      ir::world_hull_points(part, scene, [&](Vec3 p) { l.box.grow(p); });
     code_.push_back({Op::Leaf, static_cast<std::uint32_t>(leaves_.size())});
     leaves_.push_back(l);
     return l.box;
   }
   Box3 box;
   for (std::size_t i = 0; i < node.children.size(); ++i) {
-    Box3 c = compile(scene, node.children[i]);
+    Box3 c = compile(scene, node.children[i], motion);
     if (i == 0)
       box = c;
     else if (node.op == ir::CsgOp::Intersection)
@@ -144,17 +151,27 @@ bool CsgProgram::inside(const std::uint8_t* flags) const {
   return !stack.empty() && stack.back();
 }
 
+const ir::Mat4& CsgProgram::leaf_at(const Leaf& l, double u, ir::Mat4& scratch) const {
+  if (!l.moves) return l.leaf_from_csg;
+  scratch =
+      (l.moves->motion().inverse_at(u) * ir::InverseTransform::of(l.moves->world_from_object()))
+          .inv;
+  return scratch;
+}
+
 bool CsgProgram::intersect(Vec3 o, Vec3 d, double tnear, double tfar, double& t_hit, Vec3& n_hit,
-                           std::uint32_t& leaf_hit) const {
+                           std::uint32_t& leaf_hit, double u) const {
   if (!ray_box(box_, o, d, tnear, tfar)) return false;
   thread_local std::vector<Event> events;
   thread_local std::vector<std::uint8_t> flags;
   events.clear();
   flags.assign(leaves_.size(), 0);
+  ir::Mat4 scratch;  // a moving leaf's placement at u
   for (std::uint32_t i = 0; i < leaves_.size(); ++i) {
     const Leaf& l = leaves_[i];
     if (l.bounded && !ray_box(l.box, o, d, tnear, tfar)) continue;
-    Vec3 ol = xform_point(l.leaf_from_csg, o), dl = xform_vector(l.leaf_from_csg, d);
+    const ir::Mat4& leaf_from_csg = leaf_at(l, u, scratch);
+    Vec3 ol = xform_point(leaf_from_csg, o), dl = xform_vector(leaf_from_csg, d);
     if (l.mesh) {
       thread_local std::vector<MeshSolid::Crossing> cross;
       bool in = false;
@@ -163,7 +180,7 @@ bool CsgProgram::intersect(Vec3 o, Vec3 d, double tnear, double tfar, double& t_
       for (const MeshSolid::Crossing& c : cross) {
         if (!(c.t < tfar)) break;
         if (c.t > tnear)
-          events.push_back({c.t, i, c.enter, xform_normal_by_inverse(l.leaf_from_csg, c.n)});
+          events.push_back({c.t, i, c.enter, xform_normal_by_inverse(leaf_from_csg, c.n)});
         else
           flags[i] = c.enter;
       }
@@ -174,11 +191,11 @@ bool CsgProgram::intersect(Vec3 o, Vec3 d, double tnear, double tfar, double& t_
       const Span& s = sp.span[k];
       // Normals to CSG space (inverse transpose of csg_from_leaf).
       if (s.t_in > tnear)
-        events.push_back({s.t_in, i, true, xform_normal_by_inverse(l.leaf_from_csg, s.n_in)});
+        events.push_back({s.t_in, i, true, xform_normal_by_inverse(leaf_from_csg, s.n_in)});
       else
         flags[i] = 1;  // the ray starts inside this leaf
       if (s.t_out < tfar)
-        events.push_back({s.t_out, i, false, xform_normal_by_inverse(l.leaf_from_csg, s.n_out)});
+        events.push_back({s.t_out, i, false, xform_normal_by_inverse(leaf_from_csg, s.n_out)});
     }
   }
   if (events.empty()) return false;
@@ -209,10 +226,12 @@ bool CsgProgram::intersect(Vec3 o, Vec3 d, double tnear, double tfar, double& t_
   return false;
 }
 
-double CsgProgram::leaf_crossing(std::uint32_t leaf, Vec3 o, Vec3 d, double t,
-                                 std::uint32_t* tri) const {
+double CsgProgram::leaf_crossing(std::uint32_t leaf, Vec3 o, Vec3 d, double t, std::uint32_t* tri,
+                                 double u) const {
   const Leaf& l = leaves_[leaf];
-  Vec3 ol = xform_point(l.leaf_from_csg, o), dl = xform_vector(l.leaf_from_csg, d);
+  ir::Mat4 scratch;
+  const ir::Mat4& leaf_from_csg = leaf_at(l, u, scratch);
+  Vec3 ol = xform_point(leaf_from_csg, o), dl = xform_vector(leaf_from_csg, d);
   double best = t, dist = INFINITY;
   if (l.mesh) {
     thread_local std::vector<MeshSolid::Crossing> cross;
@@ -250,12 +269,7 @@ template <bool kMoving>
 void CsgSetT<kMoving>::add(const ir::Shape& s, const ir::Csg& g, std::uint32_t index, Vec3 origin,
                            const ir::Scene& scene) {
   ir::Transform rel = ir::Transform::translate(-origin) * s.world_from_object();
-  prims_.push_back({CsgProgram(scene, g.node), &s, origin, rel.inv, rel.m, index});
-}
-
-template <bool kMoving>
-ir::Transform CsgSetT<kMoving>::rel_from_csg(const Prim& p, float time) const {
-  return rel_at(*p.shape_ir, p.origin, shutter_fraction(time));
+  prims_.push_back({CsgProgram(scene, g.node, kMoving), &s, origin, rel.inv, rel.m, index});
 }
 
 template <bool kMoving>
@@ -278,13 +292,18 @@ bool CsgSetT<kMoving>::hit(unsigned prim, float time, Vec3f of, Vec3f df, float 
                            float& t_out, Vec3f& n_out, unsigned& sub) const {
   const Prim& p = prims_[prim];
   ir::Mat4 csg_from_rel = p.csg_from_rel;
-  if constexpr (kMoving) csg_from_rel = rel_from_csg(p, time).inv;
+  double u = 0;
+  if constexpr (kMoving) {
+    // The inverse alone: rel_at(...).inv to the bit, at half the matrix products.
+    u = shutter_fraction(time);
+    csg_from_rel = rel_from_object_inverse_at(*p.shape_ir, p.origin, u);
+  }
   Vec3 o = xform_point(csg_from_rel, Vec3(of.x, of.y, of.z));
   Vec3 d = xform_vector(csg_from_rel, Vec3(df.x, df.y, df.z));
   double t;
   Vec3 n;
   std::uint32_t leaf;
-  if (!p.program.intersect(o, d, tnear, tfar, t, n, leaf)) return false;
+  if (!p.program.intersect(o, d, tnear, tfar, t, n, leaf, u)) return false;
   t_out = static_cast<float>(t);
   if (!(t_out > tnear && t_out < tfar)) return false;
   Vec3 nw = ir::normalize(xform_normal_by_inverse(csg_from_rel, n));

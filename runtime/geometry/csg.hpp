@@ -13,6 +13,11 @@
 // whole face — and never by which rounding error happens to be smaller. Within a
 // group the leaf written first owns the surface (its material, its normal).
 //
+// Leaves may move inside the CSG object (§12: a child's own motion, in the CSG
+// object's space): such a leaf is placed at the ray's time, and its box is the one
+// it sweeps over the shutter. The sets below take a CSG object with moving leaves
+// as a moving primitive (ir::moves).
+//
 // Cost: every leaf whose box the ray meets is intersected (a CSG object is not a
 // BVH of its children): fine for the tens of children POV-Ray scenes use. A closed
 // mesh leaf is a MeshSolid (its own BVH; every crossing along the ray). No Embree
@@ -36,16 +41,19 @@ namespace snell::rt::geom {
 // A CSG tree prepared for rays, in the CSG object's space.
 class CsgProgram {
  public:
-  CsgProgram(const ir::Scene& scene, std::uint32_t root);
+  // `motion`: the leaves move as their motion says (the shutter is open); without
+  // it they stand at their shutter-open placement.
+  CsgProgram(const ir::Scene& scene, std::uint32_t root, bool motion = false);
 
-  // The nearest boundary crossing in (tnear, tfar) of o + t·d (any length of d):
-  // its t, the outward normal of the result there (any length), and the leaf.
-  bool intersect(Vec3 o, Vec3 d, double tnear, double tfar, double& t, Vec3& n,
-                 std::uint32_t& leaf) const;
-  // The crossing of leaf `leaf`'s surface nearest `t` (for refining a float t);
-  // `tri`: a mesh leaf's triangle there.
-  double leaf_crossing(std::uint32_t leaf, Vec3 o, Vec3 d, double t,
-                       std::uint32_t* tri = nullptr) const;
+  // The nearest boundary crossing in (tnear, tfar) of o + t·d (any length of d) at
+  // shutter fraction u: its t, the outward normal of the result there (any
+  // length), and the leaf.
+  bool intersect(Vec3 o, Vec3 d, double tnear, double tfar, double& t, Vec3& n, std::uint32_t& leaf,
+                 double u = 0) const;
+  // The crossing of leaf `leaf`'s surface nearest `t` at shutter fraction u (for
+  // refining a float t); `tri`: a mesh leaf's triangle there.
+  double leaf_crossing(std::uint32_t leaf, Vec3 o, Vec3 d, double t, std::uint32_t* tri = nullptr,
+                       double u = 0) const;
   std::uint32_t material(std::uint32_t leaf) const { return leaves_[leaf].material; }
   std::uint32_t part(std::uint32_t leaf) const { return leaves_[leaf].part; }
   // The corners of a box holding the result (an unbounded one clamped to `clamp`
@@ -65,8 +73,9 @@ class CsgProgram {
  private:
   struct Leaf {
     ir::ShapeGeom geom;
-    ir::Mat4 leaf_from_csg;
-    Box3 box;  // in CSG space; infinite for a plane
+    ir::Mat4 leaf_from_csg;            // at shutter open
+    const ir::Shape* moves = nullptr;  // the part, when it moves (its motion, its placement)
+    Box3 box;  // in CSG space (swept over the shutter when it moves); infinite for a plane
     bool bounded = true;
     std::uint32_t material = 0, part = 0;
     std::shared_ptr<const MeshSolid> mesh;  // a closed mesh's crossings
@@ -77,8 +86,10 @@ class CsgProgram {
     enum Kind : std::uint8_t { Leaf, Any, All, FirstNotRest } kind;
     std::uint32_t arg;  // Leaf: the leaf; otherwise the number of operands
   };
-  Box3 compile(const ir::Scene& scene, std::uint32_t node);
+  Box3 compile(const ir::Scene& scene, std::uint32_t node, bool motion);
   bool inside(const std::uint8_t* flags) const;
+  // leaf_from_csg at shutter fraction u.
+  const ir::Mat4& leaf_at(const Leaf& l, double u, ir::Mat4& scratch) const;
 
   std::vector<Leaf> leaves_;
   std::vector<Op> code_;
@@ -112,7 +123,6 @@ class CsgSetT {
     ir::Mat4 csg_from_rel, rel_from_csg;  // the static placement
     std::uint32_t shape = 0;
   };
-  ir::Transform rel_from_csg(const Prim& p, float time) const;
   std::vector<Prim> prims_;
 };
 using CsgSet = CsgSetT<false>;

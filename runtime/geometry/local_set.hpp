@@ -127,9 +127,13 @@ class MovingLocalSet {
   bool hit(unsigned prim, float time, Vec3f o, Vec3f d, float tnear, float tfar, float& t,
            Vec3f& n) const {
     const Moving& m = prims_[prim];
-    ir::Transform rel =
-        rel_at(*m.shape, m.origin, shutter_fraction(time)) * m.surface.object_from_local;
-    return hit_local(m.surface, rel.inv, o, d, tnear, tfar, t, n);
+    // The inverse alone: (rel_at(...) * object_from_local).inv to the bit, at half
+    // the matrix products (a nested motion is several blocks).
+    ir::Mat4 local_from_rel = (ir::InverseTransform{rel_from_object_inverse_at(
+                                   *m.shape, m.origin, shutter_fraction(time))} *
+                               ir::InverseTransform::of(m.surface.object_from_local))
+                                  .inv;
+    return hit_local(m.surface, local_from_rel, o, d, tnear, tfar, t, n);
   }
   // o + t·d, offset 0 (the Wächter–Binder offset covers its error).
   void refine(unsigned, const Ray& r, float t, Hit& hit) const {

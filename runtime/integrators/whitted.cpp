@@ -620,7 +620,8 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
                              images_,
                              images_ ? normalize(d) : Vec3f{},  // only images read these
                              images_ ? pixel_angle_ * length(p) : 0.0f,
-                             surface};
+                             surface,
+                             leaf_motion(hit)};
       // The lobes' normal: nf, or a smooth mesh's or a bump's (§16) shading normal made
       // valid for this viewer (hard case #20, shading/shading_normal.hpp).
       Vec3f ns_out = hit.ns;

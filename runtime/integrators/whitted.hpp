@@ -181,6 +181,14 @@ class WhittedIntegrator final : public Integrator {
                       std::uint64_t key, const SampleContext& sc, const Interior* in,
                       std::uint64_t& n_rays) const;
 
+  // §12: the motion of the CSG leaf a hit is on, when the leaf moves inside its CSG
+  // object (space "object" patterns move with it); null otherwise.
+  const ir::Motion* leaf_motion(const Hit& hit) const {
+    if (hit.part == ir::kNoPart || hit.part >= scene_.parts.size()) return nullptr;
+    const ir::Motion& m = scene_.parts[hit.part].motion();
+    return m.empty() ? nullptr : &m;
+  }
+
   const ir::Scene& scene_;
   const EmbreeScene& embree_;
   Lights lights_;

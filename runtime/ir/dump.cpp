@@ -124,6 +124,34 @@ std::string to_string(const Material& m) {
   return s;
 }
 
+namespace {
+std::string motion_text(const std::vector<TransformOp>& ops, bool has_pivot, Vec3 pivot) {
+  std::string s = "{";
+  for (const TransformOp& op : ops) {
+    const char* k = op.kind == TransformOp::Kind::Translate ? " translate "
+                    : op.kind == TransformOp::Kind::Rotate  ? " rotate "
+                                                            : " scale ";
+    s += k + to_string(op.value);
+  }
+  if (has_pivot) s += " pivot " + to_string(pivot);
+  return s + " }";
+}
+}  // namespace
+
+std::string to_string(const MotionBlock& b) {
+  return "motion in " + to_string(b.world_from_frame) + " " +
+         motion_text(b.ops, b.has_pivot, b.pivot);
+}
+
+// The world block, then the nested ones (§12, §13), outermost first, each in the
+// frame it acts in.
+std::string to_string(const Motion& m) {
+  std::string s;
+  if (!m.ops.empty() || m.nested.empty()) s = "motion " + motion_text(m.ops, m.has_pivot, m.pivot);
+  for (const MotionBlock& b : m.nested) s += (s.empty() ? "" : " ") + to_string(b);
+  return s;
+}
+
 std::string to_string(const Shape& sh) {
   std::string s = std::visit(
       [](const auto& g) {
@@ -134,17 +162,7 @@ std::string to_string(const Shape& sh) {
                                        : " material #" + std::to_string(sh.material);
   if (!sh.world_from_object().is_identity())
     s += " world_from_object " + to_string(sh.world_from_object());
-  if (!sh.motion().ops.empty()) {
-    s += " motion {";
-    for (const TransformOp& op : sh.motion().ops) {
-      const char* k = op.kind == TransformOp::Kind::Translate ? " translate "
-                      : op.kind == TransformOp::Kind::Rotate  ? " rotate "
-                                                              : " scale ";
-      s += k + to_string(op.value);
-    }
-    if (sh.motion().has_pivot) s += " pivot " + to_string(sh.motion().pivot);
-    s += " }";
-  }
+  if (!sh.motion().empty()) s += " " + to_string(sh.motion());
   return s + " }";
 }
 

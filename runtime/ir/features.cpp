@@ -33,7 +33,7 @@ Features analyze_features(const Scene& scene) {
   std::size_t movers = 0;
   std::size_t first_mover = 0;
   for (std::size_t i = 0; i < scene.shapes.size(); ++i)
-    if (scene.shapes[i].motion().moves()) {
+    if (moves(scene.shapes[i], scene)) {
       if (movers++ == 0) first_mover = i;
     }
   if (shutter_open && movers > 0) {

@@ -154,6 +154,10 @@ void surface_materials(const Scene& scene, const Shape& shape, F&& f,
   }
 }
 
+// Whether anything of `s` moves: its own motion, or (§12) a leaf of its CSG tree,
+// which may move inside the CSG object.
+bool moves(const Shape& s, const Scene& scene);
+
 // The effects a scene uses (architecture: "simulate only the effects a scene calls
 // for"), computed from the IR alone, each with the reason it is on.
 struct Features {
@@ -201,6 +205,8 @@ std::vector<Problem> validate(const Scene& scene);
 std::string to_string(const SourceRef& ref, const Scene& scene);
 std::string to_string(const Texture& t);
 std::string to_string(const Material& m);
+std::string to_string(const MotionBlock& b);
+std::string to_string(const Motion& m);
 std::string to_string(const Shape& s);
 std::string to_string(const MeshData& m);
 std::string to_string(const ImageFile& f);

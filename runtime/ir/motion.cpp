@@ -2,7 +2,8 @@
 
 namespace snell::ir {
 
-bool Motion::moves() const {
+namespace {
+bool ops_move(const std::vector<TransformOp>& ops) {
   for (const TransformOp& op : ops) {
     switch (op.kind) {
       case TransformOp::Kind::Translate:
@@ -16,19 +17,62 @@ bool Motion::moves() const {
   }
   return false;
 }
+}  // namespace
+
+bool Motion::moves() const {
+  if (ops_move(ops)) return true;
+  for (const MotionBlock& b : nested)
+    if (ops_move(b.ops)) return true;
+  return false;
+}
+
+Motion nest_motion(const Motion& outer, const Transform& world_from_frame, const Motion& own) {
+  Motion m = outer;
+  if (own.empty()) return m;
+  // Acting in the world's frame, with nothing around it that moves: the plain
+  // block, computed as a top-level object's (bit for bit).
+  if (m.empty() && !m.has_pivot && world_from_frame.is_identity()) return own;
+  if (!own.ops.empty()) m.nested.push_back({world_from_frame, own.ops, own.has_pivot, own.pivot});
+  for (const MotionBlock& b : own.nested)
+    m.nested.push_back({world_from_frame * b.world_from_frame, b.ops, b.has_pivot, b.pivot});
+  return m;
+}
+
+bool moves(const Shape& s, const Scene& scene) {
+  if (s.motion().moves()) return true;
+  const Csg* csg = s.as<Csg>();
+  if (!csg) return false;
+  // Children come before their parents (validate), so the walk is finite; a stack
+  // of its own, as trees may be deep.
+  std::vector<std::uint32_t> todo{csg->node};
+  while (!todo.empty()) {
+    std::uint32_t i = todo.back();
+    todo.pop_back();
+    if (i >= scene.csg_nodes.size()) continue;
+    const CsgNode& n = scene.csg_nodes[i];
+    if (n.leaf()) {
+      if (n.part < scene.parts.size() && scene.parts[n.part].motion().moves()) return true;
+      continue;
+    }
+    for (std::uint32_t c : n.children)
+      if (c < i) todo.push_back(c);
+  }
+  return false;
+}
 
 namespace {
-// Motion::at as a chain of T: Transform, or InverseTransform for its inverse alone;
-// `make` turns each step's Transform into a T. One body, so the two agree bit for bit.
+// One block's transform at u as a chain of T: Transform, or InverseTransform for
+// its inverse alone; `make` turns each step's Transform into a T. One body, so the
+// two agree bit for bit.
 template <class T, class Make>
-T motion_at(const Motion& mo, double u, Make make) {
+T block_at(const std::vector<TransformOp>& ops, bool has_pivot, Vec3 pivot, double u, Make make) {
   auto about_pivot = [&](const Transform& step) {
-    return mo.has_pivot ? make(Transform::translate(mo.pivot)) * make(step) *
-                              make(Transform::translate(-mo.pivot))
-                        : make(step);
+    return has_pivot
+               ? make(Transform::translate(pivot)) * make(step) * make(Transform::translate(-pivot))
+               : make(step);
   };
   T t;
-  for (const TransformOp& op : mo.ops) {
+  for (const TransformOp& op : ops) {
     switch (op.kind) {
       case TransformOp::Kind::Translate:
         t = make(Transform::translate(op.value * u)) * t;
@@ -40,6 +84,19 @@ T motion_at(const Motion& mo, double u, Make make) {
         t = about_pivot(Transform::scale(Vec3{1, 1, 1} * (1 - u) + op.value * u)) * t;
         break;
     }
+  }
+  return t;
+}
+
+template <class T, class Make>
+T motion_at(const Motion& mo, double u, Make make) {
+  T t = block_at<T>(mo.ops, mo.has_pivot, mo.pivot, u, make);
+  for (const MotionBlock& b : mo.nested) {
+    T step = block_at<T>(b.ops, b.has_pivot, b.pivot, u, make);
+    // A frame that is the world's (a union without transforms) needs no carrying.
+    if (!b.world_from_frame.is_identity())
+      step = make(b.world_from_frame) * step * make(b.world_from_frame.inverse());
+    t = t * step;
   }
   return t;
 }

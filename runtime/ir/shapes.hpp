@@ -192,19 +192,47 @@ struct TransformOp {
   Vec3 value;
 };
 
+// The `motion { }` block of an object inside others (§12, §13). It acts where the
+// object's own transforms leave it: in its parent's space, which the static
+// transforms of the objects around it place in the world (or in a CSG object's
+// space, for a leaf) by `world_from_frame`. Its pivot is a point of that space.
+struct MotionBlock {
+  Transform world_from_frame;
+  std::vector<TransformOp> ops;
+  bool has_pivot = false;
+  Vec3 pivot{0, 0, 0};
+};
+
 // How an object moves during the shutter interval. At time fraction u in [0, 1]
 // (0 = shutter open, 1 = shutter close) each op is applied partially: translate
 // u·V, rotate u·R (degrees, x then y then z), scale (1-u) + u·S; with a pivot P
 // (§19) a rotation or scale step is translate -P, the step, translate P. The
 // object's transform at u is at(u) * world_from_object.
+//
+// `ops` and `pivot` are a block that acts in the world's own frame (a top-level
+// object's motion, or that of an object whose enclosing objects have no
+// transforms). The objects around a moving object may move too, and an object
+// inside static ones moves in their space: `nested` holds those blocks, outermost
+// first, each carried into the world by its frame, so
+//   at(u) = block(u) · Π_k F_k · nested_k(u) · F_k⁻¹
+// (§8's "motion after the object's transforms" and §13's "the instance's
+// transforms after the value's own", composed). A motion of one world block is
+// computed as it always was, to the bit.
 struct Motion {
   std::vector<TransformOp> ops;
   bool has_pivot = false;  // false: about the origin (§8), no translations at all
   Vec3 pivot{0, 0, 0};
+  std::vector<MotionBlock> nested{};
   bool moves() const;
+  // No steps at all: at(u) is the identity (without computing it).
+  bool empty() const { return ops.empty() && nested.empty(); }
   Transform at(double u) const;
   InverseTransform inverse_at(double u) const;  // at(u).inv, the same bits, half the work
 };
+
+// The motion of an object whose own motion is `own` (in its parent's space, placed
+// in the world by `world_from_frame`) inside objects that move by `outer`.
+Motion nest_motion(const Motion& outer, const Transform& world_from_frame, const Motion& own);
 
 // A shape's transform and motion are held out of line, and only when they are not
 // the default (identity, still): most of a big scene's objects are spheres placed
@@ -224,7 +252,7 @@ struct Shape {
   const Motion& motion() const { return motion_.get(); }
   void set_world_from_object(const Transform& t) { world_from_object_.set(t, t.is_identity()); }
   void set_motion(Motion m) {
-    bool still = m.ops.empty() && !m.has_pivot;
+    bool still = m.ops.empty() && !m.has_pivot && m.nested.empty();
     motion_.set(std::move(m), still);
   }
 

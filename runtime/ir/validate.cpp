@@ -281,10 +281,18 @@ std::vector<Problem> validate(const Scene& scene) {
     bool finite = std::visit([](const auto& g) { return all_finite(g); }, s.geom);
     if (!finite || !finite_transform(s.world_from_object()))
       bad(s.src, to_string(s.kind()) + " has a non-finite position, size or transform");
-    for (const TransformOp& op : s.motion().ops)
-      if (!is_finite(op.value)) bad(s.src, "motion has a non-finite value");
-    if (s.motion().has_pivot && !is_finite(s.motion().pivot))
-      bad(s.src, "motion has a non-finite pivot");
+    auto check_block = [&](const std::vector<TransformOp>& ops, bool has_pivot, Vec3 pivot) {
+      for (const TransformOp& op : ops)
+        if (!is_finite(op.value)) bad(s.src, "motion has a non-finite value");
+      if (has_pivot && !is_finite(pivot)) bad(s.src, "motion has a non-finite pivot");
+    };
+    const Motion& mo = s.motion();
+    check_block(mo.ops, mo.has_pivot, mo.pivot);
+    for (const MotionBlock& b : mo.nested) {
+      check_block(b.ops, b.has_pivot, b.pivot);
+      if (!finite_transform(b.world_from_frame))
+        bad(s.src, "motion has a non-finite frame (the transforms of the objects around it)");
+    }
     if (s.material >= scene.materials.size()) {
       if (!(part && s.material == kInheritMaterial)) bad(s.src, "material index out of range");
     } else if (const Dielectric* d = scene.materials[s.material].as<Dielectric>();
@@ -293,7 +301,6 @@ std::vector<Problem> validate(const Scene& scene) {
       bad(s.src, "a dielectric with a 'priority' must fill a solid (§14), and this " +
                      std::string(open ? "open " : "") + to_string(s.kind()) + " has no inside");
     }
-    if (part && !s.motion().ops.empty()) bad(s.src, "a part does not move on its own");
     std::visit([&](const auto& g) { check_kind(g, scene, bad_here); }, s.geom);
   };
   for (const Shape& s : scene.shapes) check_shape(s, false);
@@ -310,9 +317,14 @@ std::vector<Problem> validate(const Scene& scene) {
       if (child >= i)
         problems.push_back({{}, "csg node #" + std::to_string(i) + " child out of order"});
   }
+  // A CSG leaf may move inside its CSG object (§12); a prototype is static
+  // geometry the BVH instances (§13), so nothing of it moves.
   for (const Prototype& p : scene.prototypes)
     for (std::uint32_t i : p.parts)
-      if (i >= scene.parts.size()) bad(p.src, "prototype part out of range");
+      if (i >= scene.parts.size())
+        bad(p.src, "prototype part out of range");
+      else if (moves(scene.parts[i], scene))
+        bad(scene.parts[i].src, "a part of an instanced object value does not move");
   for (const MeshData& m : scene.meshes) {
     for (const Vec3& p : m.positions)
       if (!is_finite(p)) {

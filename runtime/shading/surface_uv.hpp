@@ -40,7 +40,7 @@ inline SurfaceFrame surface_frame(const ir::Scene& scene, const ir::Shape& top, 
   SurfaceFrame f;
   f.scene = &scene;
   f.tri = tri;
-  ir::Transform world_from_leaf = top.motion().ops.empty()
+  ir::Transform world_from_leaf = top.motion().empty()
                                       ? top.world_from_object()
                                       : top.motion().at(time) * top.world_from_object();
   f.leaf = &top;
@@ -48,7 +48,11 @@ inline SurfaceFrame surface_frame(const ir::Scene& scene, const ir::Shape& top, 
     if (outer != ir::kNoPart && outer < scene.parts.size())
       world_from_leaf = world_from_leaf * scene.parts[outer].world_from_object();
     f.leaf = &scene.parts[part];
-    world_from_leaf = world_from_leaf * f.leaf->world_from_object();
+    // A CSG leaf may move inside its CSG object (§12), in that object's space.
+    const ir::Motion& moves = f.leaf->motion();
+    world_from_leaf =
+        world_from_leaf * (moves.empty() ? f.leaf->world_from_object()
+                                         : moves.at(time) * f.leaf->world_from_object());
   }
   f.leaf_from_world = world_from_leaf.inverse();
   return f;

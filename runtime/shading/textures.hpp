@@ -45,6 +45,9 @@ struct TexturePoint {
   float footprint = 0;
   // §17 mapping "uv": the hit's surface (null: a background, or no image maps "uv").
   const SurfaceFrame* surface = nullptr;
+  // §12: the motion of the CSG leaf hit, in its CSG object's space, when it moves
+  // inside that object (null: it does not).
+  const ir::Motion* leaf_motion = nullptr;
 };
 
 // The length in world units of one unit of the space a pattern is evaluated in
@@ -72,8 +75,11 @@ inline PatternFrame pattern_frame(const ir::Texture& t, const TexturePoint& tp) 
   if (object) {
     const ir::Shape& sh = *tp.shape;
     ir::Transform world_from_object =
-        sh.motion().ops.empty() ? sh.world_from_object()
-                                : sh.motion().at(double(tp.time)) * sh.world_from_object();
+        sh.motion().empty() ? sh.world_from_object()
+                            : sh.motion().at(double(tp.time)) * sh.world_from_object();
+    // A CSG leaf that moves inside its object carries the object's space along
+    // with it (the space is the object's where the leaf stands at shutter open).
+    if (tp.leaf_motion) world_from_object = world_from_object * tp.leaf_motion->at(double(tp.time));
     f.space_from_world = world_from_object.inverse();
   }
   if (moved) f.space_from_world = t.world_from_pattern.inverse() * f.space_from_world;

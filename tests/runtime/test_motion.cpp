@@ -8,6 +8,7 @@
 #include "runtime/embree_scene.hpp"
 #include "runtime/geometry/motion.hpp"
 #include "runtime/geometry/sphere.hpp"
+#include "runtime/shading/surface_uv.hpp"
 #include "tests/runtime/effects_util.hpp"
 
 using namespace snell;
@@ -256,4 +257,94 @@ TEST_CASE("a moving sphere's pre-test never turns away a ray that hits it", "[mo
   }
   CHECK(hits > 20000);
   CHECK(culled > 3000);
+}
+
+TEST_CASE("a nested motion is its blocks, each carried by its frame (§12, §13)", "[motion]") {
+  // A child turning about a pivot of its parent's space, inside a parent placed by
+  // P that moves by PM: at(u) = PM(u) · P · CM(u) · P⁻¹, so the child's world
+  // placement is PM(u) · P · CM(u) · C when world_from_object is P · C.
+  ir::Motion parent;
+  parent.ops = {{K::Rotate, {0, 50, 0}}, {K::Translate, {1, 0.5, -2}}};
+  parent.has_pivot = true, parent.pivot = {0.5, 0, 1};
+  ir::Motion child;
+  child.ops = {{K::Rotate, {20, 0, 90}}, {K::Scale, {1.5, 1, 0.5}}};
+  child.has_pivot = true, child.pivot = {1, 2, 0};
+  ir::Transform P = ir::Transform::translate({3, 1, 0}) * ir::Transform::rotate_xyz({0, 0, 30}) *
+                    ir::Transform::scale({2, 2, 2});
+  ir::Transform C = ir::Transform::rotate_xyz({10, 0, 0}) * ir::Transform::translate({0, 1, 0});
+  ir::Motion m = ir::nest_motion(ir::nest_motion({}, {}, parent), P, child);
+  REQUIRE(m.nested.size() == 1);
+  CHECK(m.moves());
+  ir::Vec3 p{0.3, -0.7, 1.1};
+  for (double u : {0.0, 0.2, 0.5, 0.9, 1.0}) {
+    ir::Vec3 want = parent.at(u).point(P.point(child.at(u).point(C.point(p))));
+    ir::Vec3 got = m.at(u).point((P * C).point(p));
+    INFO("u " << u);
+    CHECK(ir::length(got - want) < 1e-12);
+    // The inverse alone has the bits of the whole chain's (moving spheres use it).
+    CHECK(m.inverse_at(u).inv == m.at(u).inv);
+  }
+  // The other order (the child's motion after the parent's) puts it elsewhere.
+  ir::Vec3 at_rest = (P * C).point(p);
+  ir::Vec3 wrong = P.point(child.at(0.5).point(P.inverse().point(parent.at(0.5).point(at_rest))));
+  CHECK(ir::length(m.at(0.5).point(at_rest) - wrong) > 0.1);
+}
+
+TEST_CASE("a world motion block nested in nothing is the block itself, to the bit", "[motion]") {
+  // A top-level object's motion, and a union's inherited by its children, are
+  // computed as before nesting existed: the same operations, the same bits.
+  ir::Motion own;
+  own.ops = {{K::Translate, {3, -1, 0.5}}, {K::Rotate, {10, 200, -35}}, {K::Scale, {2, 0.5, 1.5}}};
+  own.has_pivot = true, own.pivot = {0.25, -4, 7};
+  ir::Motion m = ir::nest_motion({}, {}, own);
+  CHECK(m.nested.empty());
+  CHECK(m.ops.size() == 3);
+  // In a static parent with transforms, the block acts in the parent's space.
+  ir::Transform P = ir::Transform::rotate_xyz({0, 90, 0});
+  ir::Motion in_parent = ir::nest_motion({}, P, own);
+  REQUIRE(in_parent.nested.size() == 1);
+  CHECK(in_parent.ops.empty());
+  for (double u : {0.0, 0.3, 1.0}) {
+    CHECK(m.at(u).m == own.at(u).m);
+    ir::Transform want = P * own.at(u) * P.inverse();
+    for (int k = 0; k < 16; ++k) CHECK(in_parent.at(u).m.m[k] == Approx(want.m.m[k]).margin(1e-12));
+  }
+}
+
+TEST_CASE("a CSG leaf may move; an instanced prototype's part may not", "[motion]") {
+  ir::Scene s = base_scene(1, 1);
+  ir::Shape leaf = moving(sphere({0, 0, 4}, 1, 0), K::Translate, {1, 0, 0});
+  s.parts.push_back(box({-1, -1, 4}, {1, 1, 6}, 0));
+  s.parts.push_back(leaf);
+  s.csg_nodes.push_back({ir::CsgOp::Union, 0, {}});
+  s.csg_nodes.push_back({ir::CsgOp::Union, 1, {}});
+  s.csg_nodes.push_back({ir::CsgOp::Difference, ir::kNoPart, {0, 1}});
+  ir::Shape csg;
+  csg.geom = ir::Csg{2};
+  s.shapes.push_back(csg);
+  CHECK(ir::validate(s).empty());
+  CHECK(ir::moves(s.shapes[0], s));
+  s.camera.shutter_close = 1;
+  rt::EmbreeScene e(s, {0, 0, 0});
+  CHECK(e.has_motion());
+  // Along z at x = -0.5: at u = 0 the sphere centred on the box's front face cuts
+  // it there; at u = 1 it has moved 1.5 away from the ray.
+  rt::Hit h;
+  REQUIRE(e.intersect(rt::Ray{{-0.5f, 0, 0}, {0, 0, 1}, INFINITY, 0}, h));
+  CHECK(h.t == Approx(4 + std::sqrt(0.75)).epsilon(1e-6));  // the hole's far wall
+  REQUIRE(e.intersect(rt::Ray{{-0.5f, 0, 0}, {0, 0, 1}, INFINITY, 1}, h));
+  CHECK(h.t == Approx(4).epsilon(1e-6));  // the box's face, whole again
+  // Mapping "uv" finds the leaf's own space at the ray's time: the sphere's centre
+  // in the world at u is its object-space centre.
+  for (double u : {0.0, 0.5, 1.0}) {
+    rt::SurfaceFrame f = rt::surface_frame(s, s.shapes[0], 1, ir::kNoPart, 0, u);
+    CHECK(f.leaf == &s.parts[1]);
+    ir::Vec3 c = f.leaf_from_world.point({u, 0, 4});
+    CHECK(ir::length(c - ir::Vec3{0, 0, 4}) < 1e-12);
+  }
+  // A prototype is static geometry the BVH instances.
+  ir::Prototype proto;
+  proto.parts = {1};
+  s.prototypes.push_back(proto);
+  CHECK_FALSE(ir::validate(s).empty());
 }
