@@ -202,8 +202,7 @@ TEST_CASE("camera-ray packets render the one-ray picture", "[kernels][packets]")
       o->crop = rt::RenderOptions::Window{3, 2, 34, 21};
       o->sample_range = std::pair<std::uint32_t, std::uint32_t>{1, 3};
     }
-    rt::RenderResult a = rt::render(s, packets), b = rt::render(s, alone),
-                     t = rt::render(s, timed);
+    rt::RenderResult a = rt::render(s, packets), b = rt::render(s, alone), t = rt::render(s, timed);
     INFO("sampler " << ir::to_string(kind));
     REQUIRE(a.image.rgb.size() == std::size_t(31 * 19 * 3));
     CHECK(a.image.rgb == b.image.rgb);
