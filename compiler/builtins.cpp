@@ -25,7 +25,7 @@ bool common_dims(const Value* args, int n, int& dims, BuiltinError& err) {
   dims = 1;
   for (int i = 0; i < n; ++i) {
     if (args[i].type != Type::Number && !args[i].is_vector()) {
-      err = {i, "expects a number or a vector, got a " + std::string(type_name(args[i].type))};
+      err = {i, "expects a number or a vector, got " + a_type(args[i].type)};
       return false;
     }
     int d = args[i].dims();
@@ -138,7 +138,7 @@ double random_hash(double n) {
 
 bool octaves_ok(const Value& v, int arg, BuiltinError& err) {
   if (v.type != Type::Number) {
-    err = {arg, "expects a number of octaves, got a " + std::string(type_name(v.type))};
+    err = {arg, "expects a number of octaves, got " + a_type(v.type)};
     return false;
   }
   if (v.n != std::floor(v.n)) {
@@ -186,14 +186,14 @@ bool builtin_numeric(int id) {
 Value call_builtin(int id, const Value* a, BuiltinError& err) {
   auto vec3_arg = [&](int i) {
     if (a[i].type != Type::Vec3) {
-      err = {i, "expects a 3-vector (a point), got a " + std::string(type_name(a[i].type))};
+      err = {i, "expects a 3-vector (a point), got " + a_type(a[i].type)};
       return false;
     }
     return true;
   };
   auto vec_arg = [&](int i) {
     if (!a[i].is_vector()) {
-      err = {i, "expects a vector, got a " + std::string(type_name(a[i].type))};
+      err = {i, "expects a vector, got " + a_type(a[i].type)};
       return false;
     }
     return true;
@@ -224,15 +224,14 @@ Value call_builtin(int id, const Value* a, BuiltinError& err) {
     case Id::dot:
       if (!vec_arg(0) || !vec_arg(1)) return Value::error();
       if (a[0].type != a[1].type) {
-        err = {1, "dot of a " + std::string(type_name(a[0].type)) + " and a " +
-                      std::string(type_name(a[1].type))};
+        err = {1, "dot of " + a_type(a[0].type) + " and " + a_type(a[1].type)};
         return Value::error();
       }
       return Value::number(ir::dot(a[0].v, a[1].v));
     case Id::cross:
       for (int i = 0; i < 2; ++i)
         if (a[i].type != Type::Vec3) {
-          err = {i, "expects a 3-vector, got a " + std::string(type_name(a[i].type))};
+          err = {i, "expects a 3-vector, got " + a_type(a[i].type)};
           return Value::error();
         }
       return Value::vec3(ir::cross(a[0].v, a[1].v));
@@ -252,7 +251,7 @@ Value call_builtin(int id, const Value* a, BuiltinError& err) {
     }
     case Id::random:
       if (a[0].type != Type::Number) {
-        err = {0, "expects a number, got a " + std::string(type_name(a[0].type))};
+        err = {0, "expects a number, got " + a_type(a[0].type)};
         return Value::error();
       }
       return Value::number(random_hash(a[0].n));

@@ -227,8 +227,8 @@ Evaluator::Flow Evaluator::exec_for(const Stmt& s, const std::shared_ptr<Env>& e
       ok = false;
     } else if (v.type != Type::Number) {
       error(DiagKind::TypeMismatch, s.exprs[i]->span,
-            std::string(i == 2 ? "the step" : "a loop bound") + " must be a number, not a " +
-                std::string(type_name(v.type)));
+            std::string(i == 2 ? "the step" : "a loop bound") + " must be a number, not " +
+                a_type(v.type));
       ok = false;
     }
   }
@@ -288,7 +288,7 @@ Evaluator::Flow Evaluator::exec_if(const Stmt& s, const std::shared_ptr<Env>& en
     if (c.is_error()) return Flow::Normal;
     if (c.type != Type::Bool) {
       error(DiagKind::TypeMismatch, s.exprs[i]->span,
-            "a condition must be a bool, not a " + std::string(type_name(c.type)))
+            "a condition must be a bool, not " + a_type(c.type))
           .note("there is no truthiness: write a comparison such as 'x != 0'");
       return Flow::Normal;
     }
@@ -440,8 +440,7 @@ bool Evaluator::eval_pair(const PropInfo& info, const Expr& expr, const std::sha
     return take(1, expr, &b) && ok;
   }
   error(DiagKind::InvalidValue, expr.span,
-        "'" + std::string(info.name) + "' takes " + describe(info) + ", not a " +
-            std::string(type_name(v.type)));
+        "'" + std::string(info.name) + "' takes " + describe(info) + ", not " + a_type(v.type));
   return false;
 }
 

@@ -102,6 +102,8 @@ Value Evaluator::eval_name(const Expr& e, const std::shared_ptr<Env>& env) {
   for (const Env* s = env.get(); s; s = s->parent.get())
     for (const Binding& b : s->vars) visible.push_back(symbol_names_[b.symbol]);
   for (int i = 0; i < builtin_count(); ++i) visible.push_back(builtin_info(i).name);
+  // A misspelt constructor (`material difuse 0.5`) reads as a name.
+  for (std::string_view c : lang::constructor_names()) visible.push_back(c);
   auto d = error(DiagKind::UndefinedName, e.span, "'" + e.text + "' is not defined");
   std::string guess = lang::closest_match(e.text, visible);
   if (!guess.empty())
@@ -127,7 +129,7 @@ Value Evaluator::eval_vector(const Expr& e, const std::shared_ptr<Env>& env) {
       bad = true;
     } else if (v.type != Type::Number && v.type != Type::Bool) {
       error(DiagKind::TypeMismatch, e.args[i]->span,
-            "a vector's components must be numbers, not a " + std::string(type_name(v.type)));
+            "a vector's components must be numbers, not " + a_type(v.type));
       bad = true;
     } else if (i < 3) {
       // A bool component is 1 or 0: §3 writes `<(a > b), 1, 2>` as a vector, and POV-Ray
@@ -149,8 +151,7 @@ Value Evaluator::eval_unary(const Expr& e, const std::shared_ptr<Env>& env) {
   if (v.is_error()) return v;
   if (e.op == TokenKind::Bang) {
     if (v.type != Type::Bool) {
-      error(DiagKind::TypeMismatch, e.args[0]->span,
-            "'!' needs a bool, not a " + std::string(type_name(v.type)));
+      error(DiagKind::TypeMismatch, e.args[0]->span, "'!' needs a bool, not " + a_type(v.type));
       return Value::error();
     }
     return Value::boolean(!v.truth());
@@ -161,7 +162,7 @@ Value Evaluator::eval_unary(const Expr& e, const std::shared_ptr<Env>& env) {
     return v;
   }
   error(DiagKind::TypeMismatch, e.args[0]->span,
-        "'-' needs a number or a vector, not a " + std::string(type_name(v.type)));
+        "'-' needs a number or a vector, not " + a_type(v.type));
   return Value::error();
 }
 
@@ -173,7 +174,7 @@ Value Evaluator::eval_binary(const Expr& e, const std::shared_ptr<Env>& env) {
     if (a.is_error()) return a;
     if (a.type != Type::Bool) {
       error(DiagKind::TypeMismatch, e.args[0]->span,
-            "'" + spelling() + "' needs bools, not a " + std::string(type_name(a.type)));
+            "'" + spelling() + "' needs bools, not " + a_type(a.type));
       return Value::error();
     }
     if ((op == TokenKind::AmpAmp) != a.truth()) return a;  // short circuit
@@ -181,7 +182,7 @@ Value Evaluator::eval_binary(const Expr& e, const std::shared_ptr<Env>& env) {
     if (b.is_error()) return b;
     if (b.type != Type::Bool) {
       error(DiagKind::TypeMismatch, e.args[1]->span,
-            "'" + spelling() + "' needs bools, not a " + std::string(type_name(b.type)));
+            "'" + spelling() + "' needs bools, not " + a_type(b.type));
       return Value::error();
     }
     return b;
@@ -196,8 +197,7 @@ Value Evaluator::eval_binary(const Expr& e, const std::shared_ptr<Env>& env) {
   if (a.is_error() || b.is_error()) return Value::error();
   auto mismatch = [&](const char* what) {
     error(DiagKind::TypeMismatch, e.span,
-          "'" + spelling() + "' " + what + ", not a " + std::string(type_name(a.type)) + " and a " +
-              std::string(type_name(b.type)))
+          "'" + spelling() + "' " + what + ", not " + a_type(a.type) + " and " + a_type(b.type))
         .note(e.args[0]->span, "left operand: " + std::string(type_name(a.type)))
         .note(e.args[1]->span, "right operand: " + std::string(type_name(b.type)));
     return Value::error();
@@ -267,12 +267,11 @@ Value Evaluator::eval_component(const Expr& e, const std::shared_ptr<Env>& env) 
   int idx = e.text == "x" ? 0 : e.text == "y" ? 1 : e.text == "z" ? 2 : -1;
   if (!v.is_vector()) {
     error(DiagKind::TypeMismatch, e.args[0]->span,
-          "'." + e.text + "' needs a vector, not a " + std::string(type_name(v.type)));
+          "'." + e.text + "' needs a vector, not " + a_type(v.type));
     return Value::error();
   }
   if (idx < 0 || idx >= v.dims()) {
-    error(DiagKind::BadComponent, e.span,
-          "a " + std::string(type_name(v.type)) + " has no component '" + e.text + "'")
+    error(DiagKind::BadComponent, e.span, a_type(v.type) + " has no component '" + e.text + "'")
         .note(v.dims() == 2 ? "its components are .x and .y" : "its components are .x, .y and .z");
     return Value::error();
   }
@@ -322,8 +321,7 @@ Value Evaluator::eval_call(const Expr& e, const std::shared_ptr<Env>& env, bool 
   }
   if (callee.is_error()) return callee;
   if (callee.type != Type::Function) {
-    error(DiagKind::NotCallable, e.args[0]->span,
-          "a " + std::string(type_name(callee.type)) + " cannot be called");
+    error(DiagKind::NotCallable, e.args[0]->span, a_type(callee.type) + " cannot be called");
     return Value::error();
   }
   const Closure& fn = builtin_fn ? *builtin_fn : callee.func();

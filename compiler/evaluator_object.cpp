@@ -62,8 +62,7 @@ Value Evaluator::eval_object(std::string_view keyword, const BlockInfo* block,
     if (v.is_error()) return v;
     if (v.type != Type::Object) {
       error(DiagKind::TypeMismatch, body.subject->span,
-            "'" + std::string(keyword) + " { }' places an object value, not a " +
-                std::string(type_name(v.type)))
+            "'" + std::string(keyword) + " { }' places an object value, not " + a_type(v.type))
           .note("an object value is an object block used as a value: let w = union { ... };");
       return Value::error();
     }

@@ -283,8 +283,7 @@ std::string describe(const PropInfo& p) {
 std::string check_value(const PropInfo& p, Value& v, bool* integral) {
   if (integral) *integral = false;
   auto wrong = [&]() {
-    return "'" + std::string(p.name) + "' takes " + describe(p) + ", not a " +
-           std::string(type_name(v.type));
+    return "'" + std::string(p.name) + "' takes " + describe(p) + ", not " + a_type(v.type);
   };
   auto check_components = [&](int dims) -> std::string {
     for (int i = 0; i < dims; ++i) {

@@ -125,7 +125,7 @@ SVal ShadingCompiler::name(const Expr& e, Scope* s) {
     case Type::String:
     case Type::Material:
     case Type::Pattern:
-      return unsupported(e.span, "'" + e.text + "' is a " + std::string(type_name(found->type)) +
+      return unsupported(e.span, "'" + e.text + "' is " + a_type(found->type) +
                                      ", which a shading function cannot use");
     case Type::Object:
       return impure(e.span, "object value '" + e.text + "'");
@@ -144,7 +144,7 @@ SVal ShadingCompiler::vector(const Expr& e, Scope* s) {
       bad = true;
     } else if (v.type != Type::Number && v.type != Type::Bool) {
       error(DiagKind::TypeMismatch, a->span,
-            "a vector's components must be numbers, not a " + std::string(type_name(v.type)));
+            "a vector's components must be numbers, not " + a_type(v.type));
       bad = true;
     }
     all_const &= v.is_const();
@@ -168,8 +168,7 @@ SVal ShadingCompiler::unary(const Expr& e, Scope* s) {
   if (v.is_error()) return v;
   if (e.op == TokenKind::Bang) {
     if (v.type != Type::Bool) {
-      error(DiagKind::TypeMismatch, e.args[0]->span,
-            "'!' needs a bool, not a " + std::string(type_name(v.type)));
+      error(DiagKind::TypeMismatch, e.args[0]->span, "'!' needs a bool, not " + a_type(v.type));
       return SVal::error();
     }
     if (v.is_const()) return SVal::constant(Value::boolean(!v.k.truth()));
@@ -177,7 +176,7 @@ SVal ShadingCompiler::unary(const Expr& e, Scope* s) {
   }
   if (v.type != Type::Number && !is_vec(v.type)) {
     error(DiagKind::TypeMismatch, e.args[0]->span,
-          "'-' needs a number or a vector, not a " + std::string(type_name(v.type)));
+          "'-' needs a number or a vector, not " + a_type(v.type));
     return SVal::error();
   }
   if (v.is_const()) {
@@ -242,7 +241,7 @@ SVal ShadingCompiler::binary(const Expr& e, Scope* s) {
     if (a.is_error()) return a;
     if (a.type != Type::Bool) {
       error(DiagKind::TypeMismatch, e.args[0]->span,
-            "'" + spelling() + "' needs bools, not a " + std::string(type_name(a.type)));
+            "'" + spelling() + "' needs bools, not " + a_type(a.type));
       return SVal::error();
     }
     if (a.is_const() && is_and != a.k.truth()) return a;  // short circuit, as evaluated
@@ -250,7 +249,7 @@ SVal ShadingCompiler::binary(const Expr& e, Scope* s) {
     if (b.is_error()) return b;
     if (b.type != Type::Bool) {
       error(DiagKind::TypeMismatch, e.args[1]->span,
-            "'" + spelling() + "' needs bools, not a " + std::string(type_name(b.type)));
+            "'" + spelling() + "' needs bools, not " + a_type(b.type));
       return SVal::error();
     }
     if (a.is_const()) return b;
@@ -263,8 +262,7 @@ SVal ShadingCompiler::binary(const Expr& e, Scope* s) {
   if (a.is_error() || b.is_error()) return SVal::error();
   auto mismatch = [&](const char* what) {
     error(DiagKind::TypeMismatch, e.span,
-          "'" + spelling() + "' " + what + ", not a " + std::string(type_name(a.type)) + " and a " +
-              std::string(type_name(b.type)))
+          "'" + spelling() + "' " + what + ", not " + a_type(a.type) + " and " + a_type(b.type))
         .note(e.args[0]->span, "left operand: " + std::string(type_name(a.type)))
         .note(e.args[1]->span, "right operand: " + std::string(type_name(b.type)));
     return SVal::error();
@@ -330,13 +328,12 @@ SVal ShadingCompiler::component(const Expr& e, Scope* s) {
   int idx = e.text == "x" ? 0 : e.text == "y" ? 1 : e.text == "z" ? 2 : -1;
   if (!is_vec(v.type)) {
     error(DiagKind::TypeMismatch, e.args[0]->span,
-          "'." + e.text + "' needs a vector, not a " + std::string(type_name(v.type)));
+          "'." + e.text + "' needs a vector, not " + a_type(v.type));
     return SVal::error();
   }
   int dims = v.type == Type::Vec2 ? 2 : 3;
   if (idx < 0 || idx >= dims) {
-    error(DiagKind::BadComponent, e.span,
-          "a " + std::string(type_name(v.type)) + " has no component '" + e.text + "'");
+    error(DiagKind::BadComponent, e.span, a_type(v.type) + " has no component '" + e.text + "'");
     return SVal::error();
   }
   if (v.is_const()) return SVal::constant(Value::number(v.k.v[idx]));
@@ -363,8 +360,7 @@ SVal ShadingCompiler::call(const Expr& e, Scope* s) {
   }
   if (callee.is_error()) return callee;
   if (callee.kind != SVal::LocalFn && callee.type != Type::Function) {
-    error(DiagKind::NotCallable, e.args[0]->span,
-          "a " + std::string(type_name(callee.type)) + " cannot be called");
+    error(DiagKind::NotCallable, e.args[0]->span, a_type(callee.type) + " cannot be called");
     return SVal::error();
   }
   const Closure* fn = callee.kind == SVal::Const ? &callee.k.func() : nullptr;
@@ -457,12 +453,12 @@ SVal ShadingCompiler::call_builtin_fn(int id, const Expr& e, std::vector<SVal>& 
   if (!row) return unsupported(e.span, "'" + std::string(info.name) + "' has no native op");
   auto want_vec = [&](int i) {
     if (is_vec(args[i].type)) return true;
-    fail(i, "expects a vector, got a " + std::string(type_name(args[i].type)));
+    fail(i, "expects a vector, got " + a_type(args[i].type));
     return false;
   };
   auto want_vec3 = [&](int i) {
     if (args[i].type == Type::Vec3) return true;
-    fail(i, "expects a 3-vector (a point), got a " + std::string(type_name(args[i].type)));
+    fail(i, "expects a 3-vector (a point), got " + a_type(args[i].type));
     return false;
   };
   switch (row->kind) {
@@ -471,8 +467,7 @@ SVal ShadingCompiler::call_builtin_fn(int id, const Expr& e, std::vector<SVal>& 
       for (std::size_t i = 0; i < args.size(); ++i) {
         Type ti = args[i].type;
         if (ti != Type::Number && !is_vec(ti))
-          return fail(static_cast<int>(i),
-                      "expects a number or a vector, got a " + std::string(type_name(ti)));
+          return fail(static_cast<int>(i), "expects a number or a vector, got " + a_type(ti));
         if (ti == Type::Number) continue;
         if (t != Type::Number && t != ti)
           return fail(static_cast<int>(i), "mixes a 2-vector and a 3-vector");
@@ -486,8 +481,7 @@ SVal ShadingCompiler::call_builtin_fn(int id, const Expr& e, std::vector<SVal>& 
     case BKind::Dot:
       if (!want_vec(0) || !want_vec(1)) return SVal::error();
       if (args[0].type != args[1].type)
-        return fail(1, "dot of a " + std::string(type_name(args[0].type)) + " and a " +
-                           std::string(type_name(args[1].type)));
+        return fail(1, "dot of " + a_type(args[0].type) + " and " + a_type(args[1].type));
       return apply(args[0].type == Type::Vec3 ? row->s : row->v, Type::Number, args[0], &args[1]);
     case BKind::Cross:
       if (!want_vec3(0) || !want_vec3(1)) return SVal::error();
@@ -500,7 +494,7 @@ SVal ShadingCompiler::call_builtin_fn(int id, const Expr& e, std::vector<SVal>& 
       return apply(args[0].type == Type::Vec3 ? row->s : row->v, args[0].type, args[0]);
     case BKind::Random:
       if (args[0].type != Type::Number)
-        return fail(0, "expects a number, got a " + std::string(type_name(args[0].type)));
+        return fail(0, "expects a number, got " + a_type(args[0].type));
       return apply(Op::Random, Type::Number, args[0]);
     case BKind::Noise:
     case BKind::Cells:
@@ -513,8 +507,7 @@ SVal ShadingCompiler::call_builtin_fn(int id, const Expr& e, std::vector<SVal>& 
         BuiltinError err;
         if (!octaves_ok(args[1].k, 1, err)) return fail(err.arg, err.message, err.kind);
       } else if (args[1].type != Type::Number) {
-        return fail(1,
-                    "expects a number of octaves, got a " + std::string(type_name(args[1].type)));
+        return fail(1, "expects a number of octaves, got " + a_type(args[1].type));
       }
       if (!p_ok) return SVal::error();
       return apply(row->s, Type::Number, args[0], &args[1]);
@@ -530,9 +523,8 @@ SVal ShadingCompiler::select(const SVal& c, const SVal& a, const SVal& b, Span a
   if (a.kind == SVal::None) return b;
   if (b.kind == SVal::None) return a;
   if (a.type != b.type || !runtime_type(a.type))
-    return unsupported(at, "this returns a " + std::string(type_name(a.type)) +
-                               " on one run-time path and a " + std::string(type_name(b.type)) +
-                               " on another");
+    return unsupported(at, "this returns " + a_type(a.type) + " on one run-time path and " +
+                               a_type(b.type) + " on another");
   if (a.is_const() && b.is_const() && a.type == Type::Bool) {
     if (a.k.truth() == b.k.truth()) return a;
     return a.k.truth() ? c : apply(Op::Not, Type::Bool, c);

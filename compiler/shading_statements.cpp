@@ -122,7 +122,7 @@ Outcome ShadingCompiler::if_stmt(const Stmt& st, std::size_t i, Scope* s) {
   if (c.is_error()) return bad;
   if (c.type != Type::Bool) {
     error(DiagKind::TypeMismatch, st.exprs[i]->span,
-          "a condition must be a bool, not a " + std::string(type_name(c.type)))
+          "a condition must be a bool, not " + a_type(c.type))
         .note("there is no truthiness: write a comparison such as 'x != 0'");
     return bad;
   }
@@ -149,8 +149,8 @@ Outcome ShadingCompiler::for_stmt(const Stmt& st, Scope* s) {
     if (b[i].is_error()) return bad;
     if (b[i].type != Type::Number) {
       error(DiagKind::TypeMismatch, st.exprs[i]->span,
-            std::string(i == 2 ? "the step" : "a loop bound") + " must be a number, not a " +
-                std::string(type_name(b[i].type)));
+            std::string(i == 2 ? "the step" : "a loop bound") + " must be a number, not " +
+                a_type(b[i].type));
       return bad;
     }
     if (!b[i].is_const()) {
@@ -189,7 +189,7 @@ Outcome ShadingCompiler::for_stmt(const Stmt& st, Scope* s) {
 bool ShadingCompiler::run(const Value& fn, Span fn_span, ir::Program& out) {
   if (fn.type != Type::Function) {
     error(DiagKind::InvalidValue, fn_span,
-          "a shading function must be a function, not a " + std::string(type_name(fn.type)));
+          "a shading function must be a function, not " + a_type(fn.type));
     return false;
   }
   const Closure& c = fn.func();
@@ -223,8 +223,7 @@ bool ShadingCompiler::run(const Value& fn, Span fn_span, ir::Program& out) {
   }
   if (r.type != Type::Number) {
     error(DiagKind::InvalidValue, fn_span,
-          "a shading function must return a number, and '" + c.name + "' returns a " +
-              std::string(type_name(r.type)))
+          "a shading function must return a number, and '" + c.name + "' returns " + a_type(r.type))
         .note(c.def->name_span, "defined here");
     return false;
   }

@@ -35,6 +35,12 @@ std::string_view type_name(Type t) {
   return "?";
 }
 
+std::string a_type(Type t) {
+  if (t == Type::None) return "nothing";
+  std::string_view n = type_name(t);
+  return (n.front() == 'e' || n.front() == 'o' ? "an " : "a ") + std::string(n);
+}
+
 namespace {
 std::string num(double x) {
   if (x == 0) return "0";

@@ -33,6 +33,8 @@ enum class Type : std::uint8_t {
 };
 
 std::string_view type_name(Type t);
+// The type with its article, as a message says it: "a number", "an object", "nothing".
+std::string a_type(Type t);
 
 struct Env;
 struct ObjectNode;  // object_value.hpp

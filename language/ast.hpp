@@ -220,6 +220,8 @@ struct Program {
 bool is_constructor_name(std::string_view name);
 // A constructor written only as `NAME { ... }` (constructors.def).
 bool is_block_only_constructor(std::string_view name);
+// Every constructor name (constructors.def), for "did you mean" notes.
+std::vector<std::string_view> constructor_names();
 // groups.def: CSG blocks, the instance block, and the object properties.
 bool is_group_name(std::string_view name);
 bool is_instance_name(std::string_view name);

@@ -46,6 +46,13 @@ bool is_constructor_name(std::string_view name) {
   return false;
 }
 
+std::vector<std::string_view> constructor_names() {
+  return {
+#define SNELL_CONSTRUCTOR(ctor, type) #ctor,
+#include "language/constructors.def"
+  };
+}
+
 bool is_block_only_constructor(std::string_view name) {
 #define SNELL_CONSTRUCTOR(ctor, type)
 #define SNELL_BLOCK_CONSTRUCTOR(ctor, type) \
@@ -404,8 +411,20 @@ BlockPtr Parser::parse_block_rest(const Token& open, std::string_view owner) {
       scratch_properties_.push_back(std::move(prop));
       continue;
     }
-    error_here(DiagKind::ExpectedProperty,
-               "expected a property name or '}', found " + describe(cur_));
+    auto d = error_here(DiagKind::ExpectedProperty,
+                        "expected a property name or '}', found " + describe(cur_));
+    // `material difuse 0.5`: the name was meant as a constructor, and its argument
+    // is what the block could not read.
+    if (scratch_properties_.size() > mark) {
+      const Property& last = scratch_properties_.back();
+      if (last.value && !last.block && last.value->kind == ExprKind::Name &&
+          !is_constructor_name(last.value->text)) {
+        std::string guess = closest_match(last.value->text, constructor_names());
+        if (!guess.empty())
+          d.note(last.value->span,
+                 "'" + last.value->text + "' is no constructor; did you mean '" + guess + "'?");
+      }
+    }
     // Skip the stray tokens (with any groups they open) up to the next name.
     int level = 0;
     while (!at(TokenKind::EndOfFile)) {

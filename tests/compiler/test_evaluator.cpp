@@ -333,6 +333,24 @@ TEST_CASE("an unknown property says what the block takes, or the near miss", "[c
   CHECK(d[1].notes[0].message == "did you mean 'radius'?");
 }
 
+TEST_CASE("a misspelt constructor gets a near miss, as a name and before its argument",
+          "[compiler]") {
+  // `material difuse` reads as a name; `material mirorr 0.5` leaves `0.5` where a
+  // property name should be. Both say which constructor was meant.
+  auto c = run("sphere { material difuse }\n");
+  const auto& d = c->diags.diagnostics();
+  REQUIRE(d.size() == 1);
+  CHECK(d[0].kind == lang::DiagKind::UndefinedName);
+  REQUIRE(d[0].notes.size() == 1);
+  CHECK(d[0].notes[0].message == "did you mean 'diffuse'?");
+  auto p = run("sphere { material mirorr 0.5 }\n");
+  const auto& e = p->diags.diagnostics();
+  REQUIRE(e.size() == 1);
+  CHECK(e[0].kind == lang::DiagKind::ExpectedProperty);
+  REQUIRE(e[0].notes.size() == 1);
+  CHECK(e[0].notes[0].message == "'mirorr' is no constructor; did you mean 'mirror'?");
+}
+
 TEST_CASE("a non-finite value says NaN or infinity and what makes one", "[compiler]") {
   auto c = run("let a = sqrt(-1);\nlet b = log(0);\n");
   const auto& d = c->diags.diagnostics();
