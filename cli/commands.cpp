@@ -503,7 +503,13 @@ int run_render(const CliArgs& o) {
   for (std::int64_t f = run.begin; f < run.end; ++f) {
     FrameJob job{o, copts, {}, f, frame_clock(frames, f), f == run.begin, &total};
     for (const std::string& out : outputs) job.outputs.push_back(frame_output_name(out, f));
-    if (int code = render_frame(job); code >= 0) return code;
+    if (int code = render_frame(job); code >= 0) {
+      // Which frame it was: an error that depends on the clock names no frame.
+      if (code != kExitOk)
+        std::cerr << fmt::format("snell: note: in frame {} of --frames {} (clock {})\n", f,
+                                 o.frames, job.clock);
+      return code;
+    }
     std::int64_t done = f - run.begin + 1;
     double elapsed = overall.seconds();
     if (!o.quiet)

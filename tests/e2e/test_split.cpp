@@ -305,6 +305,17 @@ TEST_CASE("animation: --frames renders each frame with its clock and names it",
   REQUIRE(run(a + " --frames 9..11 -o " + (tmp / "w#.exr")) == 0);
   CHECK(fs::exists(tmp / "w9.exr"));
   CHECK(fs::exists(tmp / "w10.exr"));
+  // An error that only a later frame's clock makes says which frame it was; the
+  // frames before it are written.
+  std::ofstream(tmp / "late.scn") << "settings { resolution <4, 2> }\n"
+                                     "sphere { radius 0.5 - clock }\n";
+  CHECK(run("render " + (tmp / "late.scn") + " --quiet --frames 0..4 -o " + (tmp / "l#.exr"),
+            tmp / "log.txt") == 1);
+  log = slurp(tmp / "log.txt");
+  CHECK(log.find("error") != std::string::npos);
+  CHECK(log.find("in frame 2 of --frames 0..4 (clock 0.5)") != std::string::npos);
+  CHECK(fs::exists(tmp / "l1.exr"));
+  CHECK(!fs::exists(tmp / "l2.exr"));
 }
 
 TEST_CASE("animation and split options: usage errors exit 2 and write nothing",
