@@ -481,6 +481,13 @@ Value Evaluator::eval_constructor(const Expr& e, const std::shared_ptr<Env>& env
   // does not exist), as a mesh's is.
   if (made.type == Type::Pattern && std::holds_alternative<ir::ImageTexture>(made.pat().pattern))
     for (const EvaluatedProp& p : props)
+      if (p.info->name == "color_map") {
+        // Every pattern takes one (§15), but an image gives colours, not values.
+        diags_.report(DiagKind::UnusedColorMap, p.name_span,
+                      "an image gives its own colours: this 'color_map' is not used");
+      }
+  if (made.type == Type::Pattern && std::holds_alternative<ir::ImageTexture>(made.pat().pattern))
+    for (const EvaluatedProp& p : props)
       if (p.info->name == "file") {
         ir::Texture t = made.pat();
         if (!builder_.add_image(p.value.str(), p.value_span,
