@@ -121,6 +121,28 @@ struct Scene {
   std::vector<AreaLight> area_lights;
 };
 
+// Whether `pred(part)` holds for a leaf of the CSG tree at `root`, the leaves in
+// the order written (Scene::parts[part]); stops at the first that does. Children
+// come before their parents (validate), so only such links are followed: the walk
+// ends on any tree. A stack of its own, as trees may be deep.
+template <class P>
+bool any_csg_leaf(const Scene& scene, std::uint32_t root, P&& pred) {
+  std::vector<std::uint32_t> todo{root};
+  while (!todo.empty()) {
+    std::uint32_t i = todo.back();
+    todo.pop_back();
+    if (i >= scene.csg_nodes.size()) continue;
+    const CsgNode& n = scene.csg_nodes[i];
+    if (n.leaf()) {
+      if (n.part < scene.parts.size() && pred(n.part)) return true;
+      continue;
+    }
+    for (auto it = n.children.rbegin(); it != n.children.rend(); ++it)
+      if (*it < i) todo.push_back(*it);
+  }
+  return false;
+}
+
 // The materials of the surfaces `shape` shows, in the order written: its own; a
 // CSG object's leaves'; an instance's parts' (a part without one takes the
 // instance's, `inherited` here). Not the material a CSG block or instance carries
@@ -130,21 +152,11 @@ void surface_materials(const Scene& scene, const Shape& shape, F&& f,
                        std::uint32_t inherited = kInheritMaterial) {
   const std::uint32_t own = shape.material == kInheritMaterial ? inherited : shape.material;
   if (const Csg* c = shape.as<Csg>()) {
-    std::vector<std::uint32_t> todo{c->node};
-    while (!todo.empty()) {
-      std::uint32_t i = todo.back();
-      todo.pop_back();
-      if (i >= scene.csg_nodes.size()) continue;
-      const CsgNode& n = scene.csg_nodes[i];
-      if (n.leaf()) {
-        if (n.part < scene.parts.size()) {
-          std::uint32_t m = scene.parts[n.part].material;
-          f(m == kInheritMaterial ? own : m);
-        }
-        continue;
-      }
-      for (auto it = n.children.rbegin(); it != n.children.rend(); ++it) todo.push_back(*it);
-    }
+    any_csg_leaf(scene, c->node, [&](std::uint32_t part) {
+      std::uint32_t m = scene.parts[part].material;
+      f(m == kInheritMaterial ? own : m);
+      return false;
+    });
   } else if (const Instance* in = shape.as<Instance>()) {
     if (in->prototype < scene.prototypes.size())
       for (std::uint32_t p : scene.prototypes[in->prototype].parts)

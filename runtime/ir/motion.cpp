@@ -41,23 +41,9 @@ Motion nest_motion(const Motion& outer, const Transform& world_from_frame, const
 bool moves(const Shape& s, const Scene& scene) {
   if (s.motion().moves()) return true;
   const Csg* csg = s.as<Csg>();
-  if (!csg) return false;
-  // Children come before their parents (validate), so the walk is finite; a stack
-  // of its own, as trees may be deep.
-  std::vector<std::uint32_t> todo{csg->node};
-  while (!todo.empty()) {
-    std::uint32_t i = todo.back();
-    todo.pop_back();
-    if (i >= scene.csg_nodes.size()) continue;
-    const CsgNode& n = scene.csg_nodes[i];
-    if (n.leaf()) {
-      if (n.part < scene.parts.size() && scene.parts[n.part].motion().moves()) return true;
-      continue;
-    }
-    for (std::uint32_t c : n.children)
-      if (c < i) todo.push_back(c);
-  }
-  return false;
+  return csg && any_csg_leaf(scene, csg->node, [&](std::uint32_t part) {
+           return scene.parts[part].motion().moves();
+         });
 }
 
 namespace {

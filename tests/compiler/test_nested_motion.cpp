@@ -40,6 +40,16 @@ ir::Scene compiled(const std::string& body) {
   return c->scene;
 }
 
+// `src` (a whole scene) compiled and rendered on one thread.
+rt::RenderResult rendered(const std::string& src) {
+  auto c = test::compile_text(src);
+  INFO(test::messages(*c));
+  REQUIRE(c->status == compile::CompileStatus::Ok);
+  rt::RenderOptions o;
+  o.threads = 1;
+  return rt::render(c->scene, o);
+}
+
 // Traces a 48×48 fan of rays from the camera at time u through `moving` and at
 // shutter open through `still`: every ray hits or misses both alike, at the same
 // distance (relative error below `tol`) and with the same normal. Returns the
@@ -205,12 +215,7 @@ TEST_CASE("a moving CSG child blurs: a hole smeared along its path", "[compiler]
       " } }\n"
       "  material diffuse 1\n"
       "}\n";
-  auto c = test::compile_text(src);
-  INFO(test::messages(*c));
-  REQUIRE(c->status == compile::CompileStatus::Ok);
-  rt::RenderOptions o;
-  o.threads = 1;
-  rt::RenderResult res = rt::render(c->scene, o);
+  rt::RenderResult res = rendered(src);
   CHECK(res.stats.time_samples > 0);
   double worst = 0, darkest = 1;
   for (std::uint32_t x = 0; x < 61; ++x) {
@@ -254,12 +259,7 @@ TEST_CASE("a space \"object\" pattern moves with a moving CSG leaf", "[compiler]
       "    motion { translate <1.8, 0, 0> } }\n"
       "  box { min <-5, -5, -5> max <5, 5, 5> }\n"
       "}\n";
-  auto c = test::compile_text(src);
-  INFO(test::messages(*c));
-  REQUIRE(c->status == compile::CompileStatus::Ok);
-  rt::RenderOptions o;
-  o.threads = 1;
-  rt::RenderResult res = rt::render(c->scene, o);
+  rt::RenderResult res = rendered(src);
   double red = 0, blue = 0;
   for (std::uint32_t y = 0; y < 32; ++y)
     for (std::uint32_t x = 0; x < 48; ++x)
