@@ -700,7 +700,7 @@ void store_ray(RTCRay16& p, std::size_t k, const Ray& r) {
 // (test_packets.cpp checks it against the one-ray queries). A lone ray is traced
 // alone: a packet of one costs more than it saves.
 void EmbreeScene::intersect(std::span<const Ray> rays, std::span<Hit> hits,
-                            std::span<std::uint8_t> found) const {
+                            std::span<std::uint8_t> found, bool coherent) const {
   const Impl& im = *impl_;
   for (std::size_t b = 0; b < rays.size(); b += kPacket) {
     std::size_t n = std::min(kPacket, rays.size() - b);
@@ -717,7 +717,8 @@ void EmbreeScene::intersect(std::span<const Ray> rays, std::span<Hit> hits,
     }
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
-    ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    ctx.flags =
+        coherent ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
     rtcIntersect16(valid, im.world.scene, &ctx, &rh);
     for (std::size_t k = 0; k < n; ++k) {
       RTCRayHit one = make_rayhit(rays[b + k]);

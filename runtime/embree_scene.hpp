@@ -56,15 +56,17 @@ class EmbreeScene {
   // the one-ray forms return them, traced as packets of up to 16 rays. They pay
   // for coherent rays: camera rays of neighbouring pixels (2.4-2.9x in
   // bench_trace), and the shadow rays of a packet's hits to one light cell (the
-  // pixel loop's deferred direct light), and a shading point's light-grid cells
+  // lit nodes of a packet's trees at one step), and a shading point's light-grid cells
   // (one origin; since static spheres meet a packet eight lanes at a time, 6-9 %
   // faster whole renders of examples/glass and lights than one ray at a time,
   // where they had been 1.3x slower). Shadow packets use Embree's incoherent
   // (hybrid) mode: the coherent one made boxes' point-light packets 1.8 -> 2.5x
   // one at a time, but spheres' and examples/hello's slower, and a grid's cells
   // from one point 3-6 % slower.
-  void intersect(std::span<const Ray> rays, std::span<Hit> hits,
-                 std::span<std::uint8_t> found) const;
+  // `coherent`: Embree's coherent mode (camera rays); off, its incoherent (hybrid)
+  // mode, for the rays of a packet's trees after the first bounce.
+  void intersect(std::span<const Ray> rays, std::span<Hit> hits, std::span<std::uint8_t> found,
+                 bool coherent = true) const;
   void occluded(std::span<const Ray> rays, std::span<std::uint8_t> blocked) const;
 
   ir::Vec3 origin() const { return origin_; }

@@ -6,7 +6,8 @@
 // "spheres" ratio also measures that choice; the "boxes" scene is triangles only in
 // both, so its ratio is the integrator's own overhead.
 //
-// Usage: bench_trace [width height spp [rounds [scene]]]   (default 640 480 4 5, all)
+// Usage: bench_trace [width height spp [rounds [scene [snell]]]]   (default 640 480 4 5, all)
+// A sixth argument "snell" runs only Snell's 1-thread render (for profiling it).
 #include <embree3/rtcore.h>
 #include <fmt/format.h>
 #include <pmmintrin.h>
@@ -112,6 +113,7 @@ std::uint64_t total_rays(const rt::RenderStats& s) {
 
 struct Measure {
   std::uint64_t rays = 0;
+  rt::RenderStats stats;
   double seconds = 0;
   double mrays() const { return seconds > 0 ? rays / seconds * 1e-6 : 0; }
 };
@@ -120,7 +122,7 @@ Measure run_snell(const ir::Scene& s, int threads) {
   rt::RenderOptions o;
   o.threads = threads;
   rt::RenderResult r = rt::render(s, o);
-  return {total_rays(r.stats), r.stats.render_seconds};
+  return {total_rays(r.stats), r.stats, r.stats.render_seconds};
 }
 
 // The raw driver: the same geometry (camera-relative, float), camera and rays.
@@ -236,7 +238,7 @@ Measure run_raw(const ir::Scene& s, int threads) {
   double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   rtcReleaseScene(sc);
   rtcReleaseDevice(dev);
-  return {rays.load(), secs};
+  return {rays.load(), {}, secs};
 }
 
 }  // namespace
@@ -302,6 +304,7 @@ int main(int argc, char** argv) {
   if (argc >= 4) w = std::atoi(argv[1]), h = std::atoi(argv[2]), spp = std::atoi(argv[3]);
   if (argc >= 5) rounds = std::max(1, std::atoi(argv[4]));
   if (argc >= 6) only = argv[5];
+  const bool snell_only = argc >= 7 && std::string(argv[6]) == "snell";
   fmt::print("bench_trace: {}x{} at {} spp; Mrays/s, best of {} interleaved rounds\n", w, h, spp,
              rounds);
   fmt::print("{:<8} {:>12} {:>12} {:>10} {:>12} {:>12} {:>10} {:>10}\n", "scene", "snell 1T",
@@ -314,6 +317,15 @@ int main(int argc, char** argv) {
     auto keep = [](Measure& best, Measure m) {
       if (best.seconds == 0 || m.seconds < best.seconds) best = m;
     };
+    if (snell_only) {
+      for (int r = 0; r < rounds; ++r) keep(s1, run_snell(b.scene, 1));
+      const rt::RenderStats& st = s1.stats;
+      fmt::print(
+          "{:<8} {:>12.2f}  (camera {}, shadow {}, reflection {}, refraction {}, glossy {})\n",
+          b.name, s1.mrays(), st.camera_rays, st.shadow_rays, st.reflection_rays,
+          st.refraction_rays, st.glossy_rays);
+      continue;
+    }
     for (int r = 0; r < rounds; ++r) {
       keep(s1, run_snell(b.scene, 1));
       if (b.raw_ok) keep(r1, run_raw(b.scene, 1));

@@ -60,7 +60,7 @@ struct Hit {
 // (`scale`: offset_scale). Robustness #1 and #18: the bounded offset is tens of
 // ulps of the triangle's vertices instead of 256 ulps of the point, so slabs
 // 1e-5 thick are still two surfaces.
-inline Vec3f spawn_origin(const Hit& h, Vec3f n, float scale) {
+[[gnu::always_inline]] inline Vec3f spawn_origin(const Hit& h, Vec3f n, float scale) {
   if (!(h.offset > 0)) return offset_ray_origin(h.p, n, scale);
   Vec3f o = h.p + n * h.offset;
   // Round away from the surface, so rounding never gives back part of the offset.

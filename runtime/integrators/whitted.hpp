@@ -78,15 +78,22 @@ class WhittedIntegrator final : public Integrator {
     Highlight highlight;
     Vec3f wo;
   };
-  // A camera ray's root node whose direct light the pixel loop gathers for the
-  // whole packet (finish_deferred): set by radiance() only when the root is lit
-  // and has no children, so what radiance() returned plus lit_radiance is the
-  // tree's sum in li's order. Kernels with interiors never defer.
-  struct Deferred {
-    bool on = false;
+  // A lit node's light, gathered once its children are known: its query, the lobe
+  // that reflects it and the node's weight (lit_radiance).
+  struct LitNode {
     DirectQuery q;
     DiffuseLobe lobe;
     Color w;
+  };
+  // At most this many trees go through the ray tree at once (the pixel loop's packet).
+  static constexpr std::uint32_t kMaxLanes = 16;
+  // One lane of a packet's trees (radiance_packet): its next node, the direction
+  // of that node's ray (see li), its sum so far and its stack.
+  struct LaneTree {
+    NodeOf<false> node;
+    Vec3f d;
+    Color total;
+    std::vector<NodeOf<false>> stack;
   };
   // The ray tree's stack: scratch owned by each thread.
   struct Scratch {
@@ -95,8 +102,10 @@ class WhittedIntegrator final : public Integrator {
     SurfaceFrame surface;               // §17 "uv": the frame of the hit being shaded
     NodeOf<false> plain_kids[2];        // a node's children, before they are traced
     NodeOf<true> tracked_kids[2];
-    Deferred light;  // a lit node's direct-light query when it is not deferred
-    Hit hit;         // the hit of a node the pixel loop did not trace
+    LitNode light;  // li's lit node
+    Hit hit;        // the hit of a node the pixel loop did not trace
+    LaneTree lanes[kMaxLanes];
+    LitNode lane_light[kMaxLanes];
     template <bool Tracked>
     auto& stack() {
       if constexpr (Tracked)
@@ -115,19 +124,22 @@ class WhittedIntegrator final : public Integrator {
   // Radiance along a camera ray. `probe` takes the counters and, when on, the
   // readable ray tree and the time of each ray by kind. Child and shadow rays keep
   // the camera ray's time.
-  // `primary`: the camera ray's hit when the pixel loop traced it in a packet.
-  // `defer`: where the root may leave its direct light for finish_deferred.
   template <class K, class P>
-  Color radiance(const Ray& camera_ray, const SampleContext& sc, Scratch& stack, P& probe,
-                 const PrimaryHit* primary = nullptr, Deferred* defer = nullptr) const {
-    return li<Kernel<K::bits & kShadeAxes>>(camera_ray, sc, stack, probe, primary, defer);
+  Color radiance(const Ray& camera_ray, const SampleContext& sc, Scratch& stack, P& probe) const {
+    return li<Kernel<K::bits & kShadeAxes>>(camera_ray, sc, stack, probe);
   }
-  // Adds each deferred root's light to col[i] (radiance()'s result for lane i),
-  // the lanes' shadow rays traced as packets.
+  // The radiance of the packet's camera rays in the lanes of `todo` (a bit per
+  // lane): col[i] what radiance() gives for rays[i], from its packet hit (hits[i],
+  // found[i]). The trees go node by node side by side: each step traces the
+  // lanes' next rays as one packet and their lit nodes' shadow rays as packets
+  // (cell by cell), and each lane sums its nodes in li's order, so every colour is
+  // li's bit for bit. Kernels with interiors go lane by lane through li.
   template <class K>
-  void finish_deferred(std::uint32_t n, Deferred* defer, const SampleContext* sc,
+  void radiance_packet(std::uint32_t n, std::uint32_t todo, const Ray* rays, Hit* hits,
+                       const std::uint8_t* found, const SampleContext* sc, Scratch& scratch,
                        RenderStats& stats, Color* col) const {
-    finish_deferred_in<Kernel<K::bits & kShadeAxes>>(n, defer, sc, stats, col);
+    radiance_lanes<Kernel<K::bits & kShadeAxes>>(n, todo, rays, hits, found, sc, scratch, stats,
+                                                 col);
   }
   // The general kernel with a probe that has every instrument (tests, --pixel).
   Color li(const Ray& camera_ray, const SampleContext& sc, RenderStats& stats, Scratch& stack,
@@ -137,8 +149,6 @@ class WhittedIntegrator final : public Integrator {
   }
 
   TileFn tile_kernel(unsigned bits) const override;
-  // At most this many lanes defer at once (the pixel loop's packet).
-  static constexpr std::uint32_t kMaxDeferred = 16;
   std::string to_string() const override;
 
  private:
@@ -146,12 +156,25 @@ class WhittedIntegrator final : public Integrator {
   static constexpr unsigned kShadeAxes = (1u << kAxis_area) | (1u << kAxis_dielectric) |
                                          (1u << kAxis_absorption) | (1u << kAxis_interiors) |
                                          (1u << kAxis_finish);
+  // `primary`: the camera ray's hit when the pixel loop traced it in a packet.
   template <class K, class P>
   Color li(const Ray& camera_ray, const SampleContext& sc, Scratch& stack, P& probe,
-           const PrimaryHit* primary = nullptr, Deferred* defer = nullptr) const;
+           const PrimaryHit* primary = nullptr) const;
+  template <class K, class P>
+  Color node_radiance(NodeOf<K::interiors>& node, Vec3f d, Hit& hit, bool found,
+                      const SampleContext& sc, Scratch& scratch, P& probe, LitNode& dl, bool& lit,
+                      int& nkids, std::string& desc) const;
   template <class K>
-  void finish_deferred_in(std::uint32_t n, Deferred* defer, const SampleContext* sc,
-                          RenderStats& stats, Color* col) const;
+  void radiance_lanes(std::uint32_t n, std::uint32_t todo, const Ray* rays, Hit* hits,
+                      const std::uint8_t* found, const SampleContext* sc, Scratch& scratch,
+                      RenderStats& stats, Color* col) const;
+  // The two commonest roots of a packet, without node_radiance: a camera ray that
+  // escapes to a constant background (`out` its radiance, no light), and one on a
+  // plain diffuse surface (plain_diffuse_), whose light query is set as
+  // node_radiance sets it (`out` 0, `lit`). False: node_radiance must take it.
+  template <class K>
+  bool plain_root(const Ray& ray, const Hit& hit, bool found, RenderStats& stats, LitNode& dl,
+                  Color& out, bool& lit) const;
 
  private:
   // `lanes` queries' direct light, each as direct() alone would sum it: e[i] the
@@ -208,6 +231,15 @@ class WhittedIntegrator final : public Integrator {
   bool stochastic_branching_ = false;  // settings.branching "stochastic"
   bool roulette_ = false;              // settings.termination "roulette"
   bool glossy_mis_ = false;            // settings.glossy_sampling "mis" with area lights
+  // Per material: a diffuse one with a constant colour and no bump, whose camera-ray
+  // hits the pixel loop's packet shades without node_radiance (plain_root). The
+  // commonest root of all; the general node was a quarter of a diffuse scene's time.
+  struct PlainDiffuse {
+    bool on = false;
+    Color albedo;
+    Highlight highlight;
+  };
+  std::vector<PlainDiffuse> plain_diffuse_;
 };
 
 }  // namespace snell::rt

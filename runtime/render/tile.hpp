@@ -171,14 +171,14 @@ Color sample_alone(const TileContext& c, std::uint32_t x, std::uint32_t y, std::
 
 // The tile in blocks of kBlock × kBlock pixels: sample s of every pixel of a block
 // is one packet of camera rays (EmbreeScene::intersect over a span, rtcIntersect16),
-// and each ray's tree starts from its packet hit. A root that is lit and has no
-// children leaves its direct light to I::finish_deferred, which traces the
-// packet's shadow rays to each light sample cell as one packet (neighbouring hits
-// to one cell are coherent rays). A packet hit or shadow answer is bit for bit the
-// ray's traced alone (tests/hardcases/test_packets.cpp), the light is summed in
-// the tree's order, and every pixel still sums its samples in order, so the image
-// is what the one-ray loop makes. Coherent camera rays trace 2.4-2.9x faster as
-// packets, shadow rays 2.3-3.1x (bench_trace's query rows).
+// and the rays' trees go through I::radiance_packet side by side from their
+// packet hits: each step traces the lanes' next rays as one packet and the shadow
+// rays of their lit nodes to each light sample cell as one packet (neighbouring
+// hits to one cell are coherent rays). A packet hit or shadow answer is bit for
+// bit the ray's traced alone (tests/hardcases/test_packets.cpp), each tree sums
+// its nodes in its own order, and every pixel still sums its samples in order, so
+// the image is what the one-ray loop makes. Coherent camera rays trace 2.4-2.9x
+// faster as packets, shadow rays 2.3-3.1x (bench_trace's query rows).
 inline constexpr std::uint32_t kBlock = 4;
 template <class K, class I>
 void render_tile_packets(const TileContext& c, std::uint32_t x0, std::uint32_t y0, std::uint32_t x1,
@@ -191,7 +191,6 @@ void render_tile_packets(const TileContext& c, std::uint32_t x0, std::uint32_t y
   static_assert(kN <= Camera::kMaxBlock && kN <= SobolLanes::kLanes);
   Ray rays[kN];
   Hit hits[kN];
-  typename I::Deferred defer[kN];
   SampleContext sc[kN];  // per pixel of the block; the index is set per sample
   std::uint8_t found[kN];
   std::uint64_t pixel[kN];
@@ -208,7 +207,7 @@ void render_tile_packets(const TileContext& c, std::uint32_t x0, std::uint32_t y
           px[n] = x, py[n] = y, pixel[n] = pixel_hash(c.spec, x, y);
           keys[n] = CameraKeys(c.spec, pixel[n]);
           lanes.set(n, keys[n]);
-          dims[n] = DimCache();
+          dims[n].reset();
           sc[n] = SampleContext{c.spec, x, y, 0, pixel[n], &dims[n]};
           sum[n][0] = sum[n][1] = sum[n][2] = 0, kept[n] = 0;
         }
@@ -216,21 +215,24 @@ void render_tile_packets(const TileContext& c, std::uint32_t x0, std::uint32_t y
         camera_rays<K>(c, n, keys, lanes, px, py, s, rays, stats);
         c.embree->intersect(std::span<const Ray>(rays, n), std::span<Hit>(hits, n),
                             std::span<std::uint8_t>(found, n));
-        Color col[kN];
+        // Every lane's colour is set below before it is read; left unset, not zeroed.
+        union Cols {
+          Cols() {}
+          Color v[kN];
+        } cols;
+        Color* const col = cols.v;
+        std::uint32_t todo = 0;  // the lanes whose trees go through the packet
         for (std::uint32_t i = 0; i < n; ++i) {
           sc[i].index = s;
           if (c.measure_cost && timed_sample(px[i], py[i], s)) {
             // Its clock is its own: traced alone (the packet's answer for it unused).
             col[i] =
                 sample_alone<K, I>(c, px[i], py[i], s, pixel[i], keys[i], dims[i], wk, false, true);
-            continue;  // not deferred: finish_deferred passes it by
+            continue;
           }
-          Probe<false> probe{stats};
-          PrimaryHit primary{&hits[i], found[i] != 0};
-          col[i] =
-              integrator.template radiance<K>(rays[i], sc[i], scratch, probe, &primary, &defer[i]);
+          todo |= 1u << i;
         }
-        integrator.template finish_deferred<K>(n, defer, sc, stats, col);
+        integrator.template radiance_packet<K>(n, todo, rays, hits, found, sc, scratch, stats, col);
         for (std::uint32_t i = 0; i < n; ++i) {
           if (!is_finite(col[i])) {
             ++stats.nonfinite_samples;

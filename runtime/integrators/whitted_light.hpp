@@ -1,0 +1,284 @@
+// The Whitted integrator's direct light (whitted.hpp): the shadow rays of lit
+// nodes, cell by cell of each area light, as packets across lanes or across one
+// point's cells; the §14 shadow rays through interiors; and the glossy-MIS light
+// samples. Member templates of WhittedIntegrator, included only by whitted.cpp,
+// where the kernels are instantiated.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <span>
+#include <type_traits>
+
+#include "runtime/integrators/whitted.hpp"
+#include "runtime/shading/glossy_mis.hpp"
+
+namespace snell::rt {
+
+namespace whitted_detail {
+
+// Child path keys: slot 1 = reflection, 2 = refraction. Sampler dimensions of a node
+// are hashed from its key, so a dimension names the same decision in every sample
+// of a pixel (what stratification across samples needs).
+inline std::uint64_t child_key(std::uint64_t key, std::uint64_t slot) {
+  return hash_combine(key, slot);
+}
+inline std::uint32_t node_dim(std::uint64_t key, std::uint64_t what) {
+  return kDimFirstFree + std::uint32_t(hash_combine(key, what) & 0x7fffffffu);
+}
+// The name of area light li's grid cell (iu, iv) among a node's dimensions.
+inline std::uint64_t light_cell(std::size_t li, std::uint32_t iu, std::uint32_t iv) {
+  return (std::uint64_t(li + 1) << 40) | (iv << 20) | iu;
+}
+
+// An array of n trivially destructible T made without running T's default
+// member initialisers (each element is assigned before it is read).
+template <class T, std::uint32_t n>
+union Uninit {
+  static_assert(std::is_trivially_destructible_v<T>);
+  Uninit() {}
+  T v[n];
+};
+
+}  // namespace whitted_detail
+
+// Irradiance-like sum E so that a Lambertian surface of albedo ρ reflects ρ/π · E:
+// point lights I·cosθ/d²; area lights a jittered nu×nv grid over the parallelogram,
+// each sample L·cosθ_surf·cosθ_light·A/(d²·nu·nv) (area-to-solid-angle factor).
+// Shadow rays leave from the offset hit point and end at the offset light sample, so
+// the light's own surface never blocks them; everything else does (§7).
+//
+// §14: a shadow ray leaving a point inside prioritised solids passes through the
+// surfaces a ray would pass through there (they are not there for any ray), is
+// blocked by the first that counts, and carries the Beer factor of the medium it
+// travels in. From air the first surface always counts, so there it is the plain
+// occlusion query.
+template <class K>
+bool WhittedIntegrator::shadow_blocked(const Ray& ray, const Interior* in, Color& tr) const {
+  if constexpr (K::interiors) {
+    if (in && !in->empty()) {
+      Ray r = ray;
+      Interior cur = *in;
+      for (int passes = 0; passes <= kMaxPassThroughs; ++passes) {
+        Hit h;
+        if (!embree_.intersect(r, h)) {
+          if constexpr (K::absorption) {
+            if (const ir::Vec3* a = interiors_.absorb(in->medium())) {
+              double dist = double(length(r.dir)) * double(r.tmax);
+              tr = tr * to_float(beer(a->x, dist), beer(a->y, dist), beer(a->z, dist));
+            }
+          }
+          return false;
+        }
+        if (h.kind != Hit::Kind::Shape || interiors_.priority(h.index) == 0) return true;
+        Crossing c = interiors_.cross(cur, h.index, dot(r.dir, h.ng) < 0);
+        if (c.counts) return true;
+        cur = c.after;
+        r.tnear = std::nextafter(h.t, float(INFINITY));
+      }
+      return true;  // past kMaxPassThroughs: taken as blocked
+    }
+  }
+  (void)in, (void)tr;
+  return embree_.occluded(ray);
+}
+
+template <class K, std::uint32_t kLanes>
+void WhittedIntegrator::direct_lanes(std::uint32_t lanes_in, const DirectQuery* const* qs,
+                                     const SampleContext* const* sc, RenderStats& stats,
+                                     const Interior* in, Color* e, Color* spec) const {
+  static_assert(kLanes == 1 || !K::interiors, "shadow rays through interiors go one by one");
+  // A constant for one lane, so the tree's own direct light has no lane loops.
+  const std::uint32_t lanes = kLanes == 1 ? 1 : lanes_in;
+  auto q = [qs](std::uint32_t i) -> const DirectQuery& { return *qs[i]; };
+  // Left unset: every lane's sample is written before it is read (sample_li), and
+  // default-made ones were a 1.6 KB memset per call.
+  whitted_detail::Uninit<LightSample, kLanes> ls_store;
+  whitted_detail::Uninit<Ray, kLanes> ray_store;
+  LightSample* const ls = ls_store.v;
+  Ray* const rays = ray_store.v;
+  std::uint8_t lit[kLanes] = {}, blocked[kLanes];
+  std::uint32_t slot[kLanes];  // lane i's shadow ray: rays[slot[i]]
+  for (std::uint32_t i = 0; i < lanes; ++i) {
+    e[i] = Color(0);
+    if constexpr (K::finish) spec[i] = Color(0);
+  }
+  (void)spec, (void)in;
+  // One unblocked light sample of lane i: its share of E, and with highlights its
+  // f_spec · value · g (the same G as the Lambertian sum: f · L_i · cosθ_i).
+  auto add_sample = [&](std::uint32_t i, const LightSample& s, Color tr) [[gnu::always_inline]] {
+    (void)tr;
+    if constexpr (K::interiors)
+      e[i] += s.value * s.g * tr;
+    else
+      e[i] += s.value * s.g;
+    if constexpr (K::finish) {
+      if (q(i).highlight.on()) {
+        float f = q(i).highlight.eval(q(i).wo, q(i).n, normalize(s.to));
+        Color c = s.value * (s.g * f);
+        if constexpr (K::interiors) c = c * tr;
+        spec[i] += c;
+      }
+    }
+  };
+  auto add = [&](std::uint32_t i, Color tr) [[gnu::always_inline]] { add_sample(i, ls[i], tr); };
+  // The lanes' samples of one light (lit[i]: lane i has one) traced and added.
+  auto trace = [&]() [[gnu::always_inline]] {
+    std::uint32_t m = 0;
+    for (std::uint32_t i = 0; i < lanes; ++i)
+      if (lit[i]) slot[i] = m, rays[m++] = ls[i].shadow;
+    stats.shadow_rays += m;
+    if constexpr (kLanes == 1) {
+      Color tr(1);
+      if (m && !shadow_blocked<K>(rays[0], in, tr) && std::isfinite(ls[0].g)) add(0, tr);
+    } else {
+      if (m == 0) return;
+      embree_.occluded(std::span<const Ray>(rays, m), std::span<std::uint8_t>(blocked, m));
+      for (std::uint32_t i = 0; i < lanes; ++i)
+        if (lit[i] && !blocked[slot[i]] && std::isfinite(ls[i].g)) add(i, Color(1));
+    }
+  };
+  // Each lane's jitter in light cell `cell` (its node's dimension for the cell):
+  // sobol and stratified draws of a packet go through sobol2_lanes /
+  // stratified2_lanes (all lanes at once, the same numbers as one by one), when
+  // the lanes share a sample index and a path key (a packet's roots do).
+  static_assert(SobolLanes::kLanes == StrataLanes::kLanes);
+  constexpr std::uint32_t kJitter = kLanes > SobolLanes::kLanes ? kLanes : SobolLanes::kLanes;
+  alignas(64) float ju[kJitter], jv[kJitter];
+  auto draw_cell = [&](std::uint64_t cell) {
+    if constexpr (kLanes > 1) {
+      const ir::SamplerKind kind = sc[0]->spec.kind;
+      bool shared = kind != ir::SamplerKind::Independent;
+      for (std::uint32_t i = 1; i < lanes && shared; ++i)
+        shared = sc[i]->index == sc[0]->index && q(i).key == q(0).key;
+      if (shared && kind == ir::SamplerKind::Sobol) {
+        const std::uint32_t dim = whitted_detail::node_dim(q(0).key, cell);
+        whitted_detail::Uninit<SobolLanes, 1> keys;
+        for (std::uint32_t i = 0; i < lanes; ++i) keys.v[0].set(i, key2(*sc[i], dim));
+        for (std::uint32_t i = lanes; i % 4; ++i) keys.v[0].set(i, DimKey{});
+        sobol2_lanes(keys.v[0], lanes, sc[0]->index, ju, jv);
+        return;
+      }
+      if (shared) {
+        const std::uint32_t dim = whitted_detail::node_dim(q(0).key, cell);
+        whitted_detail::Uninit<StrataLanes, 1> keys;
+        for (std::uint32_t i = 0; i < lanes; ++i) keys.v[0].set(i, key2(*sc[i], dim));
+        for (std::uint32_t i = lanes; i < StrataLanes::kLanes; ++i) keys.v[0].key[i] = 0;
+        stratified2_lanes(sc[0]->spec, keys.v[0], lanes, sc[0]->index, ju, jv);
+        return;
+      }
+    }
+    for (std::uint32_t i = 0; i < lanes; ++i) {
+      Sample2 s = draw2(*sc[i], whitted_detail::node_dim(q(i).key, cell));
+      ju[i] = s.u, jv[i] = s.v;
+    }
+  };
+  for (const PointLightF& l : lights_.points) {
+    for (std::uint32_t i = 0; i < lanes; ++i)
+      lit[i] = l.sample_li(q(i).p, q(i).o, q(i).n, q(i).time, ls[i]);
+    trace();
+  }
+  if constexpr (!K::area) return;
+  if constexpr (kLanes == 1 && !K::interiors) {
+    // One shading point: its cells' shadow rays leave one origin towards one light,
+    // so they are traced as one packet (up to kCells at a time), then added in
+    // cell order, the order and the sums of tracing them one by one.
+    constexpr std::uint32_t kCells = 16;
+    whitted_detail::Uninit<LightSample, kCells> cs;
+    whitted_detail::Uninit<Ray, kCells> cr;
+    std::uint8_t has[kCells], cblocked[kCells];
+    for (std::size_t li = 0; li < lights_.areas.size(); ++li) {
+      const AreaLightF& l = lights_.areas[li];
+      if (l.dark()) continue;
+      // Row by row, as the one-by-one loop goes; a batch may end inside a row.
+      for (std::uint32_t iu = 0, iv = 0; iv < l.nv;) {
+        std::uint32_t n = 0, m = 0;
+        for (; iv < l.nv && n < kCells; ++n) {
+          draw_cell(whitted_detail::light_cell(li, iu, iv));
+          has[n] = l.sample_li(q(0).p, q(0).o, q(0).n, q(0).time, iu, iv, ju[0], jv[0],
+                               offset_scale_, cs.v[n]);
+          if (has[n]) cr.v[m++] = cs.v[n].shadow;
+          if (++iu == l.nu) iu = 0, ++iv;
+        }
+        stats.shadow_rays += m;
+        if (m == 1)
+          cblocked[0] = embree_.occluded(cr.v[0]);
+        else if (m > 1)
+          embree_.occluded(std::span<const Ray>(cr.v, m), std::span<std::uint8_t>(cblocked, m));
+        for (std::uint32_t j = 0, k = 0; j < n; ++j)
+          if (has[j] && !cblocked[k++] && std::isfinite(cs.v[j].g))
+            add_sample(0, cs.v[j], Color(1));
+      }
+    }
+    return;
+  }
+  for (std::size_t li = 0; li < lights_.areas.size(); ++li) {
+    const AreaLightF& l = lights_.areas[li];
+    if (l.dark()) continue;
+    for (std::uint32_t iv = 0; iv < l.nv; ++iv)
+      for (std::uint32_t iu = 0; iu < l.nu; ++iu) {
+        const std::uint64_t cell = whitted_detail::light_cell(li, iu, iv);
+        draw_cell(cell);
+        for (std::uint32_t i = 0; i < lanes; ++i)
+          lit[i] = l.sample_li(q(i).p, q(i).o, q(i).n, q(i).time, iu, iv, ju[i], jv[i],
+                               offset_scale_, ls[i]);
+        trace();
+      }
+  }
+}
+
+// The cells' jitter: the node's dimensions named by the cell with the top bit set,
+// which no direct-light cell (< 2^63) uses; a glossy node is never lit, so its
+// dimensions are its own either way. Instantiated only for kernels with area lights
+// (li calls it under K::area).
+template <class K>
+Color WhittedIntegrator::glossy_lights(const GlossySquare& lobe, Vec3f wo, Vec3f p, Vec3f o,
+                                       Vec3f nf, float time, std::uint64_t key,
+                                       const SampleContext& sc, const Interior* in,
+                                       std::uint64_t& n_rays) const {
+  Color sum(0);
+  const Vec3f r = incident(wo, nf).mirror();
+  for (std::size_t li = 0; li < lights_.areas.size(); ++li) {
+    const AreaLightF& l = lights_.areas[li];
+    if (l.dark()) continue;
+    const Vec3f half = (l.e1 + l.e2) * 0.5f;
+    if (!lobe_meets_ball(r, nf, lobe.blur, l.corner + half - p,
+                         0.5 * double(std::fmax(length(l.e1 + l.e2), length(l.e1 - l.e2)))))
+      continue;
+    for (std::uint32_t iv = 0; iv < l.nv; ++iv)
+      for (std::uint32_t iu = 0; iu < l.nu; ++iu) {
+        const std::uint64_t cell = whitted_detail::light_cell(li, iu, iv);
+        Sample2 j = draw2(sc, whitted_detail::node_dim(key, cell | (std::uint64_t(1) << 63)));
+        float u = (float(iu) + j.u) / float(l.nu), v = (float(iv) + j.v) / float(l.nv);
+        LightSample ls;
+        float cos_s, cos_l, d2;
+        if (!l.shadow_to(l.corner + l.e1 * u + l.e2 * v, p, o, nf, time, offset_scale_, ls, cos_s,
+                         cos_l, d2))
+          continue;
+        const double d = std::sqrt(double(d2));
+        const Vec3f wi = ls.to * float(1 / d);
+        const double x = mis_light_factor(
+            lobe.pdf(wo, nf, wi), cell_density(double(d2), double(cos_l) / d, l.cell_area()));
+        if (!(x > 0)) continue;  // the lobe cannot reach it: no shadow ray
+        ++n_rays;
+        Color tr(1);
+        if (shadow_blocked<K>(ls.shadow, in, tr)) continue;
+        sum += ls.value * tr * float(x);
+      }
+  }
+  return sum;
+}
+
+template <class K>
+Color WhittedIntegrator::lit_radiance(const DiffuseLobe& lobe, const DirectQuery& q, Color w,
+                                      Color e, [[maybe_unused]] Color spec) {
+  Color c = lobe.reflect(w, e);
+  // §16: the highlight's radiance f_spec · L_i · cosθ_i, weighted like the diffuse
+  // light; never carried by a branch.
+  if constexpr (K::finish)
+    if (q.highlight.on()) c += w * spec;
+  (void)q;
+  return c;
+}
+
+}  // namespace snell::rt
