@@ -28,6 +28,26 @@ std::string fmt_color(Color c) {
   return fmt::format("({:.6g}, {:.6g}, {:.6g})", c.x, c.y, c.z);
 }
 
+// The walk's next node after one with `nkids` children: its first child (its
+// siblings wait on the stack, the reflection is traced first), else the top of the
+// stack; `d` that node's direction. False: the tree is done.
+template <class N>
+[[gnu::always_inline]] inline bool next_node(std::vector<N>& stack, const N* kids, int nkids,
+                                             N& node, Vec3f& d) {
+  if (nkids > 0) {
+    for (int i = nkids - 1; i >= 1; --i) stack.push_back(kids[i]);
+    d = kids[0].ray.dir;
+    node = kids[0];
+  } else if (!stack.empty()) {
+    d = stack.back().ray.dir;
+    node = stack.back();
+    stack.pop_back();
+  } else {
+    return false;
+  }
+  return true;
+}
+
 struct TraceEntry {
   std::uint32_t depth;
   std::string text;
@@ -235,17 +255,7 @@ void WhittedIntegrator::radiance_lanes(std::uint32_t n, std::uint32_t todo, cons
         }
         if (lit) q[nlit] = &light[i].q, qsc[nlit] = &sc[i], lit_lane[nlit++] = i;
         // The lane's next node, as li walks.
-        if (nkids > 0) {
-          for (int k = nkids - 1; k >= 1; --k) t.stack.push_back(kids[k]);
-          t.d = kids[0].ray.dir;
-          t.node = kids[0];
-        } else if (!t.stack.empty()) {
-          t.d = t.stack.back().ray.dir;
-          t.node = t.stack.back();
-          t.stack.pop_back();
-        } else {
-          active &= ~(1u << i);
-        }
+        if (!next_node(t.stack, kids, nkids, t.node, t.d)) active &= ~(1u << i);
       }
       if (nlit > 0) {
         Uninit<Color, kMaxLanes> e_store, spec_store;  // direct_lanes sets them
@@ -630,17 +640,7 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
            fmt::format("{} depth {} weight {}: {} -> contribution {}", rt::to_string(node.kind),
                        node.depth, fmt_color(node.weight), desc, fmt_color(contrib))});
     }
-    if (nkids > 0) {
-      for (int i = nkids - 1; i >= 1; --i) stack.push_back(kids[i]);
-      d_next = kids[0].ray.dir;
-      node = kids[0];
-    } else if (!stack.empty()) {
-      d_next = stack.back().ray.dir;
-      node = stack.back();
-      stack.pop_back();
-    } else {
-      break;
-    }
+    if (!next_node(stack, kids, nkids, node, d_next)) break;
   }
   if constexpr (P::on) {
     if (trace)

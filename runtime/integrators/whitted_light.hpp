@@ -141,7 +141,8 @@ void WhittedIntegrator::direct_lanes(std::uint32_t lanes_in, const DirectQuery* 
   // Each lane's jitter in light cell `cell` (its node's dimension for the cell):
   // sobol and stratified draws of a packet go through sobol2_lanes /
   // stratified2_lanes (all lanes at once, the same numbers as one by one), when
-  // the lanes share a sample index and a path key (a packet's roots do).
+  // the lanes share a sample index (a packet's trees do; each lane keeps its own
+  // path key, so its own dimension).
   static_assert(SobolLanes::kLanes == StrataLanes::kLanes);
   constexpr std::uint32_t kJitter = kLanes > SobolLanes::kLanes ? kLanes : SobolLanes::kLanes;
   alignas(64) float ju[kJitter], jv[kJitter];
@@ -149,20 +150,20 @@ void WhittedIntegrator::direct_lanes(std::uint32_t lanes_in, const DirectQuery* 
     if constexpr (kLanes > 1) {
       const ir::SamplerKind kind = sc[0]->spec.kind;
       bool shared = kind != ir::SamplerKind::Independent;
-      for (std::uint32_t i = 1; i < lanes && shared; ++i)
-        shared = sc[i]->index == sc[0]->index && q(i).key == q(0).key;
+      for (std::uint32_t i = 1; i < lanes && shared; ++i) shared = sc[i]->index == sc[0]->index;
+      auto key = [&](std::uint32_t i) {
+        return key2(*sc[i], whitted_detail::node_dim(q(i).key, cell));
+      };
       if (shared && kind == ir::SamplerKind::Sobol) {
-        const std::uint32_t dim = whitted_detail::node_dim(q(0).key, cell);
         whitted_detail::Uninit<SobolLanes, 1> keys;
-        for (std::uint32_t i = 0; i < lanes; ++i) keys.v[0].set(i, key2(*sc[i], dim));
+        for (std::uint32_t i = 0; i < lanes; ++i) keys.v[0].set(i, key(i));
         for (std::uint32_t i = lanes; i % 4; ++i) keys.v[0].set(i, DimKey{});
         sobol2_lanes(keys.v[0], lanes, sc[0]->index, ju, jv);
         return;
       }
       if (shared) {
-        const std::uint32_t dim = whitted_detail::node_dim(q(0).key, cell);
         whitted_detail::Uninit<StrataLanes, 1> keys;
-        for (std::uint32_t i = 0; i < lanes; ++i) keys.v[0].set(i, key2(*sc[i], dim));
+        for (std::uint32_t i = 0; i < lanes; ++i) keys.v[0].set(i, key(i));
         for (std::uint32_t i = lanes; i < StrataLanes::kLanes; ++i) keys.v[0].key[i] = 0;
         stratified2_lanes(sc[0]->spec, keys.v[0], lanes, sc[0]->index, ju, jv);
         return;
