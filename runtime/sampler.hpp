@@ -340,6 +340,16 @@ std::vector<std::string> stratified_lanes_paths();
 bool stratified_lanes_with(const std::string& path, const SamplerSpec& spec, const StrataLanes& k,
                            std::uint32_t n, std::uint32_t index, float* u, float* v);
 
+// out[i] = hash_combine(a[i], b[i]) for all kHashLanes lanes (each array holds
+// that many), in the widest SIMD path this CPU has: a packet's per-lane dimension
+// keys (a ray tree's node dimensions, their pixels' keys) at once. The paths, best
+// first, and one by name, for tests.
+inline constexpr std::uint32_t kHashLanes = 16;
+void hash_combine_lanes(const std::uint64_t* a, const std::uint64_t* b, std::uint64_t* out);
+std::vector<std::string> hash_combine_lanes_paths();
+bool hash_combine_lanes_with(const std::string& path, const std::uint64_t* a,
+                             const std::uint64_t* b, std::uint64_t* out);
+
 // A pixel's keys of the dimensions its ray trees draw, remembered across its
 // samples: a ray tree's per-node dimensions (an area light's cells at the first
 // hit, a glossy lobe) are the same for every sample of a pixel that reaches the

@@ -10,6 +10,9 @@
 //   GF(2) affine transform per byte (gf2p8affineqb with the anti-diagonal matrix)
 //   and a byte shuffle; Sobol' dimension 1 is eight 16-entry tables, one per
 //   nibble of the index, each a single vpermd from a register. x86-64 only.
+// hash_combine_lanes: sixteen hash_combines at once (a packet's per-lane sampler
+// keys), in 64-bit lane products where the CPU has AVX-512 DQ.
+//
 // - generic: GCC/clang vector types, four lanes at a time (SSE2 on x86-64, NEON
 //   on ARM), with scalar lookups of the byte tables.
 #include <cstdlib>
@@ -272,6 +275,17 @@ SNELL_AVX512DQ_TARGET void stratified_lanes_avx512(const SamplerSpec& spec, cons
   (void)n;  // all 16 lanes are drawn and stored: the caller has room for them
 }
 
+SNELL_AVX512DQ_TARGET void hash_combine_lanes_avx512(const std::uint64_t* a, const std::uint64_t* b,
+                                                     std::uint64_t* out) {
+  for (int h = 0; h < 2; ++h) {
+    U64x8 x, y;
+    std::memcpy(&x, a + 8 * h, 64);
+    std::memcpy(&y, b + 8 * h, 64);
+    U64x8 r = hash64_8(x ^ (hash64_8(y) + 0x9e3779b97f4a7c15ull + (x << 6) + (x >> 2)));
+    std::memcpy(out + 8 * h, &r, 64);
+  }
+}
+
 bool avx512dq_supported() {
   __builtin_cpu_init();
   return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
@@ -326,6 +340,22 @@ const std::vector<Path<StrataFn>>& strata_available() {
 }
 const StrataFn g_stratified_lanes = strata_available().front().fn;
 
+void hash_combine_lanes_generic(const std::uint64_t* a, const std::uint64_t* b,
+                                std::uint64_t* out) {
+  for (std::uint32_t i = 0; i < kHashLanes; ++i) out[i] = hash_combine(a[i], b[i]);
+}
+using HashFn = void (*)(const std::uint64_t*, const std::uint64_t*, std::uint64_t*);
+const std::vector<Path<HashFn>>& hash_available() {
+#ifdef SNELL_HAVE_AVX512_PATH
+  static const auto paths =
+      paths_of<HashFn>(avx512dq_supported(), hash_combine_lanes_avx512, hash_combine_lanes_generic);
+#else
+  static const auto paths = paths_of<HashFn>(false, nullptr, hash_combine_lanes_generic);
+#endif
+  return paths;
+}
+const HashFn g_hash_combine_lanes = hash_available().front().fn;
+
 using LanesFn = void (*)(const SobolLanes&, std::uint32_t, std::uint32_t, float*, float*);
 const std::vector<Path<LanesFn>>& available() {
 #ifdef SNELL_HAVE_AVX512_PATH
@@ -371,6 +401,19 @@ bool stratified_lanes_with(const std::string& path, const SamplerSpec& spec, con
                            std::uint32_t n, std::uint32_t index, float* u, float* v) {
   const Path<StrataFn>* p = path_named(strata_available(), path);
   if (p) p->fn(spec, k, n, index, u, v);
+  return p != nullptr;
+}
+
+void hash_combine_lanes(const std::uint64_t* a, const std::uint64_t* b, std::uint64_t* out) {
+  g_hash_combine_lanes(a, b, out);
+}
+std::vector<std::string> hash_combine_lanes_paths() {
+  return names_of(hash_available());
+}
+bool hash_combine_lanes_with(const std::string& path, const std::uint64_t* a,
+                             const std::uint64_t* b, std::uint64_t* out) {
+  const Path<HashFn>* p = path_named(hash_available(), path);
+  if (p) p->fn(a, b, out);
   return p != nullptr;
 }
 

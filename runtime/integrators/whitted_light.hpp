@@ -139,32 +139,53 @@ void WhittedIntegrator::direct_lanes(std::uint32_t lanes_in, const DirectQuery* 
     }
   };
   // Each lane's jitter in light cell `cell` (its node's dimension for the cell):
-  // sobol and stratified draws of a packet go through sobol2_lanes /
-  // stratified2_lanes (all lanes at once, the same numbers as one by one), when
-  // the lanes share a sample index (a packet's trees do; each lane keeps its own
-  // path key, so its own dimension).
-  static_assert(SobolLanes::kLanes == StrataLanes::kLanes);
+  // Each lane's jitter in light cell `cell` (its node's dimension for the cell). A
+  // packet's lanes find their keys of it together (hash_combine_lanes: the node's
+  // dimension, then the pixel's key of it, what key2 finds one by one), then draw:
+  // independent in the same hashes, sobol and stratified through sobol2_lanes /
+  // stratified2_lanes when the lanes share a sample index (a packet's trees do).
+  // The same numbers as draw2 lane by lane (the packet test).
+  static_assert(SobolLanes::kLanes == StrataLanes::kLanes && kHashLanes == SobolLanes::kLanes);
   constexpr std::uint32_t kJitter = kLanes > SobolLanes::kLanes ? kLanes : SobolLanes::kLanes;
   alignas(64) float ju[kJitter], jv[kJitter];
   auto draw_cell = [&](std::uint64_t cell) {
     if constexpr (kLanes > 1) {
+      static_assert(kLanes <= kHashLanes);
+      alignas(64) std::uint64_t a[kHashLanes], b[kHashLanes], key[kHashLanes];
+      for (std::uint32_t i = 0; i < kHashLanes; ++i) a[i] = i < lanes ? q(i).key : 0, b[i] = cell;
+      hash_combine_lanes(a, b, key);  // node_dim's hash
+      for (std::uint32_t i = 0; i < kHashLanes; ++i) {
+        a[i] = i < lanes ? sc[i]->pixel : 0;
+        b[i] = kDimFirstFree + std::uint32_t(key[i] & 0x7fffffffu);
+      }
+      hash_combine_lanes(a, b, key);  // dim_key's
       const ir::SamplerKind kind = sc[0]->spec.kind;
-      bool shared = kind != ir::SamplerKind::Independent;
+      if (kind == ir::SamplerKind::Independent) {
+        for (std::uint32_t i = 0; i < kHashLanes; ++i)
+          a[i] = key[i], b[i] = i < lanes ? sc[i]->index : 0;
+        hash_combine_lanes(a, b, a);  // sample2's
+        for (std::uint32_t i = 0; i < lanes; ++i)
+          ju[i] = to_unit_float(std::uint32_t(a[i])),
+          jv[i] = to_unit_float(std::uint32_t(a[i] >> 32));
+        return;
+      }
+      bool shared = true;
       for (std::uint32_t i = 1; i < lanes && shared; ++i) shared = sc[i]->index == sc[0]->index;
-      auto key = [&](std::uint32_t i) {
-        return key2(*sc[i], whitted_detail::node_dim(q(i).key, cell));
-      };
       if (shared && kind == ir::SamplerKind::Sobol) {
         whitted_detail::Uninit<SobolLanes, 1> keys;
-        for (std::uint32_t i = 0; i < lanes; ++i) keys.v[0].set(i, key(i));
+        for (std::uint32_t i = 0; i < lanes; ++i) {
+          keys.v[0].index_seed[i] = std::uint32_t(key[i]);
+          keys.v[0].seed_u[i] = std::uint32_t(hash64(key[i] + 1));  // dim_key's seeds
+          keys.v[0].seed_v[i] = std::uint32_t(hash64(key[i] + 2));
+        }
         for (std::uint32_t i = lanes; i % 4; ++i) keys.v[0].set(i, DimKey{});
         sobol2_lanes(keys.v[0], lanes, sc[0]->index, ju, jv);
         return;
       }
       if (shared) {
         whitted_detail::Uninit<StrataLanes, 1> keys;
-        for (std::uint32_t i = 0; i < lanes; ++i) keys.v[0].set(i, key(i));
-        for (std::uint32_t i = lanes; i < StrataLanes::kLanes; ++i) keys.v[0].key[i] = 0;
+        for (std::uint32_t i = 0; i < StrataLanes::kLanes; ++i)
+          keys.v[0].key[i] = i < lanes ? key[i] : 0;
         stratified2_lanes(sc[0]->spec, keys.v[0], lanes, sc[0]->index, ju, jv);
         return;
       }

@@ -328,6 +328,31 @@ TEST_CASE("stratified draws in lanes give the one-by-one numbers, on every SIMD 
       stratified_lanes_with("no such path", SamplerSpec{}, StrataLanes{}, 1, 0, nullptr, nullptr));
 }
 
+TEST_CASE("hash_combine in lanes gives the one-by-one hashes, on every SIMD path", "[sampler]") {
+  // Keys with high bits, zero, all ones and neighbours (the shifts and products
+  // of every 64-bit lane), against the scalar hash_combine.
+  const std::vector<std::string> paths = hash_combine_lanes_paths();
+  REQUIRE(!paths.empty());
+  CHECK(paths.back() == "generic");
+  for (const std::string& path : paths) {
+    INFO("path " << path);
+    std::uint64_t mismatches = 0, n = 0;
+    for (std::uint64_t round = 0; round < 64; ++round) {
+      alignas(64) std::uint64_t a[kHashLanes], b[kHashLanes], out[kHashLanes];
+      for (std::uint32_t l = 0; l < kHashLanes; ++l) {
+        a[l] = round == 0 ? 0 : round == 1 ? ~0ull : hash64(round * 131 + l);
+        b[l] = l % 3 == 0 ? l : hash64(round ^ (std::uint64_t(l) << 40));
+      }
+      REQUIRE(hash_combine_lanes_with(path, a, b, out));
+      for (std::uint32_t l = 0; l < kHashLanes; ++l, ++n)
+        mismatches += out[l] != hash_combine(a[l], b[l]);
+    }
+    CHECK(n == 64 * kHashLanes);
+    CHECK(mismatches == 0);
+  }
+  CHECK_FALSE(hash_combine_lanes_with("no such path", nullptr, nullptr, nullptr));
+}
+
 TEST_CASE("the exact divisor agrees with division for every kind of divisor", "[sampler]") {
   for (std::uint32_t d :
        {1u, 2u, 3u, 7u, 10u, 255u, 256u, 65535u, 1000003u, 0x7fffffffu, 0xfffffffeu, 0xffffffffu}) {
