@@ -325,7 +325,10 @@ std::unique_ptr<Compilation> compile_source(const std::string& path, std::string
     Driver driver(*c, options);
     const lang::Program* program = driver.parse_file(path, text);
     driver.register_main(path, program);
-    if (c->diags.has_errors()) return;  // syntax errors stop before evaluation
+    // Syntax errors do not stop evaluation: the statements that parsed are still
+    // checked (§10: every independent error), the broken ones are skipped and the
+    // names in them are not reported undefined (Program::unsure_names). The scene
+    // is not finished below when anything was reported.
     SceneBuilder builder(c->sources, c->diags);
     Evaluator eval(
         c->sources, c->diags, builder,

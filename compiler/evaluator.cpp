@@ -99,6 +99,7 @@ void Evaluator::predeclare(const std::string& name, Value value) {
 }
 
 std::shared_ptr<Env> Evaluator::run_file(const lang::Program& program) {
+  unsure_names_.insert(program.unsure_names.begin(), program.unsure_names.end());
   auto env = std::make_shared<Env>();
   env->parent = prelude_;
   Frame frame;

@@ -252,6 +252,8 @@ class Evaluator {
   // Files already run (import runs each once) with their exported names.
   std::unordered_map<lang::FileId, std::shared_ptr<Env>> imported_;
   std::vector<lang::FileId> running_;  // the import chain, for cycle errors
+  // Names in statements a syntax error broke, of every file run (Program::unsure_names).
+  std::unordered_set<std::string> unsure_names_;
   // Every scope a `fn` was defined in. A closure holds its defining scope and that
   // scope holds the closure (so the function can call itself): a reference cycle
   // that shared_ptr never frees. The destructor clears these scopes' bindings once

@@ -98,6 +98,8 @@ Value Evaluator::eval_name(const Expr& e, const std::shared_ptr<Env>& env) {
   if (int id = symbol_builtin_[sym]; id >= 0) return builtin_value(id);
   for (const Env* s = env.get(); s; s = s->parent.get())
     if (s->failed_import) return Value::error();  // reported at the import
+  // A broken statement may have defined it: its syntax error is the report.
+  if (unsure_names_.count(e.text)) return Value::error();
   std::vector<std::string_view> visible;
   for (const Env* s = env.get(); s; s = s->parent.get())
     for (const Binding& b : s->vars) visible.push_back(symbol_names_[b.symbol]);

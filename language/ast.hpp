@@ -205,6 +205,10 @@ struct Program {
   // The parsed file, set by parse(): dump_ast prints line:col from it. Owned by the
   // SourceManager, which outlives every Program parsed from it.
   const SourceFile* source = nullptr;
+  // Every name in a statement a syntax error broke (from its start to where the
+  // parser picked up again): one of them found undefined is not reported, since
+  // the broken statement may be what defined it (§10: independent errors only).
+  std::vector<std::string> unsure_names;
   // Where the Expr nodes live. Declared after `statements` so that a move
   // assignment replaces the old nodes before their arena; the destructor clears
   // `statements` first for the same reason.

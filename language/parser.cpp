@@ -57,6 +57,7 @@ Parser::Parser(const SourceManager& sources, FileId file, DiagnosticEngine& diag
 }
 
 void Parser::advance() {
+  if (cur_.kind == TokenKind::Identifier) names_seen_.push_back(cur_.text);
   prev_kind_ = cur_.kind;
   last_end_ = cur_.span.end;
   ++consumed_;
@@ -206,7 +207,15 @@ Program Parser::parse_program() {
   program.file = file_;
   parse_statements(program.statements, false);
   program.arena = std::move(arena_);
+  std::sort(unsure_.begin(), unsure_.end());
+  unsure_.erase(std::unique(unsure_.begin(), unsure_.end()), unsure_.end());
+  program.unsure_names = std::move(unsure_);
   return program;
+}
+
+void Parser::make_unsure(std::size_t mark) {
+  for (std::size_t i = mark; i < names_seen_.size(); ++i) unsure_.emplace_back(names_seen_[i]);
+  names_seen_.resize(mark);  // each once, however deep the statement
 }
 
 // statements -> { statement }      (up to '}' when nested, else to the end of file)
@@ -219,12 +228,19 @@ void Parser::parse_statements(std::vector<StmtPtr>& out, bool nested) {
       continue;
     }
     if (panic_) {
+      std::size_t mark = names_seen_.size();
       synchronize();
+      make_unsure(mark);
       continue;
     }
     std::uint64_t before = consumed_;
+    std::size_t mark = names_seen_.size(), errors = diags_.error_count();
     if (StmtPtr s = parse_statement()) out.push_back(std::move(s));
     if (consumed_ == before) advance();  // always make progress
+    if (panic_ || diags_.error_count() > errors)
+      make_unsure(mark);
+    else if (!nested)
+      names_seen_.resize(mark);  // a whole statement: its names are sure
   }
 }
 

@@ -93,6 +93,11 @@ class Parser {
   std::uint32_t last_end_ = 0;  // end offset of the last consumed token
   std::uint64_t consumed_ = 0;  // tokens consumed so far (progress checks)
   bool panic_ = false;
+  // Every identifier consumed so far, and the names of broken statements
+  // (Program::unsure_names): names_seen_ from `mark` on become unsure.
+  std::vector<std::string_view> names_seen_;
+  std::vector<std::string> unsure_;
+  void make_unsure(std::size_t mark);
   bool in_vector_ = false;  // parsing an element of a vector literal at its top level
   // The '>' that closed the last vector literal (a hint when a comparison in a
   // vector closed it early: `<1, a > b, 2>`).

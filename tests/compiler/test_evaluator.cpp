@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <set>
 
 #include "compiler/builtins.hpp"
 #include "compiler/compile.hpp"
@@ -361,4 +362,30 @@ TEST_CASE("a non-finite value says NaN or infinity and what makes one", "[compil
   CHECK(d[1].message == "this expression evaluates to -inf (not a finite number)");
   REQUIRE(d[1].notes.size() == 1);
   CHECK(d[1].notes[0].message.find("division by zero") != std::string::npos);
+}
+
+TEST_CASE("a syntax error does not hide the file's independent errors", "[compiler]") {
+  // §10: all independent errors at once. The broken statements (1 and 4) are
+  // skipped; the names in them are not reported undefined where they are used (r
+  // and f may be what they defined), every other error still is.
+  auto c =
+      run("let r = 1 + ;\n"
+          "let z = nowhere * 2;\n"
+          "sphere { center <0, 0, 0> radius r }\n"
+          "fn f(a b) { return a; }\n"
+          "let y = f(2) + also_nowhere;\n"
+          "cube { }\n");
+  INFO(diag_kinds(*c));
+  CHECK(c->status == compile::CompileStatus::SceneErrors);
+  const auto& d = c->diags.diagnostics();
+  REQUIRE(d.size() == 5);
+  std::multiset<std::string> got;
+  for (const auto& x : d)
+    got.insert(std::string(lang::diag_name(x.kind)) + " " +
+               std::to_string(c->sources.file(x.span.file).line_col(x.span.begin).line));
+  CHECK(got == std::multiset<std::string>{"ExpectedExpression 1", "UndefinedName 2",
+                                          "ExpectedToken 4", "UndefinedName 5", "UnknownBlock 6"});
+  // Without the syntax errors, the same names are reported.
+  auto clean = run("let z = r * 2;\nlet y = f(2);\n");
+  CHECK(diag_kinds(*clean) == "UndefinedName UndefinedName ");
 }
