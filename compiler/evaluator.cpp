@@ -144,7 +144,18 @@ Evaluator::Flow Evaluator::exec(const Stmt& s, const std::shared_ptr<Env>& env, 
     case StmtKind::ExprStmt: {
       const Expr& e = *s.exprs[0];
       if (e.kind == ExprKind::Call) {
-        eval_call(e, env, /*as_statement=*/true);
+        // §13: an object value adds nothing to the scene; a call that returns one
+        // as a statement is most likely meant to place it.
+        Value r = eval_call(e, env, /*as_statement=*/true);
+        if (r.type == Type::Object) {
+          std::string_view call =
+              sources_.file(e.span.file).text().substr(e.span.begin, e.span.end - e.span.begin);
+          if (call.size() > 40 || call.find('\n') != std::string_view::npos) call = "...";
+          error(DiagKind::DiscardedObject, e.span,
+                "the object this call returns is not placed (§13: an object value adds "
+                "nothing to the scene)")
+              .note("place it with 'object { " + std::string(call) + " }'");
+        }
       } else if (e.kind != ExprKind::Error) {
         Value v = eval(e, env);
         if (!v.is_error())

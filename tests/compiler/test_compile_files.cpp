@@ -124,7 +124,7 @@ TEST_CASE("every compile diagnostic kind has a tests/lang case", "[compiler][lan
         "ValueAsStatement", "UnknownBlock",          "UnknownProperty",    "DuplicateProperty",
         "MissingProperty",  "InvalidValue",          "DuplicateSceneItem", "DegenerateGeometry",
         "ImportNotFound",   "ImportCycle",           "FileUnreadable",     "BadVectorArity",
-        "EnergyGain",       "MalformedMesh"}) {
+        "EnergyGain",       "MalformedMesh",         "DiscardedObject"}) {
     INFO(kind);
     CHECK(all.find(std::string(" ") + kind) != std::string::npos);
   }
