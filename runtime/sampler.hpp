@@ -216,14 +216,19 @@ struct DimKey {
   std::uint64_t key = 0;
   std::uint32_t seed_u = 0, seed_v = 0;
 };
-[[gnu::always_inline]] inline DimKey dim_key(const SamplerSpec& spec, std::uint64_t pixel,
-                                             std::uint32_t dim) {
-  DimKey k{hash_combine(pixel, dim)};
+// The DimKey of a dimension whose key hash_combine(pixel, dim) is `key` (found
+// for many lanes at once by hash_combine_lanes): with sobol, its seeds too.
+[[gnu::always_inline]] inline DimKey dim_key_of_hash(const SamplerSpec& spec, std::uint64_t key) {
+  DimKey k{key};
   if (spec.kind == ir::SamplerKind::Sobol) {
     k.seed_u = std::uint32_t(hash64(k.key + 1));
     k.seed_v = std::uint32_t(hash64(k.key + 2));
   }
   return k;
+}
+[[gnu::always_inline]] inline DimKey dim_key(const SamplerSpec& spec, std::uint64_t pixel,
+                                             std::uint32_t dim) {
+  return dim_key_of_hash(spec, hash_combine(pixel, dim));
 }
 // The key of a 1-D draw (sample1): the stratified sampler stratifies a 1-D draw on
 // its own axis, under its own key; the others take the u of the 2-D draw.
@@ -236,14 +241,17 @@ struct DimKey {
 // Inline with the spec's precomputed grid: a draw is hashes, a permutation and
 // multiplications, with no division but the two that place the value in its cell
 // (kept in double so the numbers stay those of the original formula).
+// The independent sampler's draw from its hash hash_combine(key, index): the low
+// and high halves as two floats.
+[[gnu::always_inline]] inline Sample2 independent_sample(std::uint64_t h) {
+  return {to_unit_float(std::uint32_t(h)), to_unit_float(std::uint32_t(h >> 32))};
+}
 [[gnu::always_inline]] inline Sample2 sample2(const SamplerSpec& spec, const DimKey& dk,
                                               std::uint32_t index) {
   const std::uint64_t pixel_key = dk.key;
   switch (spec.kind) {
-    case ir::SamplerKind::Independent: {
-      std::uint64_t h = hash_combine(pixel_key, index);
-      return {to_unit_float(std::uint32_t(h)), to_unit_float(std::uint32_t(h >> 32))};
-    }
+    case ir::SamplerKind::Independent:
+      return independent_sample(hash_combine(pixel_key, index));
     case ir::SamplerKind::Stratified: {
       std::uint32_t cell =
           index < spec.cells

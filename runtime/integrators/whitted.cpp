@@ -10,6 +10,7 @@
 #include "runtime/shading/bump.hpp"
 #include "runtime/shading/fresnel.hpp"
 #include "runtime/shading/shading_normal.hpp"
+#include "runtime/uninit.hpp"
 
 namespace snell::rt {
 
@@ -26,6 +27,16 @@ const std::uint64_t kRootKey = hash_combine(0x5eed, 0);
 
 std::string fmt_color(Color c) {
   return fmt::format("({:.6g}, {:.6g}, {:.6g})", c.x, c.y, c.z);
+}
+
+// The tree's root: the camera ray, leaving the camera, with the root's path key.
+template <class N>
+[[gnu::always_inline]] inline N root_node(const Ray& camera_ray) {
+  N node;
+  node.ray = camera_ray;
+  node.start = camera_ray.org;
+  node.key = kRootKey;
+  return node;
 }
 
 // The walk's next node after one with `nkids` children: its first child (its
@@ -242,10 +253,7 @@ void WhittedIntegrator::radiance_lanes(std::uint32_t n, std::uint32_t todo, cons
             active &= ~(1u << i);  // no children
             continue;
           }
-          t.node = NodeOf<false>{};
-          t.node.ray = rays[i];
-          t.node.start = rays[i].org;
-          t.node.key = kRootKey;
+          t.node = root_node<NodeOf<false>>(rays[i]);
           t.d = rays[i].dir;
           step[i] = node_radiance<K>(t.node, t.d, hit, f, sc[i], scratch, probe, light[i], lit,
                                      nkids, desc);
@@ -584,14 +592,11 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
   // Depth-first, reflection before refraction. The first child of a node is
   // traced next without a round trip through the stack; only its siblings wait
   // there (most trees are a single chain, and a diffuse hit has no child).
-  N node;
-  node.ray = camera_ray;
+  N node = root_node<N>(camera_ray);
   // The next node's direction, read from where the node is copied from: loaded
   // back from the fresh copy it straddled two of the copy's 16-byte stores, and
   // the failed store forwarding was a quarter of this function's time.
   Vec3f d_next = camera_ray.dir;
-  node.start = camera_ray.org;
-  node.key = kRootKey;
   if constexpr (K::interiors) node.interior = interiors_.camera();
   // A node's children are collected here; kids[0] (the reflection) is traced next.
   // In the thread's scratch, made once per thread: spawn() sets every field, and

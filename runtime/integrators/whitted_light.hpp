@@ -12,6 +12,7 @@
 
 #include "runtime/integrators/whitted.hpp"
 #include "runtime/shading/glossy_mis.hpp"
+#include "runtime/uninit.hpp"
 
 namespace snell::rt {
 
@@ -30,15 +31,6 @@ inline std::uint32_t node_dim(std::uint64_t key, std::uint64_t what) {
 inline std::uint64_t light_cell(std::size_t li, std::uint32_t iu, std::uint32_t iv) {
   return (std::uint64_t(li + 1) << 40) | (iv << 20) | iu;
 }
-
-// An array of n trivially destructible T made without running T's default
-// member initialisers (each element is assigned before it is read).
-template <class T, std::uint32_t n>
-union Uninit {
-  static_assert(std::is_trivially_destructible_v<T>);
-  Uninit() {}
-  T v[n];
-};
 
 }  // namespace whitted_detail
 
@@ -93,8 +85,8 @@ void WhittedIntegrator::direct_lanes(std::uint32_t lanes_in, const DirectQuery* 
   auto q = [qs](std::uint32_t i) -> const DirectQuery& { return *qs[i]; };
   // Left unset: every lane's sample is written before it is read (sample_li), and
   // default-made ones were a 1.6 KB memset per call.
-  whitted_detail::Uninit<LightSample, kLanes> ls_store;
-  whitted_detail::Uninit<Ray, kLanes> ray_store;
+  Uninit<LightSample, kLanes> ls_store;
+  Uninit<Ray, kLanes> ray_store;
   LightSample* const ls = ls_store.v;
   Ray* const rays = ray_store.v;
   std::uint8_t lit[kLanes] = {}, blocked[kLanes];
@@ -138,7 +130,6 @@ void WhittedIntegrator::direct_lanes(std::uint32_t lanes_in, const DirectQuery* 
         if (lit[i] && !blocked[slot[i]] && std::isfinite(ls[i].g)) add(i, Color(1));
     }
   };
-  // Each lane's jitter in light cell `cell` (its node's dimension for the cell):
   // Each lane's jitter in light cell `cell` (its node's dimension for the cell). A
   // packet's lanes find their keys of it together (hash_combine_lanes: the node's
   // dimension, then the pixel's key of it, what key2 finds one by one), then draw:
@@ -148,42 +139,46 @@ void WhittedIntegrator::direct_lanes(std::uint32_t lanes_in, const DirectQuery* 
   static_assert(SobolLanes::kLanes == StrataLanes::kLanes && kHashLanes == SobolLanes::kLanes);
   constexpr std::uint32_t kJitter = kLanes > SobolLanes::kLanes ? kLanes : SobolLanes::kLanes;
   alignas(64) float ju[kJitter], jv[kJitter];
+  // The lanes' node keys, pixel keys and sample indices, the same for every cell
+  // (lanes past `lanes` hash zeros, unused).
+  static_assert(kLanes == 1 || kLanes <= kHashLanes);
+  alignas(64) std::uint64_t node_keys[kHashLanes], pixels[kHashLanes], indices[kHashLanes];
+  bool shared = true;  // every lane at one sample index
+  if constexpr (kLanes > 1) {
+    for (std::uint32_t i = 0; i < kHashLanes; ++i) {
+      node_keys[i] = i < lanes ? q(i).key : 0;
+      pixels[i] = i < lanes ? sc[i]->pixel : 0;
+      indices[i] = i < lanes ? sc[i]->index : 0;
+      shared = shared && indices[i] == indices[0];
+    }
+  }
   auto draw_cell = [&](std::uint64_t cell) {
     if constexpr (kLanes > 1) {
-      static_assert(kLanes <= kHashLanes);
-      alignas(64) std::uint64_t a[kHashLanes], b[kHashLanes], key[kHashLanes];
-      for (std::uint32_t i = 0; i < kHashLanes; ++i) a[i] = i < lanes ? q(i).key : 0, b[i] = cell;
-      hash_combine_lanes(a, b, key);  // node_dim's hash
-      for (std::uint32_t i = 0; i < kHashLanes; ++i) {
-        a[i] = i < lanes ? sc[i]->pixel : 0;
+      alignas(64) std::uint64_t b[kHashLanes], key[kHashLanes];
+      for (std::uint64_t& x : b) x = cell;
+      hash_combine_lanes(node_keys, b, key);  // node_dim's hash
+      for (std::uint32_t i = 0; i < kHashLanes; ++i)
         b[i] = kDimFirstFree + std::uint32_t(key[i] & 0x7fffffffu);
-      }
-      hash_combine_lanes(a, b, key);  // dim_key's
+      hash_combine_lanes(pixels, b, key);  // dim_key's
       const ir::SamplerKind kind = sc[0]->spec.kind;
       if (kind == ir::SamplerKind::Independent) {
-        for (std::uint32_t i = 0; i < kHashLanes; ++i)
-          a[i] = key[i], b[i] = i < lanes ? sc[i]->index : 0;
-        hash_combine_lanes(a, b, a);  // sample2's
-        for (std::uint32_t i = 0; i < lanes; ++i)
-          ju[i] = to_unit_float(std::uint32_t(a[i])),
-          jv[i] = to_unit_float(std::uint32_t(a[i] >> 32));
+        hash_combine_lanes(key, indices, key);  // sample2's
+        for (std::uint32_t i = 0; i < lanes; ++i) {
+          Sample2 s = independent_sample(key[i]);
+          ju[i] = s.u, jv[i] = s.v;
+        }
         return;
       }
-      bool shared = true;
-      for (std::uint32_t i = 1; i < lanes && shared; ++i) shared = sc[i]->index == sc[0]->index;
       if (shared && kind == ir::SamplerKind::Sobol) {
-        whitted_detail::Uninit<SobolLanes, 1> keys;
-        for (std::uint32_t i = 0; i < lanes; ++i) {
-          keys.v[0].index_seed[i] = std::uint32_t(key[i]);
-          keys.v[0].seed_u[i] = std::uint32_t(hash64(key[i] + 1));  // dim_key's seeds
-          keys.v[0].seed_v[i] = std::uint32_t(hash64(key[i] + 2));
-        }
+        Uninit<SobolLanes, 1> keys;
+        for (std::uint32_t i = 0; i < lanes; ++i)
+          keys.v[0].set(i, dim_key_of_hash(sc[0]->spec, key[i]));
         for (std::uint32_t i = lanes; i % 4; ++i) keys.v[0].set(i, DimKey{});
         sobol2_lanes(keys.v[0], lanes, sc[0]->index, ju, jv);
         return;
       }
       if (shared) {
-        whitted_detail::Uninit<StrataLanes, 1> keys;
+        Uninit<StrataLanes, 1> keys;
         for (std::uint32_t i = 0; i < StrataLanes::kLanes; ++i)
           keys.v[0].key[i] = i < lanes ? key[i] : 0;
         stratified2_lanes(sc[0]->spec, keys.v[0], lanes, sc[0]->index, ju, jv);
@@ -206,8 +201,8 @@ void WhittedIntegrator::direct_lanes(std::uint32_t lanes_in, const DirectQuery* 
     // so they are traced as one packet (up to kCells at a time), then added in
     // cell order, the order and the sums of tracing them one by one.
     constexpr std::uint32_t kCells = 16;
-    whitted_detail::Uninit<LightSample, kCells> cs;
-    whitted_detail::Uninit<Ray, kCells> cr;
+    Uninit<LightSample, kCells> cs;
+    Uninit<Ray, kCells> cr;
     std::uint8_t has[kCells], cblocked[kCells];
     for (std::size_t li = 0; li < lights_.areas.size(); ++li) {
       const AreaLightF& l = lights_.areas[li];

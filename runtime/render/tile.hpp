@@ -21,6 +21,7 @@
 #include "runtime/integrators/probe.hpp"
 #include "runtime/render.hpp"
 #include "runtime/sampler.hpp"
+#include "runtime/uninit.hpp"
 
 namespace snell::rt {
 
@@ -215,11 +216,7 @@ void render_tile_packets(const TileContext& c, std::uint32_t x0, std::uint32_t y
         camera_rays<K>(c, n, keys, lanes, px, py, s, rays, stats);
         c.embree->intersect(std::span<const Ray>(rays, n), std::span<Hit>(hits, n),
                             std::span<std::uint8_t>(found, n));
-        // Every lane's colour is set below before it is read; left unset, not zeroed.
-        union Cols {
-          Cols() {}
-          Color v[kN];
-        } cols;
+        Uninit<Color, kN> cols;  // every lane's colour is set below before it is read
         Color* const col = cols.v;
         std::uint32_t todo = 0;  // the lanes whose trees go through the packet
         for (std::uint32_t i = 0; i < n; ++i) {
