@@ -8,7 +8,9 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <stdexcept>
 #include <type_traits>
@@ -66,13 +68,13 @@ bool user_hit(const Set& set, unsigned prim, RTCRayN* ray, unsigned n, unsigned 
 
 // A 16-ray packet's lanes against a static sphere at once, where the CPU has a
 // SIMD path (sphere_lanes.hpp; the same bits as user_hit): `hits` the lanes that
-// hit, with their t and normal in `out`; false when the lanes go one by one (no
-// path, another packet width, a non-similarity transform). Lanes in `undecided`
-// still go one by one.
+// hit, with their t and normal in `out` (null for an occlusion query, which needs
+// neither); false when the lanes go one by one (no path, another packet width, a
+// non-similarity transform). Lanes in `undecided` still go one by one.
 const SphereLanesFn g_sphere_lanes = sphere_lanes();
 template <class Set>
 bool packet_hits(const Set& set, unsigned prim, RTCRayN* ray, unsigned n, const int* valid,
-                 HitLanes& out, std::uint32_t& hits, std::uint32_t& undecided) {
+                 HitLanes* out, std::uint32_t& hits, std::uint32_t& undecided) {
   if constexpr (std::is_same_v<Set, SphereSet>) {
     Vec3 c;
     double r;
@@ -116,7 +118,7 @@ void user_intersect(const RTCIntersectFunctionNArguments* args) {
   HitLanes lanes;
   std::uint32_t hits = 0, undecided = 0;
   const bool packet =
-      packet_hits(set, args->primID, ray, args->N, args->valid, lanes, hits, undecided);
+      packet_hits(set, args->primID, ray, args->N, args->valid, &lanes, hits, undecided);
   if (packet && hits == 0 && undecided == 0) return;
   for (unsigned i = 0; i < args->N; ++i) {
     if (!args->valid[i]) continue;
@@ -142,17 +144,17 @@ template <class Set>
 void user_occluded(const RTCOccludedFunctionNArguments* args) {
   const Set& set = *static_cast<const Set*>(args->geometryUserPtr);
   RTCRayN* ray = args->ray;
-  HitLanes lanes;
   std::uint32_t hits = 0, undecided = 0;
   const bool packet =
-      packet_hits(set, args->primID, ray, args->N, args->valid, lanes, hits, undecided);
+      packet_hits(set, args->primID, ray, args->N, args->valid, nullptr, hits, undecided);
   if (packet && hits == 0 && undecided == 0) return;
   for (unsigned i = 0; i < args->N; ++i) {
     if (!args->valid[i]) continue;
     float t;
     Vec3f n;
     unsigned sub;
-    if (lane_hit(set, args->primID, ray, args->N, i, packet, lanes, hits, undecided, t, n, sub))
+    if (packet && !((undecided >> i) & 1) ? (hits >> i) & 1
+                                          : user_hit(set, args->primID, ray, args->N, i, t, n, sub))
       RTCRayN_tfar(ray, args->N, i) = -INFINITY;
   }
 }
@@ -765,6 +767,50 @@ void EmbreeScene::occluded(std::span<const Ray> rays, std::span<std::uint8_t> bl
     for (std::size_t k = 0; k < n; ++k)
       if (valid[k]) blocked[b + k] = r.tfar[k] < 0;
   }
+}
+
+std::uint32_t EmbreeScene::occluded(const ShadowLanes16& in, std::uint32_t live) const {
+  const Impl& im = *impl_;
+  auto ray_of = [&](unsigned k) {
+    return Ray{{in.ox[k], in.oy[k], in.oz[k]}, {in.dx[k], in.dy[k], in.dz[k]}, 1.0f, in.time[k]};
+  };
+  std::uint32_t blocked = 0;
+  if (im.any_unbounded)  // the planes first, in double, as the one-ray query does
+    for (std::uint32_t bits = live; bits; bits &= bits - 1) {
+      const unsigned k = unsigned(std::countr_zero(bits));
+      const Ray r = ray_of(k);
+      if (std::apply([&](const auto&... set) { return (set.occluded(r) || ...); }, im.unbounded))
+        blocked |= 1u << k;
+    }
+  live &= ~blocked;
+  if (live == 0) return blocked;
+  if ((live & (live - 1)) == 0) {  // a lone ray is traced alone
+    const unsigned k = unsigned(std::countr_zero(live));
+    return occluded(ray_of(k)) ? blocked | live : blocked;
+  }
+  alignas(64) RTCRay16 r;
+  alignas(64) int valid[kPacket];
+  std::memcpy(r.org_x, in.ox, sizeof r.org_x);
+  std::memcpy(r.org_y, in.oy, sizeof r.org_y);
+  std::memcpy(r.org_z, in.oz, sizeof r.org_z);
+  std::memcpy(r.dir_x, in.dx, sizeof r.dir_x);
+  std::memcpy(r.dir_y, in.dy, sizeof r.dir_y);
+  std::memcpy(r.dir_z, in.dz, sizeof r.dir_z);
+  std::memcpy(r.time, in.time, sizeof r.time);
+  for (std::size_t k = 0; k < kPacket; ++k) {
+    r.tnear[k] = 0, r.tfar[k] = 1;
+    r.mask[k] = ~0u, r.id[k] = 0, r.flags[k] = 0;
+    valid[k] = (live >> k) & 1 ? -1 : 0;
+  }
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;  // as the span form's
+  rtcOccluded16(valid, im.world.scene, &ctx, &r);
+  for (std::uint32_t bits = live; bits; bits &= bits - 1) {
+    const unsigned k = unsigned(std::countr_zero(bits));
+    if (r.tfar[k] < 0) blocked |= 1u << k;
+  }
+  return blocked;
 }
 
 std::string to_string(const Ray& r) {

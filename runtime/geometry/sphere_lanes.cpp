@@ -41,7 +41,7 @@ inline __m512d dot3(__m512d ax, __m512d ay, __m512d az, __m512d bx, __m512d by, 
 // Eight lanes starting at `off`. Each line is one operation of sphere_roots or
 // hit_similar_sphere, in their order (a dot product is (x·x + y·y) + z·z, as
 // ir::dot; a Vec3 divided by a double is three divisions, as ir::operator/).
-std::uint32_t eight(ir::Vec3 c, double r, const RayLanes& R, std::uint32_t off, HitLanes& out,
+std::uint32_t eight(ir::Vec3 c, double r, const RayLanes& R, std::uint32_t off, HitLanes* out,
                     std::uint32_t& undecided) {
   __m256i valid = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(R.valid + off));
   __mmask8 m = _mm256_cmpneq_epi32_mask(valid, _mm256_setzero_si256());
@@ -83,19 +83,19 @@ std::uint32_t eight(ir::Vec3 c, double r, const RayLanes& R, std::uint32_t off, 
   m &= _mm512_cmp_pd_mask(t, tnear, _CMP_GT_OQ) & _mm512_cmp_pd_mask(t, tfar, _CMP_LT_OQ);
   const __m256 tf = narrow(t);
   m &= _mm256_cmp_ps_mask(tf, tnear_f, _CMP_GT_OQ) & _mm256_cmp_ps_mask(tf, tfar_f, _CMP_LT_OQ);
-  if (!m) return 0;
+  if (!m || !out) return std::uint32_t(m) << off;
   // n = normalize((o + d·t - c) / r)
   __m512d nx = (ox + dx * t - cx) / rv, ny = (oy + dy * t - cy) / rv, nz = (oz + dz * t - cz) / rv;
   const __m512d len = _mm512_sqrt_pd(dot3(nx, ny, nz, nx, ny, nz));
   nx = nx / len, ny = ny / len, nz = nz / len;
-  _mm256_storeu_ps(out.t + off, tf);
-  _mm256_storeu_ps(out.nx + off, narrow(nx));
-  _mm256_storeu_ps(out.ny + off, narrow(ny));
-  _mm256_storeu_ps(out.nz + off, narrow(nz));
+  _mm256_storeu_ps(out->t + off, tf);
+  _mm256_storeu_ps(out->nx + off, narrow(nx));
+  _mm256_storeu_ps(out->ny + off, narrow(ny));
+  _mm256_storeu_ps(out->nz + off, narrow(nz));
   return std::uint32_t(m) << off;
 }
 
-std::uint32_t sphere_lanes_avx512(ir::Vec3 c, double r, const RayLanes& rays, HitLanes& out,
+std::uint32_t sphere_lanes_avx512(ir::Vec3 c, double r, const RayLanes& rays, HitLanes* out,
                                   std::uint32_t& undecided) {
   std::uint32_t hits = 0;
   for (std::uint32_t off = 0; off < rays.n && off < 16; off += 8)

@@ -29,9 +29,10 @@ struct HitLanes {
   float t[16], nx[16], ny[16], nz[16];
 };
 // The lanes (bit i: lane i) that hit the sphere (centre c, radius r, both
-// camera-relative) within (tnear, tfar); `undecided`: lanes the vector path leaves
+// camera-relative) within (tnear, tfar), their hits in `out` unless it is null (an
+// occlusion query needs only the lanes); `undecided`: lanes the vector path leaves
 // to the one-ray test (the degenerate q == 0 of sphere_roots), never in the result.
-using SphereLanesFn = std::uint32_t (*)(ir::Vec3 c, double r, const RayLanes& rays, HitLanes& out,
+using SphereLanesFn = std::uint32_t (*)(ir::Vec3 c, double r, const RayLanes& rays, HitLanes* out,
                                         std::uint32_t& undecided);
 
 // The best path for this CPU, or null (test lane by lane).

@@ -27,6 +27,7 @@
 #include "runtime/render/kernel.hpp"
 #include "runtime/render/tile.hpp"
 #include "runtime/sampler.hpp"
+#include "runtime/shading/area_lanes.hpp"
 #include "runtime/shading/interior.hpp"
 #include "runtime/shading/lights.hpp"
 #include "runtime/shading/materials.hpp"
@@ -227,10 +228,11 @@ class WhittedIntegrator final : public Integrator {
   std::uint32_t max_depth_;
   float min_weight_;
   ir::FresnelMode fresnel_;
-  float offset_scale_ = 1;             // the scene's size around the camera, at most 1
-  bool stochastic_branching_ = false;  // settings.branching "stochastic"
-  bool roulette_ = false;              // settings.termination "roulette"
-  bool glossy_mis_ = false;            // settings.glossy_sampling "mis" with area lights
+  float offset_scale_ = 1;                 // the scene's size around the camera, at most 1
+  AreaLanesFn area_lanes_ = area_lanes();  // a packet's light cells in SIMD, or null
+  bool stochastic_branching_ = false;      // settings.branching "stochastic"
+  bool roulette_ = false;                  // settings.termination "roulette"
+  bool glossy_mis_ = false;                // settings.glossy_sampling "mis" with area lights
   // Per material: a diffuse one with a constant colour and no bump, whose camera-ray
   // hits the pixel loop's packet shades without node_radiance (plain_root). The
   // commonest root of all; the general node was a quarter of a diffuse scene's time.

@@ -5,6 +5,7 @@
 // where the kernels are instantiated.
 #pragma once
 
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <span>
@@ -96,24 +97,27 @@ void WhittedIntegrator::direct_lanes(std::uint32_t lanes_in, const DirectQuery* 
     if constexpr (K::finish) spec[i] = Color(0);
   }
   (void)spec, (void)in;
-  // One unblocked light sample of lane i: its share of E, and with highlights its
-  // f_spec · value · g (the same G as the Lambertian sum: f · L_i · cosθ_i).
-  auto add_sample = [&](std::uint32_t i, const LightSample& s, Color tr) [[gnu::always_inline]] {
-    (void)tr;
-    if constexpr (K::interiors)
-      e[i] += s.value * s.g * tr;
-    else
-      e[i] += s.value * s.g;
-    if constexpr (K::finish) {
-      if (q(i).highlight.on()) {
-        float f = q(i).highlight.eval(q(i).wo, q(i).n, normalize(s.to));
-        Color c = s.value * (s.g * f);
-        if constexpr (K::interiors) c = c * tr;
-        spec[i] += c;
-      }
-    }
-  };
-  auto add = [&](std::uint32_t i, Color tr) [[gnu::always_inline]] { add_sample(i, ls[i], tr); };
+  // One unblocked light sample of lane i (its value, geometry factor and `to`): its
+  // share of E, and with highlights its f_spec · value · g (the same G as the
+  // Lambertian sum: f · L_i · cosθ_i).
+  auto add_sample = [&](std::uint32_t i, Color value, float g, Vec3f to, Color tr)
+                        [[gnu::always_inline]] {
+                          (void)tr, (void)to;
+                          if constexpr (K::interiors)
+                            e[i] += value * g * tr;
+                          else
+                            e[i] += value * g;
+                          if constexpr (K::finish) {
+                            if (q(i).highlight.on()) {
+                              float f = q(i).highlight.eval(q(i).wo, q(i).n, normalize(to));
+                              Color c = value * (g * f);
+                              if constexpr (K::interiors) c = c * tr;
+                              spec[i] += c;
+                            }
+                          }
+                        };
+  auto add = [&](std::uint32_t i, Color tr)
+                 [[gnu::always_inline]] { add_sample(i, ls[i].value, ls[i].g, ls[i].to, tr); };
   // The lanes' samples of one light (lit[i]: lane i has one) traced and added.
   auto trace = [&]() [[gnu::always_inline]] {
     std::uint32_t m = 0;
@@ -224,14 +228,54 @@ void WhittedIntegrator::direct_lanes(std::uint32_t lanes_in, const DirectQuery* 
           embree_.occluded(std::span<const Ray>(cr.v, m), std::span<std::uint8_t>(cblocked, m));
         for (std::uint32_t j = 0, k = 0; j < n; ++j)
           if (has[j] && !cblocked[k++] && std::isfinite(cs.v[j].g))
-            add_sample(0, cs.v[j], Color(1));
+            add_sample(0, cs.v[j].value, cs.v[j].g, cs.v[j].to, Color(1));
       }
     }
     return;
   }
+  // The lanes' points in SoA for area_lanes, once for every cell of every light.
+  [[maybe_unused]] Uninit<PointLanes, 1> pts;
+  [[maybe_unused]] bool pts_made = false;
   for (std::size_t li = 0; li < lights_.areas.size(); ++li) {
     const AreaLightF& l = lights_.areas[li];
     if (l.dark()) continue;
+    if constexpr (kLanes > 1 && !K::interiors) {
+      // All lanes' samples of a cell at once, and their shadow rays as one packet
+      // in the same layout: area sampling only (area_lanes.hpp).
+      if (area_lanes_ && !l.solid_angle) {
+        PointLanes& pt = pts.v[0];
+        if (!pts_made) {
+          for (std::uint32_t i = 0; i < kLanes; ++i) {
+            const DirectQuery& d = q(i < lanes ? i : 0);
+            pt.px[i] = d.p.x, pt.py[i] = d.p.y, pt.pz[i] = d.p.z;
+            pt.ox[i] = d.o.x, pt.oy[i] = d.o.y, pt.oz[i] = d.o.z;
+            pt.nx[i] = d.n.x, pt.ny[i] = d.n.y, pt.nz[i] = d.n.z;
+            pt.time[i] = d.time;
+          }
+          pts_made = true;
+        }
+        const std::uint32_t all = (1u << lanes) - 1;  // lanes <= 16
+        Uninit<ShadowLanes, 1> sh_store;
+        ShadowLanes& sh = sh_store.v[0];
+        for (std::uint32_t iv = 0; iv < l.nv; ++iv)
+          for (std::uint32_t iu = 0; iu < l.nu; ++iu) {
+            draw_cell(whitted_detail::light_cell(li, iu, iv));
+            const std::uint32_t lit_mask =
+                area_lanes_({&l, iu, iv, offset_scale_}, pt, ju, jv, all, sh);
+            stats.shadow_rays += std::uint64_t(std::popcount(lit_mask));
+            if (!lit_mask) continue;
+            const std::uint32_t shadowed = embree_.occluded(
+                EmbreeScene::ShadowLanes16{pt.ox, pt.oy, pt.oz, sh.dx, sh.dy, sh.dz, pt.time},
+                lit_mask);
+            for (std::uint32_t bits = lit_mask & ~shadowed; bits; bits &= bits - 1) {
+              const std::uint32_t i = std::uint32_t(std::countr_zero(bits));
+              if (std::isfinite(sh.g[i]))
+                add_sample(i, l.radiance, sh.g[i], Vec3f(sh.tx[i], sh.ty[i], sh.tz[i]), Color(1));
+            }
+          }
+        continue;
+      }
+    }
     for (std::uint32_t iv = 0; iv < l.nv; ++iv)
       for (std::uint32_t iu = 0; iu < l.nu; ++iu) {
         const std::uint64_t cell = whitted_detail::light_cell(li, iu, iv);

@@ -644,9 +644,10 @@ TEST_CASE("a render estimated to need more memory than the limit fails before it
 }
 
 TEST_CASE("sobol renders the same pixels on every SIMD path", "[e2e]") {
-  // The packet's sobol draws (film, lens, area-light cells) and its static spheres'
-  // tests in the CPU's widest paths (AVX-512 with GFNI where it has them) and with
-  // SNELL_SIMD=generic (four lanes; spheres lane by lane): the same image bit for
+  // The packet's sobol draws (film, lens, area-light cells), its light samples and
+  // its static spheres' tests in the CPU's widest paths (AVX-512 with GFNI where it
+  // has them) and with SNELL_SIMD=generic (four lanes; light samples and spheres
+  // lane by lane): the same image bit for
   // bit. On a CPU without AVX-512 both runs take the generic paths and the case
   // still checks determinism.
   Scratch tmp;

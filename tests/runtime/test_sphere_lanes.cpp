@@ -54,8 +54,12 @@ TEST_CASE("a packet's sphere test is the one-ray test, bit for bit", "[shapes][s
       RayLanes rays{ox, oy, oz, dx, dy, dz, tn, tf, valid, 16};
       HitLanes out;
       std::uint32_t undecided = 0;
-      std::uint32_t got = fn(c, radius, rays, out, undecided);
+      std::uint32_t got = fn(c, radius, rays, &out, undecided);
       CHECK((got & undecided) == 0);
+      // An occlusion query (no hits written) finds the same lanes.
+      std::uint32_t undecided_only = 0;
+      CHECK(fn(c, radius, rays, nullptr, undecided_only) == got);
+      CHECK(undecided_only == undecided);
       for (int i = 0; i < 16; ++i) {
         bool on = valid[i] != 0;
         if (!on) {
