@@ -47,7 +47,12 @@ struct Scatter {
   int count = 0;
   bool tir = false;  // a total internal reflection happened (--stats)
   Scatter() {}
-  void add(const Branch& b) { branches[count++] = b; }
+  // Field by field in place: a Branch made on the frame and copied whole stalled on
+  // store forwarding (3 % of the glass bench).
+  void add(RayKind kind, Vec3f wi, Color weight, std::uint64_t slot, Branch::From from) {
+    Branch& b = branches[count++];
+    b.kind = kind, b.wi = wi, b.weight = weight, b.slot = slot, b.from = from;
+  }
 };
 static_assert(std::is_trivially_copyable_v<Branch> && std::is_trivially_destructible_v<Branch>);
 
@@ -77,7 +82,7 @@ template <class C>
 Scatter scatter(const ir::Mirror& m, const C& c) {
   Scatter s;
   BsdfSample b = DeltaReflection{texture_color(m.color, c.tex)}.sample(c.wo, c.nf);
-  s.add({RayKind::Reflection, b.wi, b.weight, 1, Branch::From::Outside});
+  s.add(RayKind::Reflection, b.wi, b.weight, 1, Branch::From::Outside);
   return s;
 }
 
@@ -93,7 +98,7 @@ Scatter scatter(const ir::Glossy& m, const C& c) {
     Sample2 d = c.draw2();
     u.u = d.u, u.v = d.v;
   }
-  s.add({RayKind::Glossy, g.direction(c.wo, c.nf, u), g.color, 1, Branch::From::Outside});
+  s.add(RayKind::Glossy, g.direction(c.wo, c.nf, u), g.color, 1, Branch::From::Outside);
   return s;
 }
 
@@ -117,13 +122,13 @@ template <class C>
   if (c.stochastic && !sp.f.tir) {
     BsdfSample b = FresnelDielectric::choose(sp, c.draw1());
     if (b.transmitted)
-      s.add({RayKind::Refraction, b.wi, b.weight, 2, through});
+      s.add(RayKind::Refraction, b.wi, b.weight, 2, through);
     else
-      s.add({RayKind::Reflection, b.wi, b.weight, 1, Branch::From::Outside});
+      s.add(RayKind::Reflection, b.wi, b.weight, 1, Branch::From::Outside);
     return s;
   }
-  s.add({RayKind::Reflection, sp.refl.wi, sp.refl.weight, 1, Branch::From::Outside});
-  if (sp.transmits()) s.add({RayKind::Refraction, sp.refr.wi, sp.refr.weight, 2, through});
+  s.add(RayKind::Reflection, sp.refl.wi, sp.refl.weight, 1, Branch::From::Outside);
+  if (sp.transmits()) s.add(RayKind::Refraction, sp.refr.wi, sp.refr.weight, 2, through);
   return s;
 }
 
@@ -145,7 +150,7 @@ Scatter scatter(const ir::Glazed& m, const C& c) {
   // §16: on the coat's surface, unscaled by its Fresnel factors (the spec's f has
   // none): the highlight stands for the light the coat itself reflects.
   s.highlight = {float(m.specular), float(m.shininess)};
-  s.add({RayKind::Reflection, g.coat.wi, g.coat.weight, 1, Branch::From::Outside});
+  s.add(RayKind::Reflection, g.coat.wi, g.coat.weight, 1, Branch::From::Outside);
   return s;
 }
 
