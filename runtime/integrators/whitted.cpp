@@ -220,7 +220,6 @@ void WhittedIntegrator::radiance_lanes(std::uint32_t n, std::uint32_t todo, cons
   } else {
     LaneTree* const lanes = scratch.lanes;
     LitNode* const light = scratch.lane_light;
-    NodeOf<false>* const kids = scratch.template kids<false>();
     // The step's lanes, their rays and answers (a step after the first traces them).
     std::uint32_t lane[kMaxLanes];
     Uninit<Ray, kMaxLanes> ray_store;
@@ -235,7 +234,7 @@ void WhittedIntegrator::radiance_lanes(std::uint32_t n, std::uint32_t todo, cons
       for (std::uint32_t i = 0; i < n; ++i)
         if ((active >> i) & 1) lane[m++] = i;
       if (!first) {
-        for (std::uint32_t j = 0; j < m; ++j) ray_store.v[j] = lanes[lane[j]].node.ray;
+        for (std::uint32_t j = 0; j < m; ++j) ray_store.v[j] = lanes[lane[j]].node->ray;
         // The lanes' rays after the first bounce: each tree's own, so incoherent.
         embree_.intersect(std::span<const Ray>(ray_store.v, m), std::span<Hit>(hit_store.v, m),
                           std::span<std::uint8_t>(step_found, m), false);
@@ -258,17 +257,29 @@ void WhittedIntegrator::radiance_lanes(std::uint32_t n, std::uint32_t todo, cons
             active &= ~(1u << i);  // no children
             continue;
           }
-          set_root_node(t.node, rays[i]);
+          set_root_node(t.kids[0][0], rays[i]);
+          t.node = &t.kids[0][0], t.gen = 0, t.on_stack = false;
           t.d = rays[i].dir;
-          step[i] = node_radiance<K>(t.node, t.d, hit, f, sc[i], scratch, probe, light[i], lit,
-                                     nkids, desc);
-        } else {
-          step[i] = node_radiance<K>(t.node, t.d, hit, f, sc[i], scratch, probe, light[i], lit,
-                                     nkids, desc);
         }
+        // The node's children go to the pair the node is not in.
+        const std::uint8_t pair = t.on_stack ? 0 : t.gen ^ 1;
+        NodeOf<false>* const kids = t.kids[pair];
+        step[i] = node_radiance<K>(*t.node, t.d, hit, f, sc[i], scratch, probe, light[i], lit, kids,
+                                   nkids, desc);
         if (lit) q[nlit] = &light[i].q, qsc[nlit] = &sc[i], lit_lane[nlit++] = i;
-        // The lane's next node, as li walks.
-        if (!next_node(t.stack, kids, nkids, t.node, t.d)) active &= ~(1u << i);
+        // The lane's next node, as li walks: the first child (its siblings wait on
+        // the stack), else the stack's top.
+        if (t.on_stack) t.stack.pop_back();
+        if (nkids > 0) {
+          for (int k = nkids - 1; k >= 1; --k) t.stack.push_back(kids[k]);
+          t.node = &kids[0], t.gen = pair, t.on_stack = false;
+        } else if (!t.stack.empty()) {
+          t.node = &t.stack.back(), t.on_stack = true;
+        } else {
+          active &= ~(1u << i);
+          continue;
+        }
+        t.d = t.node->ray.dir;
       }
       if (nlit > 0) {
         Uninit<Color, kMaxLanes> e_store, spec_store;  // direct_lanes sets them
@@ -291,17 +302,17 @@ void WhittedIntegrator::radiance_lanes(std::uint32_t n, std::uint32_t todo, cons
 // surfaces that do not count). Returns the node's contribution without its direct
 // light: when the node is lit, `lit` is set and `dl` holds its light query, whose
 // lit_radiance is then the node's whole contribution. The children are left in
-// scratch.kids()[0, nkids), the reflection first.
+// kids[0, nkids), the reflection first (li: the scratch's pair; a lane: its own).
 template <class K, class P>
 [[gnu::always_inline]] inline Color WhittedIntegrator::node_radiance(
     NodeOf<K::interiors>& node, const Vec3f d, Hit& hit, bool found, const SampleContext& sc,
-    Scratch& scratch, P& probe, LitNode& dl, bool& lit, int& nkids, std::string& desc) const {
+    Scratch& scratch, P& probe, LitNode& dl, bool& lit, NodeOf<K::interiors>* const kids,
+    int& nkids, std::string& desc) const {
   RenderStats& stats = probe.stats;
   // Null at compile time under Probe<false>: every use below folds away.
   std::string* const trace = probe.trace;
   using N = NodeOf<K::interiors>;
   const auto& mats = scene_.materials;
-  N* const kids = scratch.template kids<K::interiors>();
   Color contrib(0);
   lit = false;
   nkids = 0;
@@ -622,7 +633,7 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
     bool lit;
     int nkids;
     Color contrib =
-        node_radiance<K>(node, d_next, hit, found, sc, scratch, probe, dl, lit, nkids, desc);
+        node_radiance<K>(node, d_next, hit, found, sc, scratch, probe, dl, lit, kids, nkids, desc);
     if (lit) {
       // Direct light is timed as shadow cost and taken out of the node's own time.
       const Interior* in_here = nullptr;  // the interior at the shading point

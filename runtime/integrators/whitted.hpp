@@ -89,11 +89,18 @@ class WhittedIntegrator final : public Integrator {
   // At most this many trees go through the ray tree at once (the pixel loop's packet).
   static constexpr std::uint32_t kMaxLanes = 16;
   // One lane of a packet's trees (radiance_packet): its next node, the direction
-  // of that node's ray (see li), its sum so far and its stack.
+  // of that node's ray, its sum so far and its stack. The next node is shaded where
+  // it is: the first child in `kids[gen]` (the node's own children go to the other
+  // pair) or the stack's top. Copied out of either, an 80-byte node was loaded
+  // whole soon after spawn's field-by-field stores, a store-forwarding stall on
+  // every node.
   struct LaneTree {
-    NodeOf<false> node;
+    NodeOf<false>* node;
+    bool on_stack;
+    std::uint8_t gen;
     Vec3f d;
     Color total;
+    NodeOf<false> kids[2][2];
     std::vector<NodeOf<false>> stack;
   };
   // The ray tree's stack: scratch owned by each thread.
@@ -164,7 +171,7 @@ class WhittedIntegrator final : public Integrator {
   template <class K, class P>
   Color node_radiance(NodeOf<K::interiors>& node, Vec3f d, Hit& hit, bool found,
                       const SampleContext& sc, Scratch& scratch, P& probe, LitNode& dl, bool& lit,
-                      int& nkids, std::string& desc) const;
+                      NodeOf<K::interiors>* kids, int& nkids, std::string& desc) const;
   template <class K>
   void radiance_lanes(std::uint32_t n, std::uint32_t todo, const Ray* rays, Hit* hits,
                       const std::uint8_t* found, const SampleContext* sc, Scratch& scratch,
