@@ -21,6 +21,7 @@
 #include "runtime/geometry/sphere_lanes.hpp"
 #include "runtime/geometry/traits.hpp"
 #include "runtime/ir/bounds.hpp"
+#include "runtime/ray_packet.hpp"
 
 namespace snell::rt {
 
@@ -687,12 +688,7 @@ std::uint32_t EmbreeScene::triangle_of(const Hit& hit) const {
 namespace {
 constexpr std::size_t kPacket = 16;
 
-void store_ray(RTCRay16& p, std::size_t k, const Ray& r) {
-  p.org_x[k] = r.org.x, p.org_y[k] = r.org.y, p.org_z[k] = r.org.z;
-  p.dir_x[k] = r.dir.x, p.dir_y[k] = r.dir.y, p.dir_z[k] = r.dir.z;
-  p.tnear[k] = r.tnear, p.tfar[k] = r.tmax, p.time[k] = r.time;
-  p.mask[k] = ~0u, p.id[k] = 0, p.flags[k] = 0;
-}
+const StoreRays16Fn g_store_rays16 = store_rays16();
 }  // namespace
 
 // Packets of up to 16 rays (rtcIntersect16 / rtcOccluded16; the user geometry's
@@ -712,9 +708,9 @@ void EmbreeScene::intersect(std::span<const Ray> rays, std::span<Hit> hits,
     }
     alignas(64) RTCRayHit16 rh;
     alignas(64) int valid[kPacket];
+    g_store_rays16(&rays[b], n, rh.ray);
     for (std::size_t k = 0; k < kPacket; ++k) {
       valid[k] = k < n ? -1 : 0;
-      store_ray(rh.ray, k, rays[b + (k < n ? k : 0)]);
       rh.hit.geomID[k] = rh.hit.primID[k] = rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
     }
     RTCIntersectContext ctx;
@@ -754,8 +750,8 @@ void EmbreeScene::occluded(std::span<const Ray> rays, std::span<std::uint8_t> bl
       if (k < n) blocked[b + k] = by_plane;
       valid[k] = k < n && !by_plane ? -1 : 0;
       live += valid[k] != 0;
-      store_ray(r, k, ray);
     }
+    g_store_rays16(&rays[b], n, r);
     if (live == 0) continue;
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
