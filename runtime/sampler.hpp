@@ -217,7 +217,7 @@ struct DimKey {
   std::uint32_t seed_u = 0, seed_v = 0;
 };
 // The DimKey of a dimension whose key hash_combine(pixel, dim) is `key` (found
-// for many lanes at once by hash_combine_lanes): with sobol, its seeds too.
+// for many lanes at once by cell_keys_lanes): with sobol, its seeds too.
 [[gnu::always_inline]] inline DimKey dim_key_of_hash(const SamplerSpec& spec, std::uint64_t key) {
   DimKey k{key};
   if (spec.kind == ir::SamplerKind::Sobol) {
@@ -348,15 +348,19 @@ std::vector<std::string> stratified_lanes_paths();
 bool stratified_lanes_with(const std::string& path, const SamplerSpec& spec, const StrataLanes& k,
                            std::uint32_t n, std::uint32_t index, float* u, float* v);
 
-// out[i] = hash_combine(a[i], b[i]) for all kHashLanes lanes (each array holds
-// that many), in the widest SIMD path this CPU has: a packet's per-lane dimension
-// keys (a ray tree's node dimensions, their pixels' keys) at once. The paths, best
-// first, and one by name, for tests.
+// A packet's lanes of per-lane sampler keys (cell_keys_lanes).
 inline constexpr std::uint32_t kHashLanes = 16;
-void hash_combine_lanes(const std::uint64_t* a, const std::uint64_t* b, std::uint64_t* out);
-std::vector<std::string> hash_combine_lanes_paths();
-bool hash_combine_lanes_with(const std::string& path, const std::uint64_t* a,
-                             const std::uint64_t* b, std::uint64_t* out);
+// The keys a packet's lanes draw a light cell's jitter with (whitted_light.hpp),
+// three hash_combines in one pass: lane i's node dimension of `cell`
+// (kDimFirstFree + the low 31 bits of hash_combine(node_keys[i], cell)), the
+// pixel's key of it (hash_combine(pixels[i], dim)), and with `indices` (the
+// independent sampler) that key combined with indices[i]. kHashLanes lanes.
+void cell_keys_lanes(const std::uint64_t* node_keys, std::uint64_t cell,
+                     const std::uint64_t* pixels, const std::uint64_t* indices, std::uint64_t* out);
+std::vector<std::string> cell_keys_lanes_paths();
+bool cell_keys_lanes_with(const std::string& path, const std::uint64_t* node_keys,
+                          std::uint64_t cell, const std::uint64_t* pixels,
+                          const std::uint64_t* indices, std::uint64_t* out);
 
 // A pixel's keys of the dimensions its ray trees draw, remembered across its
 // samples: a ray tree's per-node dimensions (an area light's cells at the first

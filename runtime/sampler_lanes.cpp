@@ -10,8 +10,8 @@
 //   GF(2) affine transform per byte (gf2p8affineqb with the anti-diagonal matrix)
 //   and a byte shuffle; Sobol' dimension 1 is eight 16-entry tables, one per
 //   nibble of the index, each a single vpermd from a register. x86-64 only.
-// hash_combine_lanes: sixteen hash_combines at once (a packet's per-lane sampler
-// keys), in 64-bit lane products where the CPU has AVX-512 DQ.
+// cell_keys_lanes: a light cell's sampler keys of sixteen lanes at once (three
+// hash_combines each), in 64-bit lane products where the CPU has AVX-512 DQ.
 //
 // - generic: GCC/clang vector types, four lanes at a time (SSE2 on x86-64, NEON
 //   on ARM), with scalar lookups of the byte tables.
@@ -275,14 +275,32 @@ SNELL_AVX512DQ_TARGET void stratified_lanes_avx512(const SamplerSpec& spec, cons
   (void)n;  // all 16 lanes are drawn and stored: the caller has room for them
 }
 
-SNELL_AVX512DQ_TARGET void hash_combine_lanes_avx512(const std::uint64_t* a, const std::uint64_t* b,
-                                                     std::uint64_t* out) {
+// hash_combine(x, c) of 8 lanes with one c: its hash64(c) term once.
+SNELL_AVX512DQ_TARGET inline U64x8 hash_combine_8(U64x8 x, std::uint64_t hashed_c) {
+  return hash64_8(x ^ (hashed_c + 0x9e3779b97f4a7c15ull + (x << 6) + (x >> 2)));
+}
+SNELL_AVX512DQ_TARGET inline U64x8 hash_combine_8(U64x8 x, U64x8 y) {
+  return hash64_8(x ^ (hash64_8(y) + 0x9e3779b97f4a7c15ull + (x << 6) + (x >> 2)));
+}
+
+SNELL_AVX512DQ_TARGET void cell_keys_lanes_avx512(const std::uint64_t* node_keys,
+                                                  std::uint64_t cell, const std::uint64_t* pixels,
+                                                  const std::uint64_t* indices,
+                                                  std::uint64_t* out) {
+  const std::uint64_t hashed_cell = hash64(cell);
   for (int h = 0; h < 2; ++h) {
-    U64x8 x, y;
-    std::memcpy(&x, a + 8 * h, 64);
-    std::memcpy(&y, b + 8 * h, 64);
-    U64x8 r = hash64_8(x ^ (hash64_8(y) + 0x9e3779b97f4a7c15ull + (x << 6) + (x >> 2)));
-    std::memcpy(out + 8 * h, &r, 64);
+    U64x8 x, p;
+    std::memcpy(&x, node_keys + 8 * h, 64);
+    std::memcpy(&p, pixels + 8 * h, 64);
+    const U64x8 dim =
+        (hash_combine_8(x, hashed_cell) & 0x7fffffffull) + std::uint64_t(kDimFirstFree);
+    U64x8 k = hash_combine_8(p, dim);
+    if (indices) {
+      U64x8 i;
+      std::memcpy(&i, indices + 8 * h, 64);
+      k = hash_combine_8(k, i);
+    }
+    std::memcpy(out + 8 * h, &k, 64);
   }
 }
 
@@ -340,21 +358,28 @@ const std::vector<Path<StrataFn>>& strata_available() {
 }
 const StrataFn g_stratified_lanes = strata_available().front().fn;
 
-void hash_combine_lanes_generic(const std::uint64_t* a, const std::uint64_t* b,
-                                std::uint64_t* out) {
-  for (std::uint32_t i = 0; i < kHashLanes; ++i) out[i] = hash_combine(a[i], b[i]);
+void cell_keys_lanes_generic(const std::uint64_t* node_keys, std::uint64_t cell,
+                             const std::uint64_t* pixels, const std::uint64_t* indices,
+                             std::uint64_t* out) {
+  for (std::uint32_t i = 0; i < kHashLanes; ++i) {
+    const std::uint32_t dim =
+        kDimFirstFree + std::uint32_t(hash_combine(node_keys[i], cell) & 0x7fffffffu);
+    out[i] = hash_combine(pixels[i], dim);
+    if (indices) out[i] = hash_combine(out[i], indices[i]);
+  }
 }
-using HashFn = void (*)(const std::uint64_t*, const std::uint64_t*, std::uint64_t*);
-const std::vector<Path<HashFn>>& hash_available() {
+using CellKeysFn = void (*)(const std::uint64_t*, std::uint64_t, const std::uint64_t*,
+                            const std::uint64_t*, std::uint64_t*);
+const std::vector<Path<CellKeysFn>>& cell_keys_available() {
 #ifdef SNELL_HAVE_AVX512_PATH
   static const auto paths =
-      paths_of<HashFn>(avx512dq_supported(), hash_combine_lanes_avx512, hash_combine_lanes_generic);
+      paths_of<CellKeysFn>(avx512dq_supported(), cell_keys_lanes_avx512, cell_keys_lanes_generic);
 #else
-  static const auto paths = paths_of<HashFn>(false, nullptr, hash_combine_lanes_generic);
+  static const auto paths = paths_of<CellKeysFn>(false, nullptr, cell_keys_lanes_generic);
 #endif
   return paths;
 }
-const HashFn g_hash_combine_lanes = hash_available().front().fn;
+const CellKeysFn g_cell_keys_lanes = cell_keys_available().front().fn;
 
 using LanesFn = void (*)(const SobolLanes&, std::uint32_t, std::uint32_t, float*, float*);
 const std::vector<Path<LanesFn>>& available() {
@@ -404,16 +429,19 @@ bool stratified_lanes_with(const std::string& path, const SamplerSpec& spec, con
   return p != nullptr;
 }
 
-void hash_combine_lanes(const std::uint64_t* a, const std::uint64_t* b, std::uint64_t* out) {
-  g_hash_combine_lanes(a, b, out);
+void cell_keys_lanes(const std::uint64_t* node_keys, std::uint64_t cell,
+                     const std::uint64_t* pixels, const std::uint64_t* indices,
+                     std::uint64_t* out) {
+  g_cell_keys_lanes(node_keys, cell, pixels, indices, out);
 }
-std::vector<std::string> hash_combine_lanes_paths() {
-  return names_of(hash_available());
+std::vector<std::string> cell_keys_lanes_paths() {
+  return names_of(cell_keys_available());
 }
-bool hash_combine_lanes_with(const std::string& path, const std::uint64_t* a,
-                             const std::uint64_t* b, std::uint64_t* out) {
-  const Path<HashFn>* p = path_named(hash_available(), path);
-  if (p) p->fn(a, b, out);
+bool cell_keys_lanes_with(const std::string& path, const std::uint64_t* node_keys,
+                          std::uint64_t cell, const std::uint64_t* pixels,
+                          const std::uint64_t* indices, std::uint64_t* out) {
+  const Path<CellKeysFn>* p = path_named(cell_keys_available(), path);
+  if (p) p->fn(node_keys, cell, pixels, indices, out);
   return p != nullptr;
 }
 

@@ -135,7 +135,7 @@ void WhittedIntegrator::direct_lanes(std::uint32_t lanes_in, const DirectQuery* 
     }
   };
   // Each lane's jitter in light cell `cell` (its node's dimension for the cell). A
-  // packet's lanes find their keys of it together (hash_combine_lanes: the node's
+  // packet's lanes find their keys of it together (cell_keys_lanes: the node's
   // dimension, then the pixel's key of it, what key2 finds one by one), then draw:
   // independent in the same hashes, sobol and stratified through sobol2_lanes /
   // stratified2_lanes when the lanes share a sample index (a packet's trees do).
@@ -158,15 +158,12 @@ void WhittedIntegrator::direct_lanes(std::uint32_t lanes_in, const DirectQuery* 
   }
   auto draw_cell = [&](std::uint64_t cell) {
     if constexpr (kLanes > 1) {
-      alignas(64) std::uint64_t b[kHashLanes], key[kHashLanes];
-      for (std::uint64_t& x : b) x = cell;
-      hash_combine_lanes(node_keys, b, key);  // node_dim's hash
-      for (std::uint32_t i = 0; i < kHashLanes; ++i)
-        b[i] = kDimFirstFree + std::uint32_t(key[i] & 0x7fffffffu);
-      hash_combine_lanes(pixels, b, key);  // dim_key's
+      alignas(64) std::uint64_t key[kHashLanes];
       const ir::SamplerKind kind = sc[0]->spec.kind;
+      // node_dim's hash, dim_key's and for independent draws sample2's.
+      cell_keys_lanes(node_keys, cell, pixels,
+                      kind == ir::SamplerKind::Independent ? indices : nullptr, key);
       if (kind == ir::SamplerKind::Independent) {
-        hash_combine_lanes(key, indices, key);  // sample2's
         for (std::uint32_t i = 0; i < lanes; ++i) {
           Sample2 s = independent_sample(key[i]);
           ju[i] = s.u, jv[i] = s.v;

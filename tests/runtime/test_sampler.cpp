@@ -328,29 +328,40 @@ TEST_CASE("stratified draws in lanes give the one-by-one numbers, on every SIMD 
       stratified_lanes_with("no such path", SamplerSpec{}, StrataLanes{}, 1, 0, nullptr, nullptr));
 }
 
-TEST_CASE("hash_combine in lanes gives the one-by-one hashes, on every SIMD path", "[sampler]") {
-  // Keys with high bits, zero, all ones and neighbours (the shifts and products
-  // of every 64-bit lane), against the scalar hash_combine.
-  const std::vector<std::string> paths = hash_combine_lanes_paths();
+TEST_CASE("a light cell's keys in lanes are the one-by-one keys, on every SIMD path", "[sampler]") {
+  // node_dim of the cell, then the pixel's key of it, then (independent) the
+  // sample's: the scalar composition the one-lane draw makes (draw2 of node_dim).
+  const std::vector<std::string> paths = cell_keys_lanes_paths();
   REQUIRE(!paths.empty());
   CHECK(paths.back() == "generic");
   for (const std::string& path : paths) {
     INFO("path " << path);
     std::uint64_t mismatches = 0, n = 0;
     for (std::uint64_t round = 0; round < 64; ++round) {
-      alignas(64) std::uint64_t a[kHashLanes], b[kHashLanes], out[kHashLanes];
+      alignas(64) std::uint64_t keys[kHashLanes], pixels[kHashLanes], indices[kHashLanes],
+          out[kHashLanes];
+      const std::uint64_t cell = round % 2 ? (std::uint64_t(round) << 40) | round : ~round;
       for (std::uint32_t l = 0; l < kHashLanes; ++l) {
-        a[l] = round == 0 ? 0 : round == 1 ? ~0ull : hash64(round * 131 + l);
-        b[l] = l % 3 == 0 ? l : hash64(round ^ (std::uint64_t(l) << 40));
+        keys[l] = round == 0 ? 0 : round == 1 ? ~0ull : hash64(round * 131 + l);
+        pixels[l] = hash64(round ^ (std::uint64_t(l) << 40));
+        indices[l] = l % 3 == 0 ? l : round * 1000 + l;
       }
-      REQUIRE(hash_combine_lanes_with(path, a, b, out));
-      for (std::uint32_t l = 0; l < kHashLanes; ++l, ++n)
-        mismatches += out[l] != hash_combine(a[l], b[l]);
+      for (const std::uint64_t* idx : {static_cast<const std::uint64_t*>(indices),
+                                       static_cast<const std::uint64_t*>(nullptr)}) {
+        REQUIRE(cell_keys_lanes_with(path, keys, cell, pixels, idx, out));
+        for (std::uint32_t l = 0; l < kHashLanes; ++l, ++n) {
+          const std::uint32_t dim =
+              kDimFirstFree + std::uint32_t(hash_combine(keys[l], cell) & 0x7fffffffu);
+          std::uint64_t want = hash_combine(pixels[l], dim);
+          if (idx) want = hash_combine(want, idx[l]);
+          mismatches += out[l] != want;
+        }
+      }
     }
-    CHECK(n == 64 * kHashLanes);
+    CHECK(n == 2 * 64 * kHashLanes);
     CHECK(mismatches == 0);
   }
-  CHECK_FALSE(hash_combine_lanes_with("no such path", nullptr, nullptr, nullptr));
+  CHECK_FALSE(cell_keys_lanes_with("no such path", nullptr, 0, nullptr, nullptr, nullptr));
 }
 
 TEST_CASE("the exact divisor agrees with division for every kind of divisor", "[sampler]") {
