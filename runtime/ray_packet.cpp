@@ -1,8 +1,9 @@
 #include "runtime/ray_packet.hpp"
 
+#include <cstddef>
 #include <cstdint>
-#include <cstdlib>
-#include <cstring>
+
+#include "runtime/simd_paths.hpp"
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #include <immintrin.h>
@@ -60,24 +61,20 @@ bool avx512_supported() {
 
 #endif  // SNELL_HAVE_AVX512_PATH
 
-const std::vector<std::pair<std::string, StoreRays16Fn>>& available() {
-  static const std::vector<std::pair<std::string, StoreRays16Fn>> paths = [] {
-    std::vector<std::pair<std::string, StoreRays16Fn>> p;
+const SimdPaths<StoreRays16Fn>& available() {
 #ifdef SNELL_HAVE_AVX512_PATH
-    const char* force = std::getenv("SNELL_SIMD");
-    if (avx512_supported() && !(force && std::strcmp(force, "generic") == 0))
-      p.emplace_back("avx512", store_rays16_avx512);
+  static const auto paths =
+      simd_paths<StoreRays16Fn>(avx512_supported(), store_rays16_avx512, store_rays16_generic);
+#else
+  static const auto paths = simd_paths<StoreRays16Fn>(false, nullptr, store_rays16_generic);
 #endif
-    p.emplace_back("generic", store_rays16_generic);
-    return p;
-  }();
   return paths;
 }
 
 }  // namespace
 
 StoreRays16Fn store_rays16() {
-  static const StoreRays16Fn best = available().front().second;
+  static const StoreRays16Fn best = best_path(available());
   return best;
 }
 

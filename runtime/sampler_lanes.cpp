@@ -15,12 +15,12 @@
 //
 // - generic: GCC/clang vector types, four lanes at a time (SSE2 on x86-64, NEON
 //   on ARM), with scalar lookups of the byte tables.
-#include <cstdlib>
 #include <cstring>
 #include <string>
 #include <vector>
 
 #include "runtime/sampler.hpp"
+#include "runtime/simd_paths.hpp"
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #include <immintrin.h>
@@ -312,51 +312,18 @@ bool avx512dq_supported() {
 
 #endif  // SNELL_HAVE_AVX512_PATH
 
-// A draw function by SIMD path.
-template <class Fn>
-struct Path {
-  const char* name;
-  Fn fn;
-};
-// The paths this build has and this CPU runs, best first: `simd` (named "avx512")
-// where the CPU has what it needs, then `generic`. SNELL_SIMD=generic forces the
-// portable one (A/B measurements, and the tests of both paths).
-template <class Fn>
-std::vector<Path<Fn>> paths_of([[maybe_unused]] bool simd_ok, [[maybe_unused]] Fn simd,
-                               Fn generic) {
-  std::vector<Path<Fn>> p;
-#ifdef SNELL_HAVE_AVX512_PATH
-  const char* force = std::getenv("SNELL_SIMD");
-  if (simd_ok && !(force && std::strcmp(force, "generic") == 0)) p.push_back({"avx512", simd});
-#endif
-  p.push_back({"generic", generic});
-  return p;
-}
-template <class Fn>
-std::vector<std::string> names_of(const std::vector<Path<Fn>>& paths) {
-  std::vector<std::string> names;
-  for (const Path<Fn>& p : paths) names.push_back(p.name);
-  return names;
-}
-template <class Fn>
-const Path<Fn>* path_named(const std::vector<Path<Fn>>& paths, const std::string& name) {
-  for (const Path<Fn>& p : paths)
-    if (name == p.name) return &p;
-  return nullptr;
-}
-
 using StrataFn = void (*)(const SamplerSpec&, const StrataLanes&, std::uint32_t, std::uint32_t,
                           float*, float*);
-const std::vector<Path<StrataFn>>& strata_available() {
+const SimdPaths<StrataFn>& strata_available() {
 #ifdef SNELL_HAVE_AVX512_PATH
   static const auto paths =
-      paths_of<StrataFn>(avx512dq_supported(), stratified_lanes_avx512, stratified_lanes_generic);
+      simd_paths<StrataFn>(avx512dq_supported(), stratified_lanes_avx512, stratified_lanes_generic);
 #else
-  static const auto paths = paths_of<StrataFn>(false, nullptr, stratified_lanes_generic);
+  static const auto paths = simd_paths<StrataFn>(false, nullptr, stratified_lanes_generic);
 #endif
   return paths;
 }
-const StrataFn g_stratified_lanes = strata_available().front().fn;
+const StrataFn g_stratified_lanes = best_path(strata_available());
 
 void cell_keys_lanes_generic(const std::uint64_t* node_keys, std::uint64_t cell,
                              const std::uint64_t* pixels, const std::uint64_t* indices,
@@ -370,28 +337,28 @@ void cell_keys_lanes_generic(const std::uint64_t* node_keys, std::uint64_t cell,
 }
 using CellKeysFn = void (*)(const std::uint64_t*, std::uint64_t, const std::uint64_t*,
                             const std::uint64_t*, std::uint64_t*);
-const std::vector<Path<CellKeysFn>>& cell_keys_available() {
+const SimdPaths<CellKeysFn>& cell_keys_available() {
 #ifdef SNELL_HAVE_AVX512_PATH
   static const auto paths =
-      paths_of<CellKeysFn>(avx512dq_supported(), cell_keys_lanes_avx512, cell_keys_lanes_generic);
+      simd_paths<CellKeysFn>(avx512dq_supported(), cell_keys_lanes_avx512, cell_keys_lanes_generic);
 #else
-  static const auto paths = paths_of<CellKeysFn>(false, nullptr, cell_keys_lanes_generic);
+  static const auto paths = simd_paths<CellKeysFn>(false, nullptr, cell_keys_lanes_generic);
 #endif
   return paths;
 }
-const CellKeysFn g_cell_keys_lanes = cell_keys_available().front().fn;
+const CellKeysFn g_cell_keys_lanes = best_path(cell_keys_available());
 
 using LanesFn = void (*)(const SobolLanes&, std::uint32_t, std::uint32_t, float*, float*);
-const std::vector<Path<LanesFn>>& available() {
+const SimdPaths<LanesFn>& available() {
 #ifdef SNELL_HAVE_AVX512_PATH
   static const auto paths =
-      paths_of<LanesFn>(avx512_supported(), sobol2_lanes_avx512, sobol2_lanes_generic);
+      simd_paths<LanesFn>(avx512_supported(), sobol2_lanes_avx512, sobol2_lanes_generic);
 #else
-  static const auto paths = paths_of<LanesFn>(false, nullptr, sobol2_lanes_generic);
+  static const auto paths = simd_paths<LanesFn>(false, nullptr, sobol2_lanes_generic);
 #endif
   return paths;
 }
-const LanesFn g_sobol2_lanes = available().front().fn;
+const LanesFn g_sobol2_lanes = best_path(available());
 
 }  // namespace
 
@@ -400,13 +367,13 @@ void sobol2_lanes(const SobolLanes& k, std::uint32_t n, std::uint32_t index, flo
 }
 
 std::vector<std::string> sobol2_lanes_paths() {
-  return names_of(available());
+  return path_names(available());
 }
 
 bool sobol2_lanes_with(const std::string& path, const SobolLanes& k, std::uint32_t n,
                        std::uint32_t index, float* u, float* v) {
-  const Path<LanesFn>* p = path_named(available(), path);
-  if (p) p->fn(k, n, index, u, v);
+  const LanesFn p = path_named(available(), path);
+  if (p) p(k, n, index, u, v);
   return p != nullptr;
 }
 
@@ -419,13 +386,13 @@ void stratified1_lanes(const SamplerSpec& spec, const StrataLanes& k, std::uint3
   g_stratified_lanes(spec, k, n, index, u, nullptr);
 }
 std::vector<std::string> stratified_lanes_paths() {
-  return names_of(strata_available());
+  return path_names(strata_available());
 }
 
 bool stratified_lanes_with(const std::string& path, const SamplerSpec& spec, const StrataLanes& k,
                            std::uint32_t n, std::uint32_t index, float* u, float* v) {
-  const Path<StrataFn>* p = path_named(strata_available(), path);
-  if (p) p->fn(spec, k, n, index, u, v);
+  const StrataFn p = path_named(strata_available(), path);
+  if (p) p(spec, k, n, index, u, v);
   return p != nullptr;
 }
 
@@ -435,13 +402,13 @@ void cell_keys_lanes(const std::uint64_t* node_keys, std::uint64_t cell,
   g_cell_keys_lanes(node_keys, cell, pixels, indices, out);
 }
 std::vector<std::string> cell_keys_lanes_paths() {
-  return names_of(cell_keys_available());
+  return path_names(cell_keys_available());
 }
 bool cell_keys_lanes_with(const std::string& path, const std::uint64_t* node_keys,
                           std::uint64_t cell, const std::uint64_t* pixels,
                           const std::uint64_t* indices, std::uint64_t* out) {
-  const Path<CellKeysFn>* p = path_named(cell_keys_available(), path);
-  if (p) p->fn(node_keys, cell, pixels, indices, out);
+  const CellKeysFn p = path_named(cell_keys_available(), path);
+  if (p) p(node_keys, cell, pixels, indices, out);
   return p != nullptr;
 }
 

@@ -1,7 +1,6 @@
 #include "runtime/geometry/sphere_lanes.hpp"
 
-#include <cstdlib>
-#include <cstring>
+#include "runtime/simd_paths.hpp"
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #include <immintrin.h>
@@ -113,23 +112,20 @@ bool avx512_supported() {
 
 #endif  // SNELL_HAVE_AVX512_PATH
 
-const std::vector<std::pair<std::string, SphereLanesFn>>& available() {
-  static const std::vector<std::pair<std::string, SphereLanesFn>> paths = [] {
-    std::vector<std::pair<std::string, SphereLanesFn>> p;
+const SimdPaths<SphereLanesFn>& available() {
 #ifdef SNELL_HAVE_AVX512_PATH
-    const char* force = std::getenv("SNELL_SIMD");
-    if (avx512_supported() && !(force && std::strcmp(force, "generic") == 0))
-      p.emplace_back("avx512", sphere_lanes_avx512);
+  static const auto paths =
+      simd_paths<SphereLanesFn>(avx512_supported(), sphere_lanes_avx512, nullptr);
+#else
+  static const auto paths = simd_paths<SphereLanesFn>(false, nullptr, nullptr);
 #endif
-    return p;
-  }();
   return paths;
 }
 
 }  // namespace
 
 SphereLanesFn sphere_lanes() {
-  static const SphereLanesFn best = available().empty() ? nullptr : available().front().second;
+  static const SphereLanesFn best = best_path(available());
   return best;
 }
 

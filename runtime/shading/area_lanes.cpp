@@ -1,9 +1,7 @@
 #include "runtime/shading/area_lanes.hpp"
 
-#include <cstdlib>
-#include <cstring>
-
 #include "runtime/shading/lights.hpp"
+#include "runtime/simd_paths.hpp"
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #include <immintrin.h>
@@ -103,23 +101,19 @@ bool avx512_supported() {
 
 #endif  // SNELL_HAVE_AVX512_PATH
 
-const std::vector<std::pair<std::string, AreaLanesFn>>& available() {
-  static const std::vector<std::pair<std::string, AreaLanesFn>> paths = [] {
-    std::vector<std::pair<std::string, AreaLanesFn>> p;
+const SimdPaths<AreaLanesFn>& available() {
 #ifdef SNELL_HAVE_AVX512_PATH
-    const char* force = std::getenv("SNELL_SIMD");
-    if (avx512_supported() && !(force && std::strcmp(force, "generic") == 0))
-      p.emplace_back("avx512", area_lanes_avx512);
+  static const auto paths = simd_paths<AreaLanesFn>(avx512_supported(), area_lanes_avx512, nullptr);
+#else
+  static const auto paths = simd_paths<AreaLanesFn>(false, nullptr, nullptr);
 #endif
-    return p;
-  }();
   return paths;
 }
 
 }  // namespace
 
 AreaLanesFn area_lanes() {
-  static const AreaLanesFn best = available().empty() ? nullptr : available().front().second;
+  static const AreaLanesFn best = best_path(available());
   return best;
 }
 

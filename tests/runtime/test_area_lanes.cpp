@@ -11,15 +11,12 @@
 
 #include "runtime/shading/area_lanes.hpp"
 #include "runtime/shading/lights.hpp"
+#include "tests/runtime/bits_util.hpp"
 
 using namespace snell;
 using namespace snell::rt;
 
-namespace {
-bool same_bits(float a, float b) {
-  return std::memcmp(&a, &b, sizeof a) == 0;
-}
-}  // namespace
+using snell::test::same_bits;
 
 TEST_CASE("a packet's light samples are the one-lane samples, bit for bit",
           "[lights][area][lanes]") {

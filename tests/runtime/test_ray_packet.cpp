@@ -6,15 +6,12 @@
 #include <random>
 
 #include "runtime/ray_packet.hpp"
+#include "tests/runtime/bits_util.hpp"
 
 using namespace snell;
 using namespace snell::rt;
 
-namespace {
-bool same_bits(float a, float b) {
-  return std::memcmp(&a, &b, sizeof a) == 0;
-}
-}  // namespace
+using snell::test::same_bits;
 
 TEST_CASE("a batch of rays goes into the packet layout field by field", "[packets][lanes]") {
   auto paths = store_rays16_paths();

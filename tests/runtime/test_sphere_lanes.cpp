@@ -9,16 +9,13 @@
 
 #include "runtime/geometry/sphere.hpp"
 #include "runtime/geometry/sphere_lanes.hpp"
+#include "tests/runtime/bits_util.hpp"
 
 using namespace snell;
 using namespace snell::rt;
 using namespace snell::rt::geom;
 
-namespace {
-bool same_bits(float a, float b) {
-  return std::memcmp(&a, &b, sizeof a) == 0;
-}
-}  // namespace
+using snell::test::same_bits;
 
 TEST_CASE("a packet's sphere test is the one-ray test, bit for bit", "[shapes][sphere][lanes]") {
   auto paths = sphere_lanes_paths();
