@@ -289,6 +289,10 @@ server_pids() {
 }
 d="$tmp/resident"
 mkdir -p "$d"
+# A folder of their own: a server left by a run of the cases above (alive for
+# SNELL_IMAGE_SERVER_IDLE after it) would answer the "first" run below, depending
+# on how fast those cases went.
+export SNELL_IMAGE_SERVER_DIR="$d/servers"
 small_png() { "$snell" render "$scene" "${small[@]}" --stats -o "$d/$1" 2> "$tmp/err"; }
 CASE="resident server: the first run starts it"
 SNELL_IMAGE_SERVER=0 "$snell" render "$scene" "${small[@]}" -o "$d/own.png" 2> "$tmp/err"
