@@ -158,10 +158,19 @@ RenderResult render(const ir::Scene& scene, const RenderOptions& options) {
       skipped.store(true, std::memory_order_relaxed);
       return;
     }
-    // Denormals flushed to zero on every worker: Embree's recommendation, and
+    // Denormals flushed to zero while a tile renders: Embree's recommendation, and
     // it keeps the slow path out of deep Beer attenuation (robustness.md §3.4).
-    _MM_SET_FLUSH_ZERO_MODE(_MM_FLUSH_ZERO_ON);
-    _MM_SET_DENORMALS_ZERO_MODE(_MM_DENORMALS_ZERO_ON);
+    // The thread's own mode comes back after it: the calling thread runs tiles too,
+    // and left on, the flags leaked into whatever it computed next (a test of
+    // libm's bits after a render in the same process failed on them).
+    struct FlushDenormals {
+      const unsigned saved = _mm_getcsr();
+      FlushDenormals() {
+        _MM_SET_FLUSH_ZERO_MODE(_MM_FLUSH_ZERO_ON);
+        _MM_SET_DENORMALS_ZERO_MODE(_MM_DENORMALS_ZERO_ON);
+      }
+      ~FlushDenormals() { _mm_setcsr(saved); }
+    } flush;
     run(ctx, tile, workers.local());
     std::uint32_t n = ++done;
     if (options.progress) options.progress(double(n) / ntiles);

@@ -142,7 +142,9 @@ void WhittedIntegrator::direct_lanes(std::uint32_t lanes_in, const DirectQuery* 
   // The same numbers as draw2 lane by lane (the packet test).
   static_assert(SobolLanes::kLanes == StrataLanes::kLanes && kHashLanes == SobolLanes::kLanes);
   constexpr std::uint32_t kJitter = kLanes > SobolLanes::kLanes ? kLanes : SobolLanes::kLanes;
-  alignas(64) float ju[kJitter], jv[kJitter];
+  // Zeroed: area_lanes reads all sixteen lanes (and masks the ones past `lanes`),
+  // where the independent draw writes only the live ones.
+  alignas(64) float ju[kJitter] = {}, jv[kJitter] = {};
   // The lanes' node keys, pixel keys and sample indices, the same for every cell
   // (lanes past `lanes` hash zeros, unused).
   static_assert(kLanes == 1 || kLanes <= kHashLanes);

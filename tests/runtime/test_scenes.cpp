@@ -1,4 +1,7 @@
 // Analytic scenes with diffuse surfaces and lights, determinism, robustness.
+#include <pmmintrin.h>
+#include <xmmintrin.h>
+
 #include <atomic>
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -109,6 +112,24 @@ TEST_CASE("same image bit for bit with 1 and 2 threads", "[scene][determinism]")
     CHECK(a.stats.shadow_rays == b.stats.shadow_rays);
     CHECK(a.stats.nonfinite_samples == 0);
   }
+}
+
+TEST_CASE("a render leaves the calling thread's floating-point mode as it was", "[scene]") {
+  // Tiles flush denormals to zero; the caller runs tiles too, and its own mode
+  // (here: denormals kept, the default) must come back.
+  const unsigned before = _mm_getcsr();
+  REQUIRE((before & (_MM_FLUSH_ZERO_MASK | _MM_DENORMALS_ZERO_MASK)) == 0);
+  ir::Scene s = base_scene(16, 16, 2);
+  s.shapes.push_back(sphere({0, 0.5, 0}, 0.5, 0));
+  s.point_lights.push_back({{2, 4, -2}, {20, 20, 20}, {}});
+  rt::RenderOptions opt;
+  opt.threads = 1;  // every tile on this thread
+  rt::RenderResult r = rt::render(s, opt);
+  CHECK(r.stats.camera_rays > 0);
+  CHECK(_mm_getcsr() == before);
+  // A denormal survives arithmetic again.
+  volatile float tiny = 1e-40f;
+  CHECK(tiny * 1.0f != 0.0f);
 }
 
 // Hidden: `test_runtime "[demo]"` writes /tmp/snell_demo.png to look at.
