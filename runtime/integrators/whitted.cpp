@@ -259,13 +259,12 @@ void WhittedIntegrator::radiance_lanes(std::uint32_t n, std::uint32_t todo, cons
           }
           set_root_node(t.kids[0][0], rays[i]);
           t.node = &t.kids[0][0], t.gen = 0, t.on_stack = false;
-          t.d = rays[i].dir;
         }
         // The node's children go to the pair the node is not in.
         const std::uint8_t pair = t.on_stack ? 0 : t.gen ^ 1;
         NodeOf<false>* const kids = t.kids[pair];
-        step[i] = node_radiance<K>(*t.node, t.d, hit, f, sc[i], scratch, probe, light[i], lit, kids,
-                                   nkids, desc);
+        step[i] = node_radiance<K>(*t.node, t.node->ray.dir, hit, f, sc[i], scratch, probe,
+                                   light[i], lit, kids, nkids, desc);
         if (lit) q[nlit] = &light[i].q, qsc[nlit] = &sc[i], lit_lane[nlit++] = i;
         // The lane's next node, as li walks: the first child (its siblings wait on
         // the stack), else the stack's top.
@@ -277,9 +276,7 @@ void WhittedIntegrator::radiance_lanes(std::uint32_t n, std::uint32_t todo, cons
           t.node = &t.stack.back(), t.on_stack = true;
         } else {
           active &= ~(1u << i);
-          continue;
         }
-        t.d = t.node->ray.dir;
       }
       if (nlit > 0) {
         Uninit<Color, kMaxLanes> e_store, spec_store;  // direct_lanes sets them

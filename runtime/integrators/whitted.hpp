@@ -88,8 +88,8 @@ class WhittedIntegrator final : public Integrator {
   };
   // At most this many trees go through the ray tree at once (the pixel loop's packet).
   static constexpr std::uint32_t kMaxLanes = 16;
-  // One lane of a packet's trees (radiance_packet): its next node, the direction
-  // of that node's ray, its sum so far and its stack. The next node is shaded where
+  // One lane of a packet's trees (radiance_packet): its next node, its sum so far
+  // and its stack. The next node is shaded where
   // it is: the first child in `kids[gen]` (the node's own children go to the other
   // pair) or the stack's top. Copied out of either, an 80-byte node was loaded
   // whole soon after spawn's field-by-field stores, a store-forwarding stall on
@@ -98,7 +98,6 @@ class WhittedIntegrator final : public Integrator {
     NodeOf<false>* node;
     bool on_stack;
     std::uint8_t gen;
-    Vec3f d;
     Color total;
     NodeOf<false> kids[2][2];
     std::vector<NodeOf<false>> stack;
