@@ -4,6 +4,7 @@
 // are two primitive sets of the user-geometry class (traits.hpp). No Embree types.
 #pragma once
 
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <utility>
@@ -52,9 +53,23 @@ inline bool sphere_roots(Vec3 o, Vec3 d, Vec3 c, double r, double& t0, double& t
   return true;
 }
 
+// 2^-e for a radius r in [2^e, 2^(e+1)): multiplying by it is exact, and takes a
+// vector r long to one between 1 and 2 long, in float's range whatever r is.
+inline double normal_scale(double r) {
+  const std::uint64_t bits = std::bit_cast<std::uint64_t>(r);
+  const int e = int((bits >> 52) & 0x7ff);                          // r > 0: the biased exponent
+  if (e == 0 || e >= 2046) return std::ldexp(1.0, -std::ilogb(r));  // subnormal or near max
+  return std::bit_cast<double>(std::uint64_t(2046 - e) << 52);
+}
+
 // Intersects the camera-relative sphere (rel_center, rel_radius) with a
-// camera-relative float ray; returns the nearest t in (tnear, tfar) and the
-// outward unit world normal.
+// camera-relative float ray; returns the nearest t in (tnear, tfar) and the outward
+// world normal, not unit: (o + t·d − c) in double, scaled exactly by
+// normal_scale(r), then rounded to float. The hit's user normalises it in float
+// (finish_hit, for the one hit that is kept): the cancellation of o + t·d − c is
+// done in double, so the float normal is within a few float ulps of the exact one.
+// A packet's candidate hits (sphere_lanes) skip the double normalisation's three
+// divisions and square root, most of them for hits a nearer one replaces.
 inline bool hit_similar_sphere(Vec3 rel_center, double rel_radius, float ox, float oy, float oz,
                                float dx, float dy, float dz, float tnear, float tfar, float& t_out,
                                Vec3f& n_out) {
@@ -65,8 +80,7 @@ inline bool hit_similar_sphere(Vec3 rel_center, double rel_radius, float ox, flo
   if (!(t > tnear) || !(t < tfar)) return false;
   t_out = static_cast<float>(t);
   if (!(t_out > tnear && t_out < tfar)) return false;
-  Vec3 n = (o + d * t - rel_center) / rel_radius;
-  n = ir::normalize(n);
+  Vec3 n = (o + d * t - rel_center) * normal_scale(rel_radius);
   n_out = to_float(n.x, n.y, n.z);
   return true;
 }

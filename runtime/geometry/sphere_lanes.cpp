@@ -1,5 +1,6 @@
 #include "runtime/geometry/sphere_lanes.hpp"
 
+#include "runtime/geometry/sphere.hpp"
 #include "runtime/simd_paths.hpp"
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
@@ -40,8 +41,8 @@ inline __m512d dot3(__m512d ax, __m512d ay, __m512d az, __m512d bx, __m512d by, 
 // Eight lanes starting at `off`. Each line is one operation of sphere_roots or
 // hit_similar_sphere, in their order (a dot product is (x·x + y·y) + z·z, as
 // ir::dot; a Vec3 divided by a double is three divisions, as ir::operator/).
-std::uint32_t eight(ir::Vec3 c, double r, const RayLanes& R, std::uint32_t off, HitLanes* out,
-                    std::uint32_t& undecided) {
+std::uint32_t eight(ir::Vec3 c, double r, double scale, const RayLanes& R, std::uint32_t off,
+                    HitLanes* out, std::uint32_t& undecided) {
   __m256i valid = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(R.valid + off));
   __mmask8 m = _mm256_cmpneq_epi32_mask(valid, _mm256_setzero_si256());
   if (!m) return 0;
@@ -83,10 +84,10 @@ std::uint32_t eight(ir::Vec3 c, double r, const RayLanes& R, std::uint32_t off, 
   const __m256 tf = narrow(t);
   m &= _mm256_cmp_ps_mask(tf, tnear_f, _CMP_GT_OQ) & _mm256_cmp_ps_mask(tf, tfar_f, _CMP_LT_OQ);
   if (!m || !out) return std::uint32_t(m) << off;
-  // n = normalize((o + d·t - c) / r)
-  __m512d nx = (ox + dx * t - cx) / rv, ny = (oy + dy * t - cy) / rv, nz = (oz + dz * t - cz) / rv;
-  const __m512d len = _mm512_sqrt_pd(dot3(nx, ny, nz, nx, ny, nz));
-  nx = nx / len, ny = ny / len, nz = nz / len;
+  // n = (o + d·t - c) · normal_scale(r), not unit (hit_similar_sphere)
+  const __m512d sc = _mm512_set1_pd(scale);
+  const __m512d nx = (ox + dx * t - cx) * sc, ny = (oy + dy * t - cy) * sc,
+                nz = (oz + dz * t - cz) * sc;
   _mm256_storeu_ps(out->t + off, tf);
   _mm256_storeu_ps(out->nx + off, narrow(nx));
   _mm256_storeu_ps(out->ny + off, narrow(ny));
@@ -97,8 +98,9 @@ std::uint32_t eight(ir::Vec3 c, double r, const RayLanes& R, std::uint32_t off, 
 std::uint32_t sphere_lanes_avx512(ir::Vec3 c, double r, const RayLanes& rays, HitLanes* out,
                                   std::uint32_t& undecided) {
   std::uint32_t hits = 0;
+  const double scale = out ? normal_scale(r) : 0;
   for (std::uint32_t off = 0; off < rays.n && off < 16; off += 8)
-    hits |= eight(c, r, rays, off, out, undecided);
+    hits |= eight(c, r, scale, rays, off, out, undecided);
   return hits;
 }
 

@@ -24,7 +24,8 @@ struct RayLanes {
   const int* valid;  // non-zero: the lane takes part
   std::uint32_t n;   // a multiple of 8
 };
-// What a lane's hit is: t and the outward unit normal, written only for hit lanes.
+// What a lane's hit is: t and the outward normal (not unit: hit_similar_sphere),
+// written only for hit lanes.
 struct HitLanes {
   float t[16], nx[16], ny[16], nz[16];
 };
