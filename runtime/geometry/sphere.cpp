@@ -52,12 +52,14 @@ void SphereSet::refine(unsigned prim, const Ray& r, float t, Hit& hit) const {
   Vec3 p;
   if (s.general == kSimilar) {
     // A normalisation, not a Newton step along the normal: p0 is off by ulps of t,
-    // which for a tiny sphere far away can be many radii.
-    p = s.rel_center + ir::normalize(p0 - s.rel_center) * s.rel_radius;
+    // which for a tiny sphere far away can be many radii. One division (r / |v|),
+    // not normalize's three: the point is rounded to float after.
+    const Vec3 v = p0 - s.rel_center;
+    p = s.rel_center + v * (s.rel_radius / ir::length(v));
   } else {
     const General& g = general_[s.general];
-    Vec3 q = xform_point(g.object_from_rel, p0);
-    q = g.center + ir::normalize(q - g.center) * g.radius;
+    const Vec3 v = xform_point(g.object_from_rel, p0) - g.center;
+    const Vec3 q = g.center + v * (g.radius / ir::length(v));
     p = xform_point(g.rel_from_object, q);
   }
   if (!(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z))) {  // p0 at the centre
