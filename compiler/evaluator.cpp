@@ -38,7 +38,13 @@ std::int32_t Evaluator::intern(const std::string& name) {
   return it->second;
 }
 
+// An error costs kErrorSteps of the step budget: building its message and finding
+// it a repeat takes about as long as 25 plain steps (a loop whose body fails each
+// time: 350 ns an iteration for two errors, where a step is 7 ns). Without the
+// charge, `for i in 0 .. 1e9 { box {} }` ran for 72 s before its budget stopped it,
+// and a language server analysing it spent 0.6 s on each keystroke.
 lang::DiagBuilder Evaluator::error(DiagKind kind, Span span, std::string message) {
+  steps_ += kErrorSteps;
   return diags_.report(kind, span, std::move(message));
 }
 

@@ -90,6 +90,8 @@ class Evaluator {
   Value eval_standalone(const lang::Expr& expr);
 
   std::uint64_t steps() const { return steps_; }
+  // What an error costs of the step budget (Evaluator::error: why).
+  static constexpr std::uint64_t kErrorSteps = 32;
   void set_define_observer(DefineObserver observer) { on_define_ = std::move(observer); }
 
  private:

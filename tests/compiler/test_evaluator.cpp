@@ -9,6 +9,7 @@
 
 #include "compiler/builtins.hpp"
 #include "compiler/compile.hpp"
+#include "compiler/evaluator.hpp"
 
 using namespace snell;
 namespace fs = std::filesystem;
@@ -310,6 +311,16 @@ TEST_CASE("runaway programs stop with an error at the place", "[compiler]") {
   CHECK(c->status == compile::CompileStatus::SceneErrors);
   c = run("for i in 0 .. 1e37 { sphere { } }", o);
   CHECK(diag_kinds(*c) == "StepBudget ");
+  // A loop whose body fails every time: each error is charged to the budget
+  // (Evaluator::kErrorSteps), so it stops after ~1/32 of the iterations a clean
+  // loop runs, not after building a hundred thousand repeated messages.
+  c = run("for i in 0 .. 1e9 { box {} }", o);
+  CHECK(diag_kinds(*c) == "MissingProperty MissingProperty StepBudget ");
+  const auto& d = c->diags.diagnostics();
+  REQUIRE(d.size() == 3);
+  INFO("repeats " << d[0].repeats);
+  CHECK(d[0].repeats > 100);
+  CHECK(d[0].repeats * 2 * compile::Evaluator::kErrorSteps <= o.step_budget);
 }
 
 TEST_CASE("non-finite values are errors at the expression", "[compiler]") {
