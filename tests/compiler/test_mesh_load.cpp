@@ -89,7 +89,7 @@ TEST_CASE("without vn in the faces a mesh keeps no normals at all", "[compiler][
   CHECK(m.closed);
 }
 
-TEST_CASE("a zero vn makes its faces flat and is counted; vn is normalised", "[compiler][mesh]") {
+TEST_CASE("a zero vn makes its faces flat and is counted, vn is normalised", "[compiler][mesh]") {
   compile::ObjReport r;
   ir::MeshData m = load("bad-vn.obj", cube_obj(true, -1, "0 0 0"), r);
   CHECK(r.bad_normals == 2);  // face x=0's two triangles
@@ -111,7 +111,7 @@ TEST_CASE("a non-finite or overflowing vn is an error at its line (was: flat)",
   }
 }
 
-TEST_CASE("a face with a corner without vn shades flat; the others stay smooth",
+TEST_CASE("a face with a corner without vn shades flat, the others stay smooth",
           "[compiler][mesh]") {
   std::string obj =
       "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvn 0 0 1\n"
@@ -134,7 +134,7 @@ TEST_CASE("an OBJ cube missing a face is open and says so", "[compiler][mesh]") 
   CHECK(m.open_reason == "has 4 boundary edges, e.g. (v3, v4) (an edge used by one triangle only)");
 }
 
-TEST_CASE("the IR dump shows normals and closedness; has_inside follows it", "[compiler][mesh]") {
+TEST_CASE("the IR dump shows normals and closedness, has_inside follows it", "[compiler][mesh]") {
   fs::path closed = write_file("dump-closed.obj", cube_obj(true));
   fs::path open = write_file("dump-open.obj", cube_obj(false, 0));
   compile::CompileOptions opts;
@@ -255,7 +255,7 @@ TEST_CASE("OBJ numbers: the decimal forms are read, rounded to float", "[compile
   CHECK(d.positions[2].z == 16777216);      // the tie rounds to even
 }
 
-TEST_CASE("OBJ indices: negative ones count back; positive ones may name a later v",
+TEST_CASE("OBJ indices: negative ones count back, positive ones may name a later v",
           "[compiler][mesh]") {
   compile::ObjData d = compile::parse_obj(
       "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -3 -2 -1\nf 4 5 6\nv 0 0 1\nv 1 0 1\nv 0 1 1\n"

@@ -140,7 +140,7 @@ TEST_CASE("farm --frames: one task a frame, each with the sequence's clock", "[e
   }
 }
 
-TEST_CASE("farm: a failed task fails the merge job, naming it; nothing is merged", "[e2e][farm]") {
+TEST_CASE("farm: a failed task fails the merge job, naming it, nothing is merged", "[e2e][farm]") {
   Scratch tmp;
   REQUIRE(tmp.farm(kShowcase + kOpts + " --tiles 3 --dir " + (tmp / "shared") + " -o out.exr",
                    "FAKE_FAIL_TASK=1") == 0);
@@ -153,7 +153,7 @@ TEST_CASE("farm: a failed task fails the merge job, naming it; nothing is merged
   CHECK(!fs::exists(tmp / "shared/out.exr"));
 }
 
-TEST_CASE("farm: --dry-run prints and submits nothing; usage errors exit 2", "[e2e][farm]") {
+TEST_CASE("farm: --dry-run prints and submits nothing, usage errors exit 2", "[e2e][farm]") {
   Scratch tmp;
   REQUIRE(tmp.farm(kShowcase + kOpts + " --tiles 2 --dry-run --dir " + (tmp / "shared")) == 0);
   std::string out = slurp(tmp / "farm.out");

@@ -527,7 +527,7 @@ TEST_CASE("chi-square rejects wrong densities (the test can fail)", "[bsdf][chi2
 // densities themselves are evaluated in double); every sample leaves above the
 // surface. For delta samples eval and pdf are 0 at wi (delta-only lobes) and
 // weight·pdf is the component's reflectance.
-TEST_CASE("sample weight equals eval·cos/pdf; deltas have no density", "[bsdf][consistency]") {
+TEST_CASE("sample weight equals eval·cos/pdf, deltas have no density", "[bsdf][consistency]") {
   Rng rng(6);
   auto rel = [](float a, float b) { return std::fabs(a - b) / std::fmax(std::fabs(b), 1e-30f); };
   long continuous = 0, none = 0;

@@ -205,7 +205,7 @@ TEST_CASE("csg: a difference's removed surfaces face into the removed region", "
   CHECK(q.crossings({0, 5, 0}, {0, -1, 0}) == 2);
 }
 
-TEST_CASE("csg: merge hides the surfaces inside another child; union keeps them", "[csg]") {
+TEST_CASE("csg: merge hides the surfaces inside another child, union keeps them", "[csg]") {
   Query qm, qu;
   Csg m{qm.scene};
   m.place(

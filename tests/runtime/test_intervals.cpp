@@ -101,7 +101,7 @@ TEST_CASE("solid intervals: sphere, box, plane half-space", "[intervals]") {
       [&](Vec3 p) { return std::fabs(ir::dot(pl.normal, p) - pl.distance); });
 }
 
-TEST_CASE("solid intervals: closed cylinder and cone, torus; open shapes have none",
+TEST_CASE("solid intervals: closed cylinder and cone, torus, open shapes have none",
           "[intervals]") {
   auto axial = [](Vec3 base, Vec3 cap, double r0, double r1) {
     Vec3 a = cap - base;

@@ -40,7 +40,7 @@ ir::MeshData unwelded_cube() {
 
 }  // namespace
 
-TEST_CASE("a shared-vertex cube is closed; so is one whose faces repeat their vertices",
+TEST_CASE("a shared-vertex cube is closed, so is one whose faces repeat their vertices",
           "[mesh][topology]") {
   ir::MeshClosure c = ir::mesh_closure(cube());
   CHECK(c.closed);

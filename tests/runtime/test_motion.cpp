@@ -311,7 +311,7 @@ TEST_CASE("a world motion block nested in nothing is the block itself, to the bi
   }
 }
 
-TEST_CASE("a CSG leaf may move; an instanced prototype's part may not", "[motion]") {
+TEST_CASE("a CSG leaf may move, an instanced prototype's part may not", "[motion]") {
   ir::Scene s = base_scene(1, 1);
   ir::Shape leaf = moving(sphere({0, 0, 4}, 1, 0), K::Translate, {1, 0, 0});
   s.parts.push_back(box({-1, -1, 4}, {1, 1, 6}, 0));

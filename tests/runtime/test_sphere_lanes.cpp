@@ -89,7 +89,8 @@ TEST_CASE("a packet's sphere test is the one-ray test, bit for bit", "[shapes][s
   }
 }
 
-TEST_CASE("normal_scale is the power of two that takes a radius to [1, 2)", "[shapes][sphere]") {
+TEST_CASE("normal_scale is the power of two that takes a radius to between 1 and 2",
+          "[shapes][sphere]") {
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> u01(0, 1);
   for (int i = 0; i < 100000; ++i) {
