@@ -40,7 +40,7 @@ inline __m512d dot3(__m512d ax, __m512d ay, __m512d az, __m512d bx, __m512d by, 
 
 // Eight lanes starting at `off`. Each line is one operation of sphere_roots or
 // hit_similar_sphere, in their order (a dot product is (x·x + y·y) + z·z, as
-// ir::dot; a Vec3 divided by a double is three divisions, as ir::operator/).
+// ir::dot).
 std::uint32_t eight(ir::Vec3 c, double r, double scale, const RayLanes& R, std::uint32_t off,
                     HitLanes* out, std::uint32_t& undecided) {
   __m256i valid = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(R.valid + off));
