@@ -6,7 +6,7 @@
 #include <type_traits>
 #include <variant>
 
-#include "runtime/geometry/intervals.hpp"
+#include "runtime/geometry/point_inside.hpp"
 
 namespace snell::rt {
 
@@ -27,24 +27,6 @@ std::string to_string(const Crossing& c) {
   return fmt::format("crossing {{ {} {} -> {}{} {} }}", c.counts ? "counts" : "passes",
                      medium_text(c.from), medium_text(c.to), c.overflow ? " overflow" : "",
                      to_string(c.after));
-}
-
-bool solid_contains(const ir::Shape& shape, ir::Vec3 world_point) {
-  ir::Vec3 p = shape.world_from_object().inverse().point(world_point);
-  // Any direction will do from a point inside; an oblique one keeps clear of the
-  // axis-aligned faces a point on an edge would make ambiguous.
-  const ir::Vec3 d = ir::normalize(ir::Vec3{0.5477, 0.3651, 0.7531});
-  return std::visit(
-      [&](const auto& g) {
-        using K = std::decay_t<decltype(g)>;
-        if constexpr (geom::kSolid<K>) {
-          geom::Spans s = geom::solid_intervals(g, p, d, 0.0, double(INFINITY));
-          return s.count > 0 && s.span[0].t_in <= 0;
-        } else {
-          return false;
-        }
-      },
-      shape.geom);
 }
 
 Interiors::Interiors(const ir::Scene& scene) : scene_(scene) {
@@ -78,7 +60,8 @@ Interiors::Interiors(const ir::Scene& scene) : scene_(scene) {
   // Camera rays start inside the solids that contain the camera, entered in the
   // scene's order (so among equal priorities the later object is the medium).
   for (std::size_t i = 0; i < priority_.size(); ++i)
-    if (priority_[i] > 0 && solid_contains(scene.shapes[i], scene.camera.location))
+    if (priority_[i] > 0 &&
+        geom::point_inside(scene, scene.shapes[i], scene.camera.location, geom::InsideRule::Medium))
       camera_.enter(std::uint32_t(i), priority_[i]);
 }
 

@@ -22,9 +22,8 @@
 //     the start-up test does not see) is taken as if the ray had entered it first:
 //     it counts when its priority beats the medium left on the stack;
 //   - the camera's starting interior is found once, by inside tests at the camera
-//     location at shutter open, for the kinds with ray intervals
-//     (geometry/intervals.hpp: sphere, box, plane, closed cylinder/cone, torus);
-//     a camera inside a prioritised mesh starts in air.
+//     location at shutter open (geometry/point_inside.hpp: solid primitives, a
+//     plane's half-space, closed meshes, CSG objects by their trees, instances).
 #pragma once
 
 #include <cstdint>
@@ -135,9 +134,5 @@ class Interiors {
   std::vector<std::uint32_t> medium_;    // per prioritised shape: the material of its medium
   Interior camera_;
 };
-
-// Whether the world point lies inside the shape's solid at its shutter-open
-// placement (false for kinds without ray intervals: meshes, open shapes).
-bool solid_contains(const ir::Shape& shape, ir::Vec3 world_point);
 
 }  // namespace snell::rt
