@@ -8,7 +8,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cstring>
-#include <map>
+#include <vector>
 
 #include "cli/split.hpp"
 
@@ -63,9 +63,53 @@ bool read_header(const Piece& p, std::uint32_t& spp, Header& h, std::string& err
   return true;
 }
 
-bool overlap(const Window& a, const Window& b) {
-  return a.x0 < b.x1 && b.x0 < a.x1 && a.y0 < b.y1 && b.y0 < a.y1;
+// The pixels two windows share; false when they share none.
+bool intersect(const Window& a, const Window& b, Window& both) {
+  both = Window{std::max(a.x0, b.x0), std::max(a.y0, b.y0), std::min(a.x1, b.x1),
+                std::min(a.y1, b.y1)};
+  return both.x0 < both.x1 && both.y0 < both.y1;
 }
+
+// The image cut along every crop's edges: each cell lies wholly inside or wholly
+// outside each crop, so one list of pieces holds for all its pixels: coverage is
+// checked once a cell rather than once a pixel, and a pixel's sum visits only the
+// pieces that hold it, however crops and sample ranges are mixed.
+struct Grid {
+  std::vector<std::uint32_t> xs, ys;              // cell edges, 0 .. W and 0 .. H
+  std::vector<std::vector<const Header*>> cells;  // row-major; pieces by first sample
+
+  Grid(const std::vector<Header>& headers, std::uint32_t W, std::uint32_t H) {
+    xs = {0, W};
+    ys = {0, H};
+    for (const Header& h : headers) {
+      xs.insert(xs.end(), {h.crop.x0, h.crop.x1});
+      ys.insert(ys.end(), {h.crop.y0, h.crop.y1});
+    }
+    for (auto* v : {&xs, &ys}) {
+      std::sort(v->begin(), v->end());
+      v->erase(std::unique(v->begin(), v->end()), v->end());
+    }
+    cells.resize((xs.size() - 1) * (ys.size() - 1));
+    std::vector<const Header*> order;
+    for (const Header& h : headers) order.push_back(&h);
+    // Sorted by first sample, a cell's list walks its samples in order, and the
+    // sums below do not depend on the order the pieces were named in.
+    std::stable_sort(order.begin(), order.end(), [](const Header* a, const Header* b) {
+      return a->samples.begin < b->samples.begin;
+    });
+    auto index = [](const std::vector<std::uint32_t>& v, std::uint32_t e) {
+      return std::size_t(std::lower_bound(v.begin(), v.end(), e) - v.begin());
+    };
+    for (const Header* h : order)
+      for (std::size_t cy = index(ys, h->crop.y0); cy < index(ys, h->crop.y1); ++cy)
+        for (std::size_t cx = index(xs, h->crop.x0); cx < index(xs, h->crop.x1); ++cx)
+          cells[cy * (xs.size() - 1) + cx].push_back(h);
+  }
+  Window window(std::size_t cell) const {
+    std::size_t cx = cell % (xs.size() - 1), cy = cell / (xs.size() - 1);
+    return Window{xs[cx], ys[cy], xs[cx + 1], ys[cy + 1]};
+  }
+};
 
 }  // namespace
 
@@ -100,53 +144,58 @@ std::string merge_pieces(const std::vector<Piece>& pieces, rt::Image& out,
   }
   const std::uint32_t W = first.file.image.display_width(), H = first.file.image.display_height();
 
-  // Pieces with one crop share its pixels and split its samples; different crops
-  // must not share a pixel.
-  std::map<std::string, std::vector<const Header*>> groups;
-  for (const Header& h : headers) groups[to_string(h.crop)].push_back(&h);
-  std::vector<const std::vector<const Header*>*> list;
-  for (auto& [key, g] : groups) list.push_back(&g);
-  for (std::size_t i = 0; i < list.size(); ++i)
-    for (std::size_t j = i + 1; j < list.size(); ++j) {
-      const Header &a = *(*list[i])[0], &b = *(*list[j])[0];
-      if (overlap(a.crop, b.crop))
-        return fmt::format("{} (crop {}) and {} (crop {}) overlap", a.piece->path,
-                           to_string(a.crop), b.piece->path, to_string(b.crop));
+  // Each piece holds the (pixel, sample) pairs of its crop times its sample range;
+  // two pieces overlap only when both their crops and their ranges meet. Crops may
+  // share pixels when they split the samples differently (a full-image pass plus
+  // a pass split in tiles).
+  for (std::size_t i = 0; i < headers.size(); ++i)
+    for (std::size_t j = i + 1; j < headers.size(); ++j) {
+      const Header &a = headers[i], &b = headers[j];
+      Window pixels;
+      IntRange samples{std::max(a.samples.begin, b.samples.begin),
+                       std::min(a.samples.end, b.samples.end)};
+      if (samples.begin >= samples.end || !intersect(a.crop, b.crop, pixels)) continue;
+      if (a.crop.x0 == b.crop.x0 && a.crop.y0 == b.crop.y0 && a.crop.x1 == b.crop.x1 &&
+          a.crop.y1 == b.crop.y1)
+        return fmt::format("{} and {} both hold samples {} of crop {}", a.piece->path,
+                           b.piece->path, to_string(samples), to_string(a.crop));
+      return fmt::format("{} (crop {}) and {} (crop {}) overlap: both hold samples {} of pixels {}",
+                         a.piece->path, to_string(a.crop), b.piece->path, to_string(b.crop),
+                         to_string(samples), to_string(pixels));
     }
-  std::uint64_t area = 0;
-  for (auto& [key, g] : groups) {
-    std::sort(g.begin(), g.end(),
-              [](const Header* a, const Header* b) { return a->samples.begin < b->samples.begin; });
-    std::int64_t next = 0;
-    const Header* prev = nullptr;
+
+  // Disjoint now, so a cell is covered exactly when its ranges leave no gap.
+  const Grid grid(headers, W, H);
+  std::uint64_t missing = 0;
+  std::size_t first_hole = grid.cells.size();
+  for (std::size_t cell = 0; cell < grid.cells.size(); ++cell) {
+    const Window c = grid.window(cell);
+    const std::vector<const Header*>& g = grid.cells[cell];
+    if (g.empty()) {
+      missing += std::uint64_t(c.x1 - c.x0) * (c.y1 - c.y0);
+      first_hole = std::min(first_hole, cell);
+      continue;
+    }
+    std::int64_t next = 0, gap_end = spp;
     for (const Header* h : g) {
-      if (h->samples.begin < next)
-        return fmt::format(
-            "{} and {} both hold samples {} of crop {}", prev->piece->path, h->piece->path,
-            to_string(IntRange{h->samples.begin, std::min(next, h->samples.end)}), key);
-      if (h->samples.begin > next)
-        return fmt::format("no piece holds samples {} of crop {} (of 0..{})",
-                           to_string(IntRange{next, h->samples.begin}), key, spp);
+      if (h->samples.begin > next) {
+        gap_end = h->samples.begin;
+        break;
+      }
       next = h->samples.end;
-      prev = h;
     }
     if (next < spp)
-      return fmt::format("no piece holds samples {} of crop {} (of 0..{})",
-                         to_string(IntRange{next, spp}), key, spp);
-    const Window& c = g[0]->crop;
-    area += std::uint64_t(c.x1 - c.x0) * (c.y1 - c.y0);
+      return fmt::format("no piece holds samples {} of pixels {} (of 0..{})",
+                         to_string(IntRange{next, gap_end}), to_string(c), spp);
   }
-  if (area != std::uint64_t(W) * H) {
-    // Disjoint crops of less area than the image: name a pixel none holds.
-    std::vector<std::uint8_t> covered(std::size_t(W) * H, 0);
-    for (auto& [key, g] : groups)
-      for (std::uint32_t y = g[0]->crop.y0; y < g[0]->crop.y1; ++y)
-        for (std::uint32_t x = g[0]->crop.x0; x < g[0]->crop.x1; ++x) covered[y * W + x] = 1;
-    std::size_t hole = std::find(covered.begin(), covered.end(), 0) - covered.begin();
+  if (missing) {
+    // Cells are row-major with rows of equal y0, so the first empty cell's corner
+    // is the first pixel missing in reading order.
+    const Window hole = grid.window(first_hole);
     return fmt::format(
         "the pieces do not cover the {}x{} image: {} of its {} pixels are missing, the first at "
         "{},{}",
-        W, H, std::uint64_t(W) * H - area, std::uint64_t(W) * H, hole % W, hole / W);
+        W, H, missing, std::uint64_t(W) * H, hole.x0, hole.y0);
   }
 
   out = rt::Image{};
@@ -154,28 +203,36 @@ std::string merge_pieces(const std::vector<Piece>& pieces, rt::Image& out,
   out.height = H;
   out.rgb.assign(std::size_t(W) * H * 3, 0.0f);
   std::vector<double> acc;
-  for (auto& [key, g] : groups) {
-    const Window& c = g[0]->crop;
-    std::uint32_t cw = c.x1 - c.x0;
+  for (std::size_t cell = 0; cell < grid.cells.size(); ++cell) {
+    const Window c = grid.window(cell);
+    const std::vector<const Header*>& g = grid.cells[cell];
+    const std::uint32_t cw = c.x1 - c.x0, ch = c.y1 - c.y0;
+    // A pixel of piece h at full-image x, y.
+    auto at = [](const Header* h, std::uint32_t x, std::uint32_t y) {
+      return h->piece->file.image.at(x - h->crop.x0, y - h->crop.y0);
+    };
     if (g.size() == 1) {  // the whole sample range: the piece's floats, bit for bit
-      const rt::Image& im = g[0]->piece->file.image;
-      for (std::uint32_t y = 0; y < im.height; ++y)
-        std::memcpy(out.at(c.x0, c.y0 + y), im.at(0, y), sizeof(float) * 3 * cw);
+      for (std::uint32_t y = c.y0; y < c.y1; ++y)
+        std::memcpy(out.at(c.x0, y), at(g[0], c.x0, y), sizeof(float) * 3 * cw);
       continue;
     }
     // A pixel of the one-run render is sum / spp over its samples in double; a
     // piece holds sum_i / n_i rounded to float, so n_i · value_i gives back sum_i
     // to within float rounding (docs/distributed.md: within 1e-6, not bit for bit).
-    acc.assign(std::size_t(cw) * (c.y1 - c.y0) * 3, 0.0);
+    acc.assign(std::size_t(cw) * ch * 3, 0.0);
     for (const Header* h : g) {
-      const rt::Image& im = h->piece->file.image;
       double n = double(h->samples.size());
-      for (std::size_t i = 0; i < acc.size(); ++i) acc[i] += n * double(im.rgb[i]);
+      for (std::uint32_t y = 0; y < ch; ++y) {
+        const float* row = at(h, c.x0, c.y0 + y);
+        for (std::size_t k = 0; k < std::size_t(cw) * 3; ++k)
+          acc[std::size_t(y) * cw * 3 + k] += n * double(row[k]);
+      }
     }
-    for (std::uint32_t y = 0; y < c.y1 - c.y0; ++y)
-      for (std::uint32_t x = 0; x < cw; ++x)
-        for (int k = 0; k < 3; ++k)
-          out.at(c.x0 + x, c.y0 + y)[k] = float(acc[(std::size_t(y) * cw + x) * 3 + k] / spp);
+    for (std::uint32_t y = 0; y < ch; ++y) {
+      float* row = out.at(c.x0, c.y0 + y);
+      for (std::size_t k = 0; k < std::size_t(cw) * 3; ++k)
+        row[k] = float(acc[std::size_t(y) * cw * 3 + k] / spp);
+    }
   }
   attributes.clear();
   for (const char* a : {attr::kSceneHash, attr::kSettings, attr::kFrame, attr::kClock})

@@ -62,9 +62,10 @@ struct Piece {
 
 // Checks the pieces and assembles them into `out` (the whole image) and
 // `attributes` (the merged image's metadata: the whole crop and sample range).
-// Crops are copied bit for bit; pieces with the same crop and disjoint sample
-// ranges are averaged weighted by their sample counts (in double, one rounding to
-// float at the end). Returns an error message naming the pieces at fault (the
+// A pixel held by one piece with every sample is copied bit for bit; otherwise
+// its pieces (crops may share pixels when their sample ranges are disjoint) are
+// averaged weighted by their sample counts (in double, one rounding to float at
+// the end). Returns an error message naming the pieces at fault (the
 // merge then writes nothing): not a Snell piece, different scenes, settings or
 // frames, overlapping pixels or samples, or pixels or samples not covered.
 std::string merge_pieces(const std::vector<Piece>& pieces, rt::Image& out,

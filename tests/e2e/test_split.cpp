@@ -1,9 +1,9 @@
 // §18 end to end: frames (clock, frame, output names), crops (bit-identical to the
 // full render, at their place in the EXR's display window), sample ranges, and
-// snell merge (crops bit for bit, sample ranges within 1e-6 relative, and every
-// refusal writing nothing). The every-effect scene is examples/showcase.scn
-// (thin lens, motion blur, an area light, glossy metal, glass with absorption,
-// glazes, a checker), rendered small.
+// snell merge (crops bit for bit, sample ranges within 1e-6 relative, crops that
+// share pixels but not samples, and every refusal writing nothing). The
+// every-effect scene is examples/showcase.scn (thin lens, motion blur, an area
+// light, glossy metal, glass with absorption, glazes, a checker), rendered small.
 #include <OpenImageIO/imageio.h>
 
 #include <catch2/catch.hpp>
@@ -184,6 +184,50 @@ TEST_CASE("crops and sample-split crops merge into the full render", "[e2e][spli
   CHECK(png_differs == 0);
 }
 
+// A farm that ran a first pass over the whole image and then split the rest of
+// the samples by tiles: crops share pixels, never a (pixel, sample).
+TEST_CASE("a full pass and passes split by crops merge to the one-run image", "[e2e][split]") {
+  Scratch tmp;
+  for (const char* sampler : {"independent", "stratified", "sobol"}) {
+    INFO("sampler " << sampler);
+    const std::string r = showcase(sampler, 4);
+    REQUIRE(run(r + " -o " + (tmp / "full.exr")) == 0);
+    REQUIRE(run(r + " --sample-range 0..2 -o " + (tmp / "g1.exr")) == 0);
+    REQUIRE(run(r + " --crop 0,0,20,27 --sample-range 2..4 -o " + (tmp / "g2.exr")) == 0);
+    // The right part split again, by rows and by samples, off the tile grid.
+    REQUIRE(run(r + " --crop 20,0,48,13 --sample-range 2..4 -o " + (tmp / "g3.exr")) == 0);
+    REQUIRE(run(r + " --crop 20,13,48,27 --sample-range 2..3 -o " + (tmp / "g4.exr")) == 0);
+    REQUIRE(run(r + " --crop 20,13,48,27 --sample-range 3..4 -o " + (tmp / "g5.exr")) == 0);
+    const std::string pieces = " " + (tmp / "g1.exr") + " " + (tmp / "g2.exr") + " " +
+                               (tmp / "g3.exr") + " " + (tmp / "g4.exr") + " " + (tmp / "g5.exr");
+    REQUIRE(run("merge --quiet " + (tmp / "m.exr") + pieces) == 0);
+    // The order the pieces are named in changes no bit.
+    REQUIRE(run("merge --quiet " + (tmp / "r.exr") + " " + (tmp / "g5.exr") + " " +
+                (tmp / "g3.exr") + " " + (tmp / "g1.exr") + " " + (tmp / "g4.exr") + " " +
+                (tmp / "g2.exr")) == 0);
+    Exr full = read_exr(tmp / "full.exr"), m = read_exr(tmp / "m.exr"),
+        reordered = read_exr(tmp / "r.exr"), g1 = read_exr(tmp / "g1.exr");
+    REQUIRE(m.spec.width == 48);
+    REQUIRE(m.spec.height == 27);
+    REQUIRE(m.rgb.size() == full.rgb.size());
+    double worst = 0;
+    std::size_t half_differs = 0;
+    for (std::size_t i = 0; i < full.rgb.size(); ++i) {
+      double f = full.rgb[i], g = m.rgb[i];
+      double scale = std::max(std::fabs(f), std::fabs(g));
+      if (scale > 0) worst = std::max(worst, std::fabs(f - g) / scale);
+      half_differs += g1.rgb[i] != full.rgb[i];
+    }
+    // The same three float32 roundings as a merge of sample ranges alone.
+    CHECK(worst <= 1e-6);
+    // And the test can fail: the first pass alone is not the image.
+    CHECK(half_differs > full.rgb.size() / 2);
+    CHECK(std::memcmp(m.rgb.data(), reordered.rgb.data(), m.rgb.size() * sizeof(float)) == 0);
+    CHECK(m.attr("snell:crop") == "0,0,48,27");
+    CHECK(m.attr("snell:sample_range") == "0..4");
+  }
+}
+
 TEST_CASE("merge refuses pieces that do not make one image, and writes nothing", "[e2e][split]") {
   Scratch tmp;
   std::ofstream(tmp / "s.scn") << "settings { resolution <12, 8> samples 4 }\n"
@@ -203,10 +247,16 @@ TEST_CASE("merge refuses pieces that do not make one image, and writes nothing",
   REQUIRE(run(s + " --sample-range 0..2 -o " + (tmp / "s02.exr")) == 0);
   REQUIRE(run(s + " --sample-range 1..4 -o " + (tmp / "s14.exr")) == 0);
   REQUIRE(run(s + " --sample-range 3..4 -o " + (tmp / "s34.exr")) == 0);
+  REQUIRE(run(s + " --crop 0,0,6,8 --sample-range 2..4 -o " + (tmp / "left24.exr")) == 0);
+  REQUIRE(run(s + " --crop 6,0,12,8 --sample-range 2..4 -o " + (tmp / "right24.exr")) == 0);
+  REQUIRE(run(s + " --crop 6,0,12,8 --sample-range 1..4 -o " + (tmp / "right14.exr")) == 0);
+  REQUIRE(run(s + " --crop 6,0,12,7 --sample-range 2..4 -o " + (tmp / "short_right24.exr")) == 0);
   REQUIRE(run(s + " -o " + (tmp / "whole.png")) == 0);
-  // The good set merges, so each refusal below is the fault it names.
+  // The good sets merge, so each refusal below is the fault it names.
   REQUIRE(run("merge --quiet " + (tmp / "ok.exr") + " " + (tmp / "left.exr") + " " +
               (tmp / "right.exr")) == 0);
+  REQUIRE(run("merge --quiet " + (tmp / "ok.exr") + " " + (tmp / "s02.exr") + " " +
+              (tmp / "left24.exr") + " " + (tmp / "right24.exr")) == 0);
   std::ofstream(tmp / "keep.exr") << "previous contents";
   struct Case {
     const char* what;
@@ -222,6 +272,15 @@ TEST_CASE("merge refuses pieces that do not make one image, and writes nothing",
       {"overlapping sample ranges", {"s02.exr", "s14.exr"}, "both hold samples 1..2"},
       {"samples not covered", {"s02.exr", "s34.exr"}, "no piece holds samples 2..3"},
       {"one crop alone", {"left.exr"}, "do not cover"},
+      {"a pass and a crop sharing samples",
+       {"s02.exr", "left24.exr", "right14.exr"},
+       "overlap: both hold samples 1..2 of pixels 6,0,12,8"},
+      {"a pass and a crop leaving samples out",
+       {"s02.exr", "left24.exr"},
+       "no piece holds samples 2..4 of pixels 6,0,12,8"},
+      {"a pass and crops leaving a row's samples out",
+       {"s02.exr", "left24.exr", "short_right24.exr"},
+       "no piece holds samples 2..4 of pixels 6,7,12,8"},
   };
   for (const Case& c : cases) {
     INFO(c.what);
