@@ -1,10 +1,28 @@
 #include "cli/options.hpp"
 
 #include <CLI/CLI.hpp>
+#include <cmath>
+#include <cstdlib>
+#include <optional>
 #include <type_traits>
 
 namespace snell::cli {
 namespace {
+
+template <class T>
+struct Real : std::is_floating_point<T> {};
+template <class T>
+struct Real<std::optional<T>> : std::is_floating_point<T> {};
+
+// A number option takes finite values only: CLI11 reads "nan", "inf" and 1e400
+// as doubles, and a NaN clock reached the scene as its own expression's error.
+// Text that is no number at all is left to CLI11's conversion and its message.
+const CLI::Validator kFinite(
+    [](std::string& s) -> std::string {
+      const double v = std::strtod(s.c_str(), nullptr);
+      return std::isfinite(v) ? "" : "needs a finite number, not " + s;
+    },
+    "FINITE");
 
 // One row bound to its field: a bool is a flag, anything else takes a value.
 template <class T>
@@ -24,6 +42,7 @@ void bind(CLI::App& app, const OptionRow& row, Command cmd, T& field) {
     opt = app.add_option(names, field, help);
   }
   if (r.ranged) opt->check(CLI::Range(r.lo, r.hi));
+  if constexpr (Real<T>::value) opt->check(kFinite);
   if (r.required) opt->required();
 }
 

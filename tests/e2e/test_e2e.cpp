@@ -226,6 +226,18 @@ TEST_CASE("every subcommand's usage errors exit 2, its --help 0", "[e2e]") {
   CHECK(run("sweep " + ok + " --vary bad") == 2);
   CHECK(run("sweep " + ok + " --vary samples=1 --series bad") == 2);
   CHECK(run("dump-ast " + ok + " -I .") == 2);
+  // §18's clock is a number: one that is not finite is wrong usage, not a scene
+  // error at the line that reads it (nor exit 0 for a scene that does not).
+  std::ofstream(tmp / "clock.scn") << "settings { resolution <8, 8> }\nlet x = clock * 2;\n"
+                                      "sphere { }\n";
+  for (const char* c : {"nan", "inf", "-inf", "1e400"}) {
+    INFO(c);
+    CHECK(run("render " + ok + " --quiet --clock " + c + " -o " + (tmp / "c.exr")) == 2);
+    CHECK(run("render " + (tmp / "clock.scn") + " --quiet --clock " + c + " -o " +
+              (tmp / "c.exr")) == 2);
+  }
+  CHECK(!fs::exists(tmp / "c.exr"));
+  CHECK(run("render " + (tmp / "clock.scn") + " --quiet --clock 0.25 -o " + (tmp / "c.exr")) == 0);
 }
 
 TEST_CASE("a failed write leaves an existing output untouched", "[e2e]") {
