@@ -35,8 +35,10 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <deque>
 #include <filesystem>
 #include <functional>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -130,13 +132,20 @@ std::string linear_texture(const std::string& path, const SourceColour& colour,
   std::error_code ec;
   auto size = fs::file_size(path, ec);
   auto time = fs::last_write_time(path, ec).time_since_epoch().count();
+  // "straight": the texels' colours are read without alpha's premultiplication
+  // (.tx files made before are not reused).
   std::size_t key =
-      std::hash<std::string>{}(fmt::format("{}|{}|{}|{}", path, size, time, colour.key));
+      std::hash<std::string>{}(fmt::format("{}|{}|{}|{}|straight", path, size, time, colour.key));
   fs::path dir = fs::temp_directory_path(ec) / fmt::format("snell-textures-{}", ::getuid());
   fs::create_directories(dir, ec);
   fs::path out = dir / fmt::format("{:016x}.tx", key);
   if (fs::exists(out, ec)) return out.string();
-  OIIO::ImageBuf src(path);
+  // Colours as the file holds them: OIIO would multiply them by an unassociated
+  // alpha (PNG's, TIFF's) as it reads, and the decoding below is of the file's
+  // codes, not of codes times alpha. (§17 images give colours; alpha is unused.)
+  OIIO::ImageSpec hint;
+  hint.attribute("oiio:UnassociatedAlpha", 1);
+  OIIO::ImageBuf src(path, 0, 0, nullptr, &hint);
   if (!src.read(0, 0, true, OIIO::TypeDesc::FLOAT)) {
     error = src.geterror();
     return {};
@@ -199,6 +208,22 @@ std::string linear_texture(const std::string& path, const SourceColour& colour,
   return out.string();
 }
 
+// What the module's opaque pointers are: the render's texture system, and per
+// opened image its handle and the channels a lookup reads. A grey image, with or
+// without alpha, is read as its one grey channel, copied to R, G and B (OIIO's
+// gray_to_rgb promotes only one-channel files: grey + alpha came out as red =
+// grey, green = alpha, blue = 0).
+struct Opened {
+  OIIO::TextureSystem::TextureHandle* handle = nullptr;
+  int first = 0;      // the first colour channel
+  bool grey = false;  // one colour channel
+};
+struct Textures {
+  OIIO::TextureSystem* ts = nullptr;
+  std::mutex mutex;           // opens may come from any thread
+  std::deque<Opened> opened;  // stable addresses, freed with the system
+};
+
 }  // namespace
 
 extern "C" __attribute__((visibility("default"))) void* snell_texture_create_v1(int max_memory_mb) {
@@ -210,24 +235,28 @@ extern "C" __attribute__((visibility("default"))) void* snell_texture_create_v1(
   ts->attribute("max_memory_MB", float(max_memory_mb));
   ts->attribute("autotile", 64);
   ts->attribute("automip", 1);
-  ts->attribute("gray_to_rgb", 1);  // a grey image gives grey, not red
-  return ts;
+  ts->attribute("unassociatedalpha", 1);  // a texel's colour, not colour times alpha
+  auto* t = new Textures;
+  t->ts = ts;
+  return t;
 }
 
-extern "C" __attribute__((visibility("default"))) void snell_texture_destroy_v1(void* ts) {
-  auto* t = static_cast<OIIO::TextureSystem*>(ts);
-  OIIO::ImageCache* cache = t->imagecache();
-  OIIO::TextureSystem::destroy(t);
+extern "C" __attribute__((visibility("default"))) void snell_texture_destroy_v1(void* tp) {
+  auto* t = static_cast<Textures*>(tp);
+  OIIO::ImageCache* cache = t->ts->imagecache();
+  OIIO::TextureSystem::destroy(t->ts);
   OIIO::ImageCache::destroy(cache, /*teardown=*/true);
+  delete t;
 }
 
 // Opens `path` (decoding it to linear first when it is not linear; colour spaces
 // by name from the OCIO config `ocio_config`, as resolve_ocio_config takes it) and
 // returns its handle, or null with `error`.
 extern "C" __attribute__((visibility("default"))) void* snell_texture_open_v2(
-    void* tsp, const std::string& path, const std::string& ocio_config, std::string& error) {
+    void* tp, const std::string& path, const std::string& ocio_config, std::string& error) {
   try {
-    auto* ts = static_cast<OIIO::TextureSystem*>(tsp);
+    Textures& t = *static_cast<Textures*>(tp);
+    OIIO::TextureSystem* ts = t.ts;
     auto in = OIIO::ImageInput::open(path);
     if (!in) {
       error = OIIO::geterror();
@@ -250,7 +279,16 @@ extern "C" __attribute__((visibility("default"))) void* snell_texture_open_v2(
       if (error.empty()) error = "not an image the texture system can read";
       return nullptr;
     }
-    return h;
+    Opened o;
+    o.handle = h;
+    if (const OIIO::ImageSpec* tx = ts->imagespec(h, nullptr)) {
+      const int alpha = tx->alpha_channel;
+      const int colours = tx->nchannels - (alpha >= 0 && alpha < tx->nchannels ? 1 : 0);
+      o.grey = colours == 1;
+      o.first = alpha == 0 ? 1 : 0;
+    }
+    std::lock_guard<std::mutex> lock(t.mutex);
+    return &t.opened.emplace_back(o);
   } catch (const std::exception& e) {
     error = e.what();
     return nullptr;
@@ -260,20 +298,23 @@ extern "C" __attribute__((visibility("default"))) void* snell_texture_open_v2(
 // A filtered lookup at (s, t) (OIIO's: t = 0 is the top row) with the footprint's
 // derivatives; black outside [0, 1]² unless `repeat`.
 extern "C" __attribute__((visibility("default"))) void snell_texture_lookup_v1(
-    void* tsp, void* handle, int repeat, const float* st_derivs, float* rgb) {
-  auto* ts = static_cast<OIIO::TextureSystem*>(tsp);
+    void* tp, void* handle, int repeat, const float* st_derivs, float* rgb) {
+  OIIO::TextureSystem* ts = static_cast<Textures*>(tp)->ts;
+  const Opened& o = *static_cast<const Opened*>(handle);
   OIIO::TextureOpt opt;
+  opt.firstchannel = o.first;
   opt.swrap = opt.twrap = repeat ? OIIO::TextureOpt::WrapPeriodic : OIIO::TextureOpt::WrapBlack;
   // Bilinear within a MIP level: exact at texel centres (OIIO's default bicubic
   // is a B-spline, which blurs a texel into its neighbours when magnifying).
   opt.interpmode = OIIO::TextureOpt::InterpBilinear;
   const float* d = st_derivs;
-  if (!ts->texture(static_cast<OIIO::TextureSystem::TextureHandle*>(handle), nullptr, opt, d[0],
-                   d[1], d[2], d[3], d[4], d[5], 3, rgb))
+  if (!ts->texture(o.handle, nullptr, opt, d[0], d[1], d[2], d[3], d[4], d[5], o.grey ? 1 : 3, rgb))
     rgb[0] = rgb[1] = rgb[2] = 0;
+  else if (o.grey)
+    rgb[1] = rgb[2] = rgb[0];
 }
 
-extern "C" __attribute__((visibility("default"))) void snell_texture_stats_v1(void* tsp,
+extern "C" __attribute__((visibility("default"))) void snell_texture_stats_v1(void* tp,
                                                                               std::string& out) {
-  out = static_cast<OIIO::TextureSystem*>(tsp)->getstats(1, true);
+  out = static_cast<Textures*>(tp)->ts->getstats(1, true);
 }

@@ -250,6 +250,70 @@ TEST_CASE("an image's colour space tag decides how it becomes linear", "[images]
   CHECK(err.find("studio.ocio") != std::string::npos);
 }
 
+TEST_CASE("grey images give grey, with or without alpha, and alpha is never a colour", "[images]") {
+  // §17: an image gives its colours; a grey file (one channel, or grey + alpha
+  // as PNG and TIFF write it) is the same grey in R, G and B, and an alpha
+  // channel (RGBA, or an EXR's A before its Y) never reads as a colour, nor
+  // scales one (PNG's alpha is unassociated: OIIO would premultiply it). Grey +
+  // alpha used to come out red = grey * alpha, green = alpha, blue = 0.
+  Images im;
+  auto write = [&](const std::string& name, int channels, std::vector<std::string> names,
+                   int alpha) {
+    std::vector<unsigned char> b;
+    for (int row = 0; row < kH; ++row)
+      for (int i = 0; i < kW; ++i)
+        for (int c = 0; c < channels; ++c)
+          b.push_back(c == alpha ? 255 - code(i, row, 0)
+                                 : code(i, row, c - (c > alpha && alpha >= 0 ? 1 : 0)));
+    std::string path = (im.dir / name).string();
+    auto out = OIIO::ImageOutput::create(path);
+    REQUIRE(out);
+    OIIO::ImageSpec spec(kW, kH, channels, OIIO::TypeDesc::UINT8);
+    spec.channelnames = names;
+    spec.alpha_channel = alpha;
+    spec.attribute("oiio:UnassociatedAlpha", 1);  // the codes as given, not divided by alpha
+    REQUIRE(out->open(path, spec));
+    REQUIRE(out->write_image(OIIO::TypeDesc::UINT8, b.data()));
+    REQUIRE(out->close());
+    return path;
+  };
+  ir::Scene s = base_scene(1, 1, 1);
+  s.images.push_back({write("grey.png", 1, {"Y"}, -1), {}});
+  s.images.push_back({write("grey-alpha.png", 2, {"Y", "A"}, 1), {}});
+  s.images.push_back({write("rgba.png", 4, {"R", "G", "B", "A"}, 3), {}});
+  {  // float, so linear as it is: the PNG's decoded values
+    std::vector<float> f;
+    for (int row = 0; row < kH; ++row)
+      for (int i = 0; i < kW; ++i) f.insert(f.end(), {0.5f, png_value(i, row, 0)});
+    std::string path = (im.dir / "alpha-grey.exr").string();
+    auto out = OIIO::ImageOutput::create(path);
+    REQUIRE(out);
+    OIIO::ImageSpec spec(kW, kH, 2, OIIO::TypeDesc::FLOAT);
+    spec.channelnames = {"A", "Y"};
+    spec.alpha_channel = 0;
+    REQUIRE(out->open(path, spec));
+    REQUIRE(out->write_image(OIIO::TypeDesc::FLOAT, f.data()));
+    REQUIRE(out->close());
+    s.images.push_back({path, {}});
+  }
+  std::string err;
+  auto tex = rt::ImageTextures::open(s, "", err);
+  INFO(err);
+  REQUIRE(tex);
+  for (int row = 0; row < kH; ++row)
+    for (int i = 0; i < kW; ++i) {
+      ir::Vec3 q{u_of(i), v_of(row), 0};
+      for (std::uint32_t image : {0u, 1u, 3u}) {
+        Color g = at(*tex, image_texture(image, ir::ImageMapping::Planar), q);
+        for (int c = 0; c < 3; ++c) {
+          INFO("image " << image << " texel " << i << "," << row << " channel " << c);
+          CHECK(g[c] == Approx(png_value(i, row, 0)).epsilon(1e-3).margin(1e-4));
+        }
+      }
+      check_texel(at(*tex, image_texture(2, ir::ImageMapping::Planar), q), 0, i, row);
+    }
+}
+
 TEST_CASE("an EXR's chromaticities convert its primaries to Rec.709", "[images]") {
   // The texels of Images' EXR, written once with ACEScg primaries (AP1, ACES
   // white) and once with Rec.709's: the first is looked up as M · rgb with M the
