@@ -485,6 +485,25 @@ BlockPtr Parser::parse_object_body(std::string_view owner) {
   return parse_block(owner);
 }
 
+// A name followed by a value no statement can continue with (`radius 2`,
+// `color <1, 0, 0>`, `mortar -1`, `file "a.obj"`, `pattern marble`): in a CSG body
+// it is a property the block does not take, reported as one (with the block's
+// properties and a near miss) rather than as an expression statement missing its
+// ';'. `background` keeps its statement, and `f(2)` or `x.y` stay expressions.
+bool Parser::reads_as_property() const {
+  if (cur_.text == "background") return false;
+  switch (peek_.kind) {
+    case TokenKind::Number:
+    case TokenKind::String:
+    case TokenKind::Less:
+    case TokenKind::Minus:
+    case TokenKind::Identifier:
+      return true;
+    default:
+      return false;
+  }
+}
+
 // group-body -> '{' { object-property | statement } '}'
 // object-property -> OBJPROP ( block | expr )         (OBJPROP: groups.def)
 // A line that starts with an object property's name is that property; any other is
@@ -514,7 +533,7 @@ BlockPtr Parser::parse_group_body(std::string_view owner) {
       continue;
     }
     std::uint64_t before = consumed_;
-    if (at(TokenKind::Identifier) && is_object_property(cur_.text)) {
+    if (at(TokenKind::Identifier) && (is_object_property(cur_.text) || reads_as_property())) {
       Property prop;
       parse_property(prop);
       props.push_back(std::move(prop));

@@ -63,6 +63,7 @@ class Parser {
   // The body of an object block by its keyword: a CSG body (groups.def), an
   // instance body, or a plain property block.
   BlockPtr parse_object_body(std::string_view owner);
+  bool reads_as_property() const;
   BlockPtr parse_group_body(std::string_view owner);
   BlockPtr parse_block_rest(const Token& open, std::string_view owner);
   BlockPtr parse_instance_body(std::string_view owner);
