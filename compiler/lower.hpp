@@ -129,11 +129,29 @@ class SceneBuilder {
   std::int64_t csg_children(const ObjectNode& node, const ir::Transform& csg_from_node,
                             const ir::Motion& motion, std::uint32_t material,
                             const ObjectNode& csg);
-  // The prototype of an object value placed by `object { }` (made once per value),
-  // or -1 after errors.
-  std::int64_t prototype_for(const std::shared_ptr<const ObjectNode>& value);
-  std::unordered_map<const ObjectNode*, std::int64_t> prototype_ids_;
-  std::vector<std::shared_ptr<const ObjectNode>> prototype_values_;  // keeps the keys alive
+  // §13: an `object { W }` reached through unions inside a value V that is made
+  // a prototype is not copied into V's prototype: V's placements place W's own
+  // prototype, so values of values of a mesh still hold one copy of the mesh.
+  struct NestedInstance {
+    const ObjectNode* site = nullptr;  // the `object { W }` node (its keyword)
+    std::shared_ptr<const ObjectNode> value;
+    ir::Transform proto_from_object;  // the site's placement in V's space
+    std::uint32_t material = 0;       // the site's, or ir::kInheritMaterial
+  };
+  struct PrototypeEntry {
+    std::int64_t id = -1;  // into Scene::prototypes; -1: no parts of its own, or errors
+    bool failed = false;   // errors: nothing is placed
+    std::vector<NestedInstance> nested;
+  };
+  // The prototype of an object value placed by `object { }`, made once per value.
+  const PrototypeEntry& prototype_for(const std::shared_ptr<const ObjectNode>& value);
+  // Places an instanceable value: its prototype and, by their own prototypes, the
+  // instances nested in it (`keyword`: the `object` that places it).
+  void place_instance(const std::shared_ptr<const ObjectNode>& value, lang::Span keyword,
+                      const Placement& at);
+  std::unordered_map<const ObjectNode*, PrototypeEntry> prototypes_;  // references stay valid
+  std::vector<std::shared_ptr<const ObjectNode>> prototype_values_;   // keeps the keys alive
+  std::vector<NestedInstance>* nesting_ = nullptr;                    // the prototype being built's
   void add_object(const BlockInfo& block, lang::Span kw, const std::vector<EvaluatedProp>& props);
   void apply_settings(const std::vector<EvaluatedProp>& props);
   void apply_camera(const std::vector<EvaluatedProp>& props);

@@ -7,10 +7,14 @@
 //                    a Shape of kind Csg whose tree (Scene::csg_nodes) has the
 //                    children as leaves (Scene::parts) in the CSG object's space
 //   object { V }     a Shape of kind Instance of V's prototype, made once per value
-//                    and shared by every instance of it; inside a CSG block or a
-//                    prototype, V's tree is copied in instead (one level of
-//                    instancing), and so it is where V moves or holds a plane
-//                    outside a CSG block (the BVH instances bounded, static geometry)
+//                    and shared by every instance of it. An `object { W }` inside V
+//                    (through unions) is not copied into V's prototype: each
+//                    placement of V places W's prototype too, with the two
+//                    placements composed (one level of instancing in the BVH, any
+//                    depth of values). Inside a CSG operation (merge, intersection,
+//                    difference) W's tree is copied in, and so it is where a value
+//                    moves or holds a plane outside a CSG block (the BVH instances
+//                    bounded, static geometry)
 // Children inherit the transform (applied after their own), the material (when
 // they have none) and the motion of the objects around them. Motions compose: an
 // object's motion acts after its own transforms, in its parent's space, and the
@@ -111,10 +115,15 @@ void SceneBuilder::place(const ObjectNode& n, const Placement& at,
   };
   if (n.instance()) {
     const std::shared_ptr<const ObjectNode>& value = n.children[0];
-    if (!proto && instanceable(*value, false)) {
-      std::int64_t p = prototype_for(value);
-      if (p >= 0) add(ir::Instance{static_cast<std::uint32_t>(p)});
-      return;
+    if (instanceable(*value, false)) {
+      if (!proto) {
+        place_instance(value, n.keyword, inner);
+        return;
+      }
+      if (nesting_) {  // held by reference in the prototype being built
+        nesting_->push_back({&n, value, inner.world_from_parent, inner.material});
+        return;
+      }
     }
     place(*value, inner, proto);
     return;
@@ -188,26 +197,51 @@ std::int64_t SceneBuilder::csg_node(const ObjectNode& c, const ir::Transform& cs
   return static_cast<std::int64_t>(scene_.csg_nodes.size() - 1);
 }
 
-std::int64_t SceneBuilder::prototype_for(const std::shared_ptr<const ObjectNode>& value) {
-  if (auto it = prototype_ids_.find(value.get()); it != prototype_ids_.end()) return it->second;
+const SceneBuilder::PrototypeEntry& SceneBuilder::prototype_for(
+    const std::shared_ptr<const ObjectNode>& value) {
+  if (auto it = prototypes_.find(value.get()); it != prototypes_.end()) return it->second;
+  PrototypeEntry entry;
   ir::Prototype p;
   p.src = ref(value->keyword);
   std::size_t errors = diags_.error_count();
+  std::vector<NestedInstance>* outer = nesting_;
+  nesting_ = &entry.nested;
   place(*value, Placement{ir::Transform{}, ir::kInheritMaterial, {}}, &p.parts);
-  std::int64_t id = -1;
-  if (diags_.error_count() == errors && !p.parts.empty()) {
+  nesting_ = outer;
+  entry.failed = diags_.error_count() != errors;
+  if (!entry.failed && !p.parts.empty()) {
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (std::uint32_t i : p.parts)
       ir::world_hull_points(scene_.parts[i], scene_, [&](ir::Vec3 q) {
         for (int k = 0; k < 3; ++k) lo[k] = std::fmin(lo[k], q[k]), hi[k] = std::fmax(hi[k], q[k]);
       });
     if (lo[0] <= hi[0]) p.lo = {lo[0], lo[1], lo[2]}, p.hi = {hi[0], hi[1], hi[2]};
-    id = static_cast<std::int64_t>(scene_.prototypes.size());
+    entry.id = static_cast<std::int64_t>(scene_.prototypes.size());
     scene_.prototypes.push_back(std::move(p));
   }
-  prototype_ids_[value.get()] = id;
   prototype_values_.push_back(value);
-  return id;
+  return prototypes_.emplace(value.get(), std::move(entry)).first->second;
+}
+
+void SceneBuilder::place_instance(const std::shared_ptr<const ObjectNode>& value,
+                                  lang::Span keyword, const Placement& at) {
+  const PrototypeEntry& e = prototype_for(value);
+  if (e.failed) return;
+  if (e.id >= 0) {
+    ir::Shape& s = scene_.shapes.emplace_back();
+    s.geom = ir::Instance{static_cast<std::uint32_t>(e.id)};
+    // An instance without a material has the default, which its parts without
+    // one take (as they would copied into the scene).
+    s.material = at.material == ir::kInheritMaterial ? default_material() : at.material;
+    s.set_world_from_object(at.world_from_parent);
+    s.set_motion(at.motion);
+    s.src = ref(keyword);
+  }
+  for (const NestedInstance& k : e.nested)
+    place_instance(
+        k.value, k.site->keyword,
+        Placement{at.world_from_parent * k.proto_from_object,
+                  k.material == ir::kInheritMaterial ? at.material : k.material, at.motion});
 }
 
 }  // namespace snell::compile
