@@ -44,18 +44,27 @@ inline double value(const ir::Radial&, ir::Vec3 p, int) {
   double deg = std::atan2(p.x, p.z) * (180 / std::numbers::pi);
   return frac(deg / 360);
 }
-// 1 in the mortar (of width `mortar` centred on the bricks' boundaries), 0 in a
-// brick; rows (along y) of odd index are shifted half a brick in x and z.
+// How far below each multiple of the brick size brick's mortar ends, in the
+// pattern's units. POV-Ray's mortar ends EPSILON below each multiple, so a face on
+// a multiple shows bricks; Snell evaluates a face 1e-4 inside it, and a bump's
+// gradient 1e-3 either side of that, so a top face on a multiple is seen from just
+// below: 2e-3 keeps all of those points (with the float error of the hit) in the
+// bricks, and moves the mortar by an invisible 1/125 of a default row.
+inline constexpr double kBrickClearance = 2e-3;
+// 1 in the mortar (the band of width `mortar` ending kBrickClearance below each
+// multiple of the size, as in POV-Ray), 0 in a brick; rows (along y) of odd index
+// are shifted half a brick in x and z.
 inline double value(const ir::Brick& b, ir::Vec3 p, int) {
-  double row = std::floor(p.y / b.size.y);
+  // q counts from the bottom of a band of mortar, so a row is the mortar under it
+  // and the bricks above: bricks standing on a multiple are that multiple's row.
+  const ir::Vec3 q = p + ir::Vec3(b.mortar + kBrickClearance);
+  double row = std::floor(q.y / b.size.y);
   double shift = std::fmod(row, 2.0) != 0 ? 0.5 : 0.0;
-  double half = b.mortar / 2;
   auto in_mortar = [&](double x, double size, double s) {
-    double u = frac(x / size + s) * size;  // position within the brick
-    return u < half || size - u < half;
+    return frac(x / size + s) * size < b.mortar;
   };
-  return in_mortar(p.x, b.size.x, shift) || in_mortar(p.y, b.size.y, 0) ||
-                 in_mortar(p.z, b.size.z, shift)
+  return in_mortar(q.x, b.size.x, shift) || in_mortar(q.y, b.size.y, 0) ||
+                 in_mortar(q.z, b.size.z, shift)
              ? 1.0
              : 0.0;
 }

@@ -45,6 +45,31 @@ TEST_CASE("bump: a gradient of slope k tilts the normal by A·k", "[bump]") {
   CHECK_THAT(n.x, WithinAbs(-a * k / 2 / len2, 1e-6));
 }
 
+// A brick face on a multiple of the size shows bricks (test_patterns.cpp), and the
+// bump's difference points 1e-3 either side of it must too: on a face tilted 10°
+// (a rotated wall or roof), the world y step reaches 1.085e-3 below the face in
+// the pattern's y, where mortar would jump the value by 1 and tilt the normal far
+// more than any brick's edge does.
+TEST_CASE("bump: a brick face on a multiple of the size is flat away from the joints", "[bump]") {
+  ir::Bump b;
+  b.pattern.pattern = ir::Brick{};
+  b.pattern.world_from_pattern = ir::Transform::rotate_z(10);
+  b.amount = 0.05;
+  const ir::Transform& wp = b.pattern.world_from_pattern;
+  // The pattern's plane y = 0 (a floor of bricks), mid-brick.
+  ir::Vec3 w = wp.point({0.25, 0, 0.125});
+  ir::Vec3 up = ir::normalize(wp.normal({0, 1, 0}));
+  for (double side : {1.0, -1.0}) {
+    INFO("outward normal " << side);
+    rt::Vec3f n{float(up.x * side), float(up.y * side), float(up.z * side)};
+    rt::TexturePoint tp{{float(w.x), float(w.y), float(w.z)}, n, {0, 0, 0}};
+    rt::Vec3f got = rt::bump_normal(b, tp, n, n);
+    CHECK_THAT(got.x, WithinAbs(n.x, 1e-6));
+    CHECK_THAT(got.y, WithinAbs(n.y, 1e-6));
+    CHECK_THAT(got.z, WithinAbs(n.z, 1e-6));
+  }
+}
+
 TEST_CASE("bump: a huge amount stays above the geometric surface", "[bump]") {
   ir::Bump b;
   ir::Texture t;

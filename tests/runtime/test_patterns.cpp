@@ -33,16 +33,27 @@ TEST_CASE("patterns: each formula at exact points", "[patterns]") {
   CHECK_THAT(pat::value(ir::Radial{}, {-1, 0, 0}, 6), WithinAbs(0.75, kEps));
   CHECK_THAT(pat::value(ir::Radial{}, {1, 0, 1}, 6), WithinAbs(0.125, kEps));
 
-  ir::Brick b;                                          // size <0.5, 0.25, 0.25>, mortar 0.02
-  CHECK(pat::value(b, {0.25, 0.125, 0.125}, 6) == 0);   // the middle of a brick
-  CHECK(pat::value(b, {0.005, 0.125, 0.125}, 6) == 1);  // within 0.01 of x = 0
-  CHECK(pat::value(b, {0.25, 0.245, 0.125}, 6) == 1);   // within 0.01 of y = 0.25
-  CHECK(pat::value(b, {0.25, 0.125, 0.255}, 6) == 1);   // within 0.01 of z = 0.25
-  // The next row (y in [0.25, 0.5)) is shifted half a brick: x = 0 is mid-brick there,
-  // x = 0.25 a joint.
-  CHECK(pat::value(b, {0.0, 0.375, 0.0}, 6) == 0);
-  CHECK(pat::value(b, {0.25, 0.375, 0.125}, 6) == 1);
-  CHECK(pat::value(b, {0.25, -0.125, 0.125}, 6) == 1);  // row -1 is odd too
+  // Mortar: the band of width 0.02 ending 0.002 below each multiple of the size.
+  ir::Brick b;                                           // size <0.5, 0.25, 0.25>, mortar 0.02
+  CHECK(pat::value(b, {0.25, 0.125, 0.125}, 6) == 0);    // the middle of a brick
+  CHECK(pat::value(b, {-0.005, 0.125, 0.125}, 6) == 1);  // just below x = 0
+  CHECK(pat::value(b, {0.005, 0.125, 0.125}, 6) == 0);   // just above it: a brick
+  CHECK(pat::value(b, {0.25, 0.245, 0.125}, 6) == 1);    // just below y = 0.25
+  CHECK(pat::value(b, {0.25, 0.255, 0.125}, 6) == 0);
+  CHECK(pat::value(b, {0.25, 0.125, 0.245}, 6) == 1);  // just below z = 0.25
+  CHECK(pat::value(b, {0.25, 0.125, 0.255}, 6) == 0);
+  // The band's edges: [k·size − 0.022, k·size − 0.002).
+  CHECK(pat::value(b, {0.25, 0.25 - 0.0221, 0.125}, 6) == 0);
+  CHECK(pat::value(b, {0.25, 0.25 - 0.0219, 0.125}, 6) == 1);
+  CHECK(pat::value(b, {0.25, 0.25 - 0.0021, 0.125}, 6) == 1);
+  CHECK(pat::value(b, {0.25, 0.25 - 0.0019, 0.125}, 6) == 0);
+  // The next row (y in [0.25, 0.5), its mortar below it) is shifted half a brick:
+  // x = -0.005 is mid-brick there, x = 0.245 a joint; in z, 0.12 is.
+  CHECK(pat::value(b, {-0.005, 0.375, 0.0}, 6) == 0);
+  CHECK(pat::value(b, {0.245, 0.375, 0.05}, 6) == 1);
+  CHECK(pat::value(b, {0.05, 0.375, 0.12}, 6) == 1);
+  CHECK(pat::value(b, {0.245, -0.125, 0.05}, 6) == 1);  // row -1 is odd too
+  CHECK(pat::value(b, {-0.005, -0.125, 0.05}, 6) == 0);
 
   CHECK(pat::value(ir::Noise{}, {3, -2, 7}, 6) == 0.5);
   CHECK(pat::value(ir::Noise{}, {0.3, 0.2, 0.1}, 6) == pat::noise({0.3, 0.2, 0.1}));
@@ -160,6 +171,74 @@ TEST_CASE("patterns: the hit point moved inward, through transforms and object s
   // World space ignores the object.
   o.space = ir::PatternSpace::World;
   CHECK_THAT(rt::pattern_point(o, at1, 1, 1e4).x, WithinAbs(7.3, 1e-12));
+}
+
+// A floor at y = 0, a box's top at y = 1 or a wall at z = 0 lies on a multiple of
+// the brick size: there POV-Ray shows bricks with their joints, and so must Snell,
+// on either side of the face (the point is moved 1e-4 inward, up or down).
+TEST_CASE("brick: a face on a multiple of the size shows bricks, as between multiples",
+          "[patterns]") {
+  ir::Texture t;
+  t.pattern = ir::Brick{};
+  const ir::Brick& b = std::get<ir::Brick>(t.pattern);
+  // The fraction of mortar over a 4 × 4 square of the plane through `at` across
+  // `axis`, seen from the side of outward normal `n`, at points of float hits.
+  auto mortar_fraction = [&](int axis, double at, rt::Vec3f n) {
+    int mortar = 0, total = 0;
+    for (int i = 0; i < 400; ++i)
+      for (int j = 0; j < 400; ++j) {
+        double u = -2 + (i + 0.5) * 0.01, v = -2 + (j + 0.5) * 0.01;
+        rt::Vec3f p = axis == 1 ? rt::Vec3f{float(u), float(at), float(v)}
+                                : rt::Vec3f{float(u), float(v), float(at)};
+        mortar += rt::pattern_value(b, t, rt::TexturePoint{p, n, {0, 0, 0}}) == 1;
+        ++total;
+      }
+    return double(mortar) / total;
+  };
+  // Between multiples: y = 0.1 (joints in x and z: 1 − 0.96 · 0.92), z = 0.05 (the
+  // rows' mortar and the joints in x: 1 − 0.92 · 0.96).
+  const double between = 1 - (1 - 0.02 / 0.5) * (1 - 0.02 / 0.25);
+  CHECK_THAT(mortar_fraction(1, 0.1, {0, 1, 0}), WithinAbs(between, 0.01));
+  CHECK_THAT(mortar_fraction(2, 0.05, {0, 0, -1}), WithinAbs(between, 0.01));
+  for (float s : {1.0f, -1.0f}) {
+    INFO("outward normal " << s);
+    CHECK_THAT(mortar_fraction(1, 0, {0, s, 0}), WithinAbs(between, 0.01));  // a floor
+    CHECK_THAT(mortar_fraction(1, 1, {0, s, 0}), WithinAbs(between, 0.01));  // a box's top
+    CHECK_THAT(mortar_fraction(2, 0, {0, 0, s}), WithinAbs(between, 0.01));  // a wall
+    CHECK_THAT(mortar_fraction(2, -1, {0, 0, s}), WithinAbs(between, 0.01));
+  }
+
+  // On the floor, a brick away from the joints, whichever side it is seen from.
+  for (float s : {1.0f, -1.0f}) {
+    rt::TexturePoint floor{{0.25f, 0, 0.125f}, {0, s, 0}, {0, 0, 0}};
+    CHECK(rt::pattern_value(b, t, floor) == 0);
+    rt::TexturePoint top{{0.25f, 1, 0.125f}, {0, s, 0}, {0, 0, 0}};
+    CHECK(rt::pattern_value(b, t, top) == 0);
+  }
+  // On the wall z = 0, every row has bricks, and its joints are half a brick from
+  // the next row's: x = 0.49 is a joint in row 0 (the bricks standing on y = 0),
+  // x = 0.24 in row 1.
+  auto wall = [&](float x, float y) {
+    return rt::pattern_value(b, t, rt::TexturePoint{{x, y, 0}, {0, 0, -1}, {0, 0, 0}});
+  };
+  for (int row = -4; row < 4; ++row) {
+    INFO("row " << row);
+    float y = float((row + 0.4) * 0.25);
+    bool odd = row % 2 != 0;
+    CHECK(wall(0.1f, y) == 0);
+    CHECK(wall(0.37f, y) == 0);
+    CHECK(wall(0.49f, y) == (odd ? 0 : 1));
+    CHECK(wall(0.24f, y) == (odd ? 1 : 0));
+  }
+  // The mortar keeps its width: 0.02 of each 0.5 along x, 0.02 of each 0.25 along y.
+  int in_x = 0, in_y = 0;
+  const int steps = 100000;
+  for (int i = 0; i < steps; ++i) {
+    in_x += pat::value(b, {(i + 0.5) * 5.0 / steps, 0.1, 0.05}, 6) == 1;
+    in_y += pat::value(b, {0.1, (i + 0.5) * 5.0 / steps, 0.05}, 6) == 1;
+  }
+  CHECK_THAT(in_x * 5.0 / steps, WithinAbs(10 * 0.02, 1e-3));  // ten joints
+  CHECK_THAT(in_y * 5.0 / steps, WithinAbs(20 * 0.02, 1e-3));  // twenty rows
 }
 
 TEST_CASE("patterns: turbulence displaces the point by T times a vector fbm", "[patterns]") {
