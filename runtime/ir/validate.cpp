@@ -189,6 +189,20 @@ bool bounds_volume(const Shape& s) {
       s.geom);
 }
 
+// The first part of an instance's value (through nested instances) that has no
+// inside, or null: a prioritised instance is a solid only when all of it is.
+const Shape* part_without_inside(const Shape& s, const Scene& scene, int depth = 0) {
+  const Instance* in = s.as<Instance>();
+  if (!in || in->prototype >= scene.prototypes.size() || depth > 64) return nullptr;
+  for (std::uint32_t p : scene.prototypes[in->prototype].parts) {
+    if (p >= scene.parts.size()) continue;
+    const Shape& part = scene.parts[p];
+    if (!bounds_volume(part)) return &part;
+    if (const Shape* deeper = part_without_inside(part, scene, depth + 1)) return deeper;
+  }
+  return nullptr;
+}
+
 std::string far_message(const std::string& what, double r) {
   char buf[160];
   std::snprintf(buf, sizeof buf,
@@ -296,10 +310,17 @@ std::vector<Problem> validate(const Scene& scene) {
     if (s.material >= scene.materials.size()) {
       if (!(part && s.material == kInheritMaterial)) bad(s.src, "material index out of range");
     } else if (const Dielectric* d = scene.materials[s.material].as<Dielectric>();
-               d && d->priority > 0 && !bounds_volume(s)) {
-      bool open = s.kind() == ShapeKind::Cylinder || s.kind() == ShapeKind::Cone;
-      bad(s.src, "a dielectric with a 'priority' must fill a solid (§14), and this " +
-                     std::string(open ? "open " : "") + to_string(s.kind()) + " has no inside");
+               d && d->priority > 0) {
+      const Shape* open_part = bounds_volume(s) ? part_without_inside(s, scene) : &s;
+      if (open_part) {
+        bool open =
+            open_part->kind() == ShapeKind::Cylinder || open_part->kind() == ShapeKind::Cone;
+        std::string what = std::string(open ? "open " : "") + to_string(open_part->kind());
+        bad(s.src, "a dielectric with a 'priority' must fill a solid (§14), and this " +
+                       (open_part == &s ? what + " has no inside"
+                                        : "object holds " + std::string(open ? "an " : "a ") +
+                                              what + ", which has no inside"));
+      }
     }
     std::visit([&](const auto& g) { check_kind(g, scene, bad_here); }, s.geom);
   };

@@ -81,4 +81,22 @@ TEST_CASE("a prioritised dielectric needs a solid", "[compiler][interiors]") {
   CHECK(m ==
         "InvalidValue: a dielectric with a 'priority' must fill a solid (§14), and this disc has "
         "no inside\n");
+  // Through an instance: the value's parts must all be solids (an instance of a
+  // triangle was accepted, and its one surface entered the water for good).
+  auto i =
+      run("let water = dielectric { priority 1 };\n"
+          "let t = triangle { a <0, 0, 0> b <1, 0, 0> c <0, 1, 0> };\n"
+          "let cup = union { sphere { } cylinder { base 0 cap <0, 1, 0> radius 0.5 open true } };\n"
+          "let ok = union { sphere { } box { min 0 max 1 } };\n"
+          "object { t material water }\n"
+          "object { cup material water }\n"
+          "object { ok material water }\n");
+  m = messages(*i);
+  INFO(m);
+  CHECK(i->status != compile::CompileStatus::Ok);
+  CHECK(m ==
+        "InvalidValue: a dielectric with a 'priority' must fill a solid (§14), and this object "
+        "holds a triangle, which has no inside\n"
+        "InvalidValue: a dielectric with a 'priority' must fill a solid (§14), and this object "
+        "holds an open cylinder, which has no inside\n");
 }
