@@ -67,6 +67,24 @@ std::string showcase(const std::string& sampler, int spp) {
          " --set sampler=" + sampler;
 }
 
+// How a merge agrees with the one-run render: the worst relative difference of
+// a channel, and how many channels of one piece alone differ from the render
+// (so a test can show that its comparison could fail).
+struct Agreement {
+  double worst = 0;
+  std::size_t piece_differs = 0;
+};
+Agreement agreement(const Exr& full, const Exr& merged, const Exr& piece) {
+  Agreement a;
+  for (std::size_t i = 0; i < full.rgb.size(); ++i) {
+    double f = full.rgb[i], m = merged.rgb[i];
+    double scale = std::max(std::fabs(f), std::fabs(m));
+    if (scale > 0) a.worst = std::max(a.worst, std::fabs(f - m) / scale);
+    a.piece_differs += piece.rgb[i] != full.rgb[i];
+  }
+  return a;
+}
+
 }  // namespace
 
 TEST_CASE("a crop holds the full render's pixels, bit for bit, at their place", "[e2e][split]") {
@@ -118,19 +136,12 @@ TEST_CASE("sample ranges merge to the one-run image within 1e-6 relative", "[e2e
     Exr full = read_exr(tmp / "full.exr"), merged = read_exr(tmp / "m.exr"),
         a = read_exr(tmp / "a.exr");
     REQUIRE(merged.rgb.size() == full.rgb.size());
-    double worst = 0;
-    std::size_t piece_differs = 0;
-    for (std::size_t i = 0; i < full.rgb.size(); ++i) {
-      double f = full.rgb[i], m = merged.rgb[i];
-      double scale = std::max(std::fabs(f), std::fabs(m));
-      if (scale > 0) worst = std::max(worst, std::fabs(f - m) / scale);
-      piece_differs += a.rgb[i] != full.rgb[i];
-    }
+    const Agreement ag = agreement(full, merged, a);
     // Three float32 roundings (the piece's mean, the merge's sum, its result) of
     // sums of non-negative terms: at most ~3 · 2^-24 ≈ 1.8e-7 relative.
-    CHECK(worst <= 1e-6);
+    CHECK(ag.worst <= 1e-6);
     // And the test can fail: one sample alone is not the image.
-    CHECK(piece_differs > full.rgb.size() / 2);
+    CHECK(ag.piece_differs > full.rgb.size() / 2);
     CHECK(merged.attr("snell:sample_range") == "0..7");
   }
 }
@@ -210,18 +221,11 @@ TEST_CASE("a full pass and passes split by crops merge to the one-run image", "[
     REQUIRE(m.spec.width == 48);
     REQUIRE(m.spec.height == 27);
     REQUIRE(m.rgb.size() == full.rgb.size());
-    double worst = 0;
-    std::size_t half_differs = 0;
-    for (std::size_t i = 0; i < full.rgb.size(); ++i) {
-      double f = full.rgb[i], g = m.rgb[i];
-      double scale = std::max(std::fabs(f), std::fabs(g));
-      if (scale > 0) worst = std::max(worst, std::fabs(f - g) / scale);
-      half_differs += g1.rgb[i] != full.rgb[i];
-    }
+    const Agreement ag = agreement(full, m, g1);
     // The same three float32 roundings as a merge of sample ranges alone.
-    CHECK(worst <= 1e-6);
+    CHECK(ag.worst <= 1e-6);
     // And the test can fail: the first pass alone is not the image.
-    CHECK(half_differs > full.rgb.size() / 2);
+    CHECK(ag.piece_differs > full.rgb.size() / 2);
     CHECK(std::memcmp(m.rgb.data(), reordered.rgb.data(), m.rgb.size() * sizeof(float)) == 0);
     CHECK(m.attr("snell:crop") == "0,0,48,27");
     CHECK(m.attr("snell:sample_range") == "0..4");
