@@ -71,16 +71,23 @@ bool build_compile_options(const CliArgs& o, compile::CompileOptions& c, std::st
     }
     c.overrides.push_back({kv.substr(0, eq), kv.substr(eq + 1)});
   }
-  if (o.spp) c.overrides.push_back({"samples", std::to_string(*o.spp)});
+  // The shorthands' messages name the option the user gave.
+  auto shorthand = [&](std::string key, std::string value, std::string written) {
+    c.override_labels.resize(c.overrides.size());
+    c.overrides.push_back({std::move(key), std::move(value)});
+    c.override_labels.push_back(std::move(written));
+  };
+  if (o.spp) shorthand("samples", std::to_string(*o.spp), "--spp " + std::to_string(*o.spp));
   if (!o.res.empty()) {
     unsigned w = 0, h = 0;
     if (!parse_pair(o.res, 'x', w, h)) {
       error = "--res takes WIDTHxHEIGHT in whole pixels (e.g. 640x480), got '" + o.res + "'";
       return false;
     }
-    c.overrides.push_back({"resolution", "<" + std::to_string(w) + ", " + std::to_string(h) + ">"});
+    shorthand("resolution", "<" + std::to_string(w) + ", " + std::to_string(h) + ">",
+              "--res " + o.res);
   }
-  if (o.seed) c.overrides.push_back({"seed", std::to_string(*o.seed)});
+  if (o.seed) shorthand("seed", std::to_string(*o.seed), "--seed " + std::to_string(*o.seed));
   return true;
 }
 

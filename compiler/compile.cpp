@@ -228,7 +228,12 @@ class Driver {
   // --set KEY=VALUE: false (status UsageError) when the key or value is bad.
   bool apply_overrides(SceneBuilder& builder, Evaluator& eval) {
     const BlockInfo* settings = find_block("settings");
-    for (const auto& [key, text] : opts_.overrides) {
+    for (std::size_t i = 0; i < opts_.overrides.size(); ++i) {
+      const auto& [key, text] = opts_.overrides[i];
+      const std::string written =
+          i < opts_.override_labels.size() && !opts_.override_labels[i].empty()
+              ? opts_.override_labels[i]
+              : "--set " + key + "=" + text;
       const PropInfo* prop = find_prop(*settings, key);
       if (!prop) {
         std::string guess = lang::closest_match(key, setting_keys());
@@ -260,13 +265,13 @@ class Driver {
         if (eval_diags.has_errors()) v = Value::error();
       }
       if (v.is_error()) {
-        fail("--set " + key + "=" + text + ": cannot read '" + text + "' as a value; " +
-             std::string(key) + " takes " + describe(*prop));
+        fail(written + ": cannot read '" + text + "' as a value; " + std::string(key) + " takes " +
+             describe(*prop));
         return false;
       }
       std::string msg = check_value(*prop, v);
       if (!msg.empty()) {
-        fail("--set " + key + "=" + text + ": " + msg);
+        fail(written + ": " + msg);
         return false;
       }
       builder.override_setting(*prop, v);

@@ -21,6 +21,9 @@ struct CompileOptions {
   // --set KEY=VALUE (and --spp/--res/--seed, turned into these): VALUE is a .scn
   // expression; for sampler and fresnel a bare word is taken as the string.
   std::vector<std::pair<std::string, std::string>> overrides;
+  // How the user wrote each override, for its messages ("--res 0x24"), by its
+  // index in `overrides`; missing or empty: "--set KEY=VALUE".
+  std::vector<std::string> override_labels;
   std::size_t max_errors = 20;
   std::uint64_t step_budget = kDefaultStepBudget;
   std::string stdlib_dir;  // empty: $SNELL_STDLIB, else the installed/build stdlib

@@ -301,7 +301,7 @@ std::string check_value(const PropInfo& p, Value& v, bool* integral) {
         return "'" + std::string(p.name) + "' must be an integer, not " + to_string(v);
       }
       if (p.type == PropType::Integer && std::fabs(v.n) > 4294967295.0)
-        return "'" + std::string(p.name) + "' is too large";
+        return "'" + std::string(p.name) + "' must be at most 4294967295, not " + to_string(v);
       std::string e = check_range(p.check, v.n);
       return e.empty() ? "" : "'" + std::string(p.name) + "' " + e;
     }
@@ -315,7 +315,8 @@ std::string check_value(const PropInfo& p, Value& v, bool* integral) {
           return "'" + std::string(p.name) + "' must have integer components, not " + to_string(v);
         }
         if (std::fabs(v.v.x) > 1e9 || std::fabs(v.v.y) > 1e9)
-          return "'" + std::string(p.name) + "' is too large";
+          return "'" + std::string(p.name) + "' must have components of at most 1e9, not " +
+                 to_string(v);
       }
       if (p.check == Check::Shutter && !(v.v.x <= v.v.y)) return "'shutter' needs open <= close";
       if (std::string e = check_components(2); !e.empty()) return e;

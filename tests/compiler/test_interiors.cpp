@@ -30,7 +30,7 @@ TEST_CASE("priority: an integer >= 1, with messages that say so", "[compiler][in
       {"-3", "InvalidValue", "'priority' must be >= 1"},
       {"1.5", "NotAnInteger", "'priority' must be an integer, not 1.5"},
       {"true", "InvalidValue", "'priority' takes an integer >= 1, not a bool"},
-      {"1e10", "InvalidValue", "'priority' is too large"},
+      {"1e10", "InvalidValue", "'priority' must be at most 4294967295, not 1e+10"},
   };
   for (const Case& k : cases) {
     auto c = run(std::string("sphere { material dielectric { priority ") + k.value + " } }\n");

@@ -289,6 +289,22 @@ int run_capture(const std::string& args, std::string& err, const Scratch& tmp) {
 }
 }  // namespace
 
+TEST_CASE("a shorthand option's bad value is reported under its own name", "[e2e]") {
+  // --res, --spp and --seed are settings overrides inside; their errors name the
+  // option given, not a --set the user never wrote.
+  Scratch tmp;
+  std::ofstream(tmp / "ok.scn") << "settings { resolution <8, 8> }\nsphere { }\n";
+  std::string err;
+  CHECK(run_capture("render " + (tmp / "ok.scn") + " --quiet --res 0x24 -o " + (tmp / "x.exr"), err,
+                    tmp) == 2);
+  CHECK(err.find("--res 0x24: 'resolution' must be >= 1") != std::string::npos);
+  CHECK(err.find("--set") == std::string::npos);
+  CHECK(run_capture(
+            "render " + (tmp / "ok.scn") + " --quiet --set resolution=0 -o " + (tmp / "x.exr"), err,
+            tmp) == 2);
+  CHECK(err.find("--set resolution=0: 'resolution' must be >= 1") != std::string::npos);
+}
+
 TEST_CASE("a render with --pixel alone prints the ray tree and writes no image", "[e2e]") {
   Scratch tmp;
   std::ofstream(tmp / "ok.scn") << "settings { resolution <8, 8> }\nsphere { center <0, 0, 3> }\n"
