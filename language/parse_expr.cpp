@@ -121,6 +121,17 @@ ExprPtr Parser::parse_expr(int min_power) {
     int power = infix_power(op);
     if (power < min_power || power == 0) break;
     if (in_vector_ && op == TokenKind::Greater) break;
+    // `<1, 2>==v`: the '>' closes the vector (§3), and '==' follows; maximal munch
+    // had read '>=' and '='. (A lone '>=' stays a comparison, and its error below.)
+    if (in_vector_ && op == TokenKind::GreaterEqual && peek_.kind == TokenKind::Equal &&
+        peek_.span.begin == cur_.span.end) {
+      cur_.kind = TokenKind::Greater;
+      cur_.text = cur_.text.substr(0, 1);
+      cur_.span.end = cur_.span.begin + 1;
+      scanner_.rewind(cur_.span.end);
+      peek_ = scanner_.next();
+      break;
+    }
     if (in_vector_ && power == kPowerCompare && !panic_) {
       diags_
           .report(DiagKind::ComparisonInVector, here(),

@@ -17,6 +17,9 @@ class Scanner {
 
   // The next token; EndOfFile forever once the text is exhausted.
   Token next();
+  // Scans on from `pos`, an offset inside a token already returned (the parser
+  // splits '>=' where its '>' closes a vector: §3).
+  void rewind(std::uint32_t pos) { pos_ = pos; }
 
   // True when a /* comment ran to the end of the file: errors the parser would
   // report at the end of the file are consequences of that one, so it keeps quiet.
