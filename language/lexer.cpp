@@ -270,6 +270,7 @@ Token Scanner::number(std::uint32_t begin) {
     diags_.report(DiagKind::InvalidNumber, t.span,
                   "invalid number '" + std::string(t.text.substr(0, 40)) + "': " + problem);
     t.number = 0;  // keep a Number token so the parser does not cascade
+    t.invalid = true;
   }
   return t;
 }

@@ -219,7 +219,9 @@ ExprPtr Parser::parse_call(ExprPtr callee) {
 ExprPtr Parser::parse_primary() {
   switch (cur_.kind) {
     case TokenKind::Number: {
-      auto e = make(ExprKind::Number, here());
+      // An unreadable number (already reported) is an error value, so no check
+      // of its stand-in 0 is reported after it ('radius' must be > 0).
+      auto e = cur_.invalid ? error_expr(here()) : make(ExprKind::Number, here());
       e->number = cur_.number;
       advance();
       return e;

@@ -24,6 +24,7 @@ struct Token {
   Span span;
   std::string_view text;  // the source bytes of the token (view into the SourceFile)
   double number = 0;      // Number: its value
+  bool invalid = false;   // Number: unreadable (reported by the lexer); its value is 0
   std::string string;     // String: its value with escapes decoded
 };
 
