@@ -20,6 +20,8 @@
 // object's motion acts after its own transforms, in its parent's space, and the
 // parent's transforms and motion act after it (ir::nest_motion); a CSG leaf's
 // motion is kept in its CSG object's space, so the leaf moves inside the object.
+#include <fmt/format.h>
+
 #include <cmath>
 #include <string>
 
@@ -80,7 +82,28 @@ bool instanceable(const ObjectNode& n, bool in_csg) {
 // only for an object that ends up without one (so a scene's material table is the
 // same whichever way its objects are written).
 void SceneBuilder::add_object_tree(const std::shared_ptr<const ObjectNode>& node) {
+  // Refused before anything is placed: values of values multiply, and placing
+  // them until the scene's cap would take minutes and gigabytes first.
+  const double room =
+      double(kMaxSceneObjects) - double(scene_.shapes.size() + scene_.parts.size());
+  const double n = expanded_objects(*node);
+  expanded_.clear();  // keyed by address: a node freed later may be reused
+  if (n > room) {
+    diags_.report(DiagKind::StepBudget, node->keyword,
+                  fmt::format("this {} makes {:.3g} objects, more than the scene's {} at most",
+                              node->keyword_name(), n, kMaxSceneObjects));
+    return;
+  }
   place(*node, Placement{ir::Transform{}, ir::kInheritMaterial, {}}, nullptr);
+}
+
+double SceneBuilder::expanded_objects(const ObjectNode& n) {
+  if (n.children.empty()) return 1;
+  if (auto it = expanded_.find(&n); it != expanded_.end()) return it->second;
+  double sum = 0;
+  for (const auto& c : n.children) sum += expanded_objects(*c);
+  expanded_.emplace(&n, sum);
+  return sum;
 }
 
 namespace {
