@@ -18,6 +18,7 @@
 #include "compiler/lower.hpp"
 #include "compiler/object_value.hpp"
 #include "compiler/properties.hpp"
+#include "compiler/stack_guard.hpp"
 #include "compiler/value.hpp"
 #include "language/ast.hpp"
 #include "language/diagnostics.hpp"
@@ -243,6 +244,9 @@ class Evaluator {
   std::uint64_t steps_ = 0;
   int depth_ = 0;
   bool aborted_ = false;  // recursion limit or step budget: stop everything
+  // Below this the thread's stack has 4 MB left (stack_guard.hpp): a call stops
+  // the evaluation there, as the call-depth limit does.
+  const char* stack_floor_ = stack_floor(std::size_t(4) << 20);
   std::shared_ptr<Env> prelude_ = std::make_shared<Env>();  // predeclare()
   std::unordered_map<std::string, std::int32_t> symbol_ids_;
   std::vector<std::string> symbol_names_;

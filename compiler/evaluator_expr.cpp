@@ -363,10 +363,14 @@ Value Evaluator::eval_call(const Expr& e, const std::shared_ptr<Env>& env, bool 
 }
 
 Value Evaluator::call_user(const Closure& fn, std::vector<Value>& args, const Expr& call) {
-  if (depth_ >= kMaxCallDepth) {
+  if (depth_ >= kMaxCallDepth || stack_low(stack_floor_)) {
     error(DiagKind::RecursionLimit, call.span,
-          "calls are nested more than " + std::to_string(kMaxCallDepth) +
-              " deep here (endless recursion?)")
+          depth_ >= kMaxCallDepth
+              ? "calls are nested more than " + std::to_string(kMaxCallDepth) +
+                    " deep here (endless recursion?)"
+              : "calls are nested " + std::to_string(depth_) +
+                    " deep here, each in deeply nested expressions: more than the "
+                    "evaluator's stack holds (endless recursion?)")
         .note(fn.def->name_span, "'" + fn.name + "' is defined here");
     aborted_ = true;
     return Value::error();
