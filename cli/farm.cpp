@@ -173,10 +173,12 @@ std::string merge_script(const FarmPlan& p) {
   s += "failed=0\n";
   s += "check() {\n";
   s += "  if [ ! -s \"$2\" ]; then\n";
+  // Paths go in single-quoted between the double-quoted text: a folder named
+  // 'x$(cmd)' is printed, never run.
   s += fmt::format(
-      "    echo \"snell farm: task $1 failed: it wrote no $2 (see {}/logs/task_$1.out; re-run "
-      "it with: sbatch --array=$1 {}, then sbatch {})\" >&2\n",
-      p.dir, p.array_script_path(), p.merge_script_path());
+      "    echo \"snell farm: task $1 failed: it wrote no $2 (see \"{}\"/logs/task_$1.out; re-run "
+      "it with: sbatch --array=$1 \"{}\", then sbatch \"{}\")\" >&2\n",
+      shell_quote(p.dir), shell_quote(p.array_script_path()), shell_quote(p.merge_script_path()));
   s += "    failed=1\n";
   s += "  fi\n";
   s += "}\n";
@@ -185,9 +187,9 @@ std::string merge_script(const FarmPlan& p) {
       s += fmt::format("check {} {}\n", i, shell_quote(out));
   s += "[ \"$failed\" = 0 ] || exit 1\n";
   for (const std::vector<std::string>& m : p.merges) s += join_quoted(m) + " || exit 1\n";
-  s += fmt::format(
-      "echo \"snell farm: done: {}\"\n",
-      p.results.size() == 1 ? p.results[0] : fmt::format("{} images", p.results.size()));
+  s += fmt::format("echo \"snell farm: done: \"{}\n",
+                   shell_quote(p.results.size() == 1 ? p.results[0]
+                                                     : fmt::format("{} images", p.results.size())));
   return s;
 }
 

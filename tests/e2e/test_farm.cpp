@@ -153,6 +153,21 @@ TEST_CASE("farm: a failed task fails the merge job, naming it, nothing is merged
   CHECK(!fs::exists(tmp / "shared/out.exr"));
 }
 
+TEST_CASE("farm: the merge job prints a folder named like a command, never runs it",
+          "[e2e][farm]") {
+  // The merge script's messages name the shared folder; in double quotes a name
+  // with $(...) in it ran as a command.
+  Scratch tmp;
+  const std::string dir = tmp / "shared$(echo INJECTED)";
+  REQUIRE(tmp.farm(kShowcase + kOpts + " --tiles 2 --dir '" + dir + "' -o out.exr",
+                   "FAKE_FAIL_TASK=1") == 0);
+  std::string log = slurp(dir + "/logs/merge.out");
+  INFO(log);
+  CHECK(log.find("task 1 failed") != std::string::npos);
+  CHECK(log.find("shared$(echo INJECTED)/logs/task_1.out") != std::string::npos);
+  CHECK(log.find("sharedINJECTED") == std::string::npos);
+}
+
 TEST_CASE("farm: --dry-run prints and submits nothing, usage errors exit 2", "[e2e][farm]") {
   Scratch tmp;
   REQUIRE(tmp.farm(kShowcase + kOpts + " --tiles 2 --dry-run --dir " + (tmp / "shared")) == 0);
