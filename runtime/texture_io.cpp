@@ -39,6 +39,7 @@
 #include <filesystem>
 #include <functional>
 #include <mutex>
+#include <new>
 #include <string>
 #include <vector>
 
@@ -128,7 +129,23 @@ bool source_colour(const OIIO::ImageSpec& spec, const std::string& ocio_config, 
 // the source's size and time and the decoding are unchanged). Empty, with
 // `error`, on failure.
 std::string linear_texture(const std::string& path, const SourceColour& colour,
-                           std::string& error) {
+                           const OIIO::ImageSpec& file_spec, std::string& error) {
+  // The decoding holds the image whole as floats about three times over (the
+  // read, the decoded copy, the texture maker's); a small file can claim a huge
+  // image (a 2.7 MB PNG of 30000 x 30000), so the claim is checked first against
+  // half the machine's memory.
+  const double bytes = double(file_spec.width) * double(file_spec.height) *
+                       double(std::max(file_spec.depth, 1)) *
+                       double(std::max(file_spec.nchannels, 1)) * sizeof(float) * 3;
+  const double memory = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE));
+  if (memory > 0 && bytes > memory / 2) {
+    error = fmt::format(
+        "it is {}x{} pixels: decoding it to linear would take {:.1f} GB, more than half of this "
+        "machine's {:.1f} GB (store it as a linear EXR, which is read in tiles as needed, or "
+        "make it smaller)",
+        file_spec.width, file_spec.height, bytes / 1e9, memory / 1e9);
+    return {};
+  }
   std::error_code ec;
   auto size = fs::file_size(path, ec);
   auto time = fs::last_write_time(path, ec).time_since_epoch().count();
@@ -145,17 +162,25 @@ std::string linear_texture(const std::string& path, const SourceColour& colour,
   // codes, not of codes times alpha. (§17 images give colours; alpha is unused.)
   OIIO::ImageSpec hint;
   hint.attribute("oiio:UnassociatedAlpha", 1);
-  OIIO::ImageBuf src(path, 0, 0, nullptr, &hint);
-  if (!src.read(0, 0, true, OIIO::TypeDesc::FLOAT)) {
-    error = src.geterror();
+  // Read into our own buffer, not an ImageBuf's: OpenImageIO 2.4's ImageBuf::read
+  // goes on into a null buffer when its allocation fails (SIGSEGV), where a
+  // vector's failure is a bad_alloc the caller reports.
+  auto in = OIIO::ImageInput::open(path, &hint);
+  if (!in) {
+    error = OIIO::geterror();
     return {};
   }
-  OIIO::ImageSpec spec = src.spec();
+  OIIO::ImageSpec spec = in->spec();
   const bool was_float = spec.format.is_floating_point();
   spec.set_format(OIIO::TypeDesc::FLOAT);
   spec.erase_attribute("chromaticities");  // the .tx holds Rec.709 values
-  std::vector<float> px(std::size_t(spec.width) * spec.height * spec.nchannels);
-  src.get_pixels(src.roi(), OIIO::TypeDesc::FLOAT, px.data());
+  std::vector<float> px(std::size_t(spec.width) * spec.height * std::max(spec.depth, 1) *
+                        spec.nchannels);
+  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, px.data())) {
+    error = in->geterror();
+    return {};
+  }
+  in.reset();
   int colours = std::min(spec.nchannels, 3);  // alpha stays as it is
   if (spec.alpha_channel >= 0 && spec.alpha_channel < 3) colours = spec.alpha_channel;
   const std::size_t nc = std::size_t(spec.nchannels), pixels = px.size() / nc;
@@ -262,13 +287,13 @@ extern "C" __attribute__((visibility("default"))) void* snell_texture_open_v2(
       error = OIIO::geterror();
       return nullptr;
     }
-    const OIIO::ImageSpec& spec = in->spec();
+    const OIIO::ImageSpec spec = in->spec();  // a copy: `in` closes before the decoding
     std::string file = path;
     SourceColour colour;
     if (!source_colour(spec, ocio_config, colour, error)) return nullptr;
     in.reset();
     if (!colour.is_identity()) {
-      file = linear_texture(path, colour, error);
+      file = linear_texture(path, colour, spec, error);
       if (file.empty()) return nullptr;
     }
     OIIO::TextureSystem::TextureHandle* h = ts->get_texture_handle(OIIO::ustring(file));
@@ -289,6 +314,9 @@ extern "C" __attribute__((visibility("default"))) void* snell_texture_open_v2(
     }
     std::lock_guard<std::mutex> lock(t.mutex);
     return &t.opened.emplace_back(o);
+  } catch (const std::bad_alloc&) {
+    error = "there is not memory enough to decode it to linear";
+    return nullptr;
   } catch (const std::exception& e) {
     error = e.what();
     return nullptr;

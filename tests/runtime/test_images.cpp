@@ -378,6 +378,34 @@ TEST_CASE("an unreadable image is an error naming it", "[images]") {
   std::string err = rt::check_images(s);
   CHECK(err.find("not-an-image.png") != std::string::npos);
   CHECK(rt::check_images(scene_with(im)).empty());
+  // A small file claiming a huge image (a PNG of 60000 x 60000 with one row of
+  // data): refused from its header, before a float copy of it is attempted
+  // (such a "PNG bomb" of 2.7 MB crashed check and render).
+  std::string bomb = (im.dir / "bomb.png").string();
+  {
+    std::ofstream out(bomb, std::ios::binary);
+    const unsigned char header[] = {
+        0x89, 'P', 'N',  'G',  '\r', '\n', 0x1a, '\n',                    // signature
+        0,    0,   0,    13,   'I',  'H',  'D',  'R',  0, 0, 0xea, 0x60,  // width 60000
+        0,    0,   0xea, 0x60, 8,    2,    0,    0,    0,                 // height, RGB8
+    };
+    out.write(reinterpret_cast<const char*>(header), sizeof header);
+    const unsigned char crc[4] = {0x0f, 0xb0, 0xe2, 0x15};  // of "IHDR" and its data
+    out.write(reinterpret_cast<const char*>(crc), 4);
+    // One row's worth of data (a deflated 16 zero bytes) and the end.
+    const unsigned char rest[] = {
+        0x00, 0x00, 0x00, 0x0b, 0x49, 0x44, 0x41, 0x54, 0x78, 0x9c, 0x63, 0x60,
+        0x40, 0x05, 0x00, 0x00, 0x10, 0x00, 0x01, 0x39, 0xbd, 0x8f, 0x65, 0x00,
+        0x00, 0x00, 0x00, 0x49, 0x45, 0x4e, 0x44, 0xae, 0x42, 0x60, 0x82,
+    };
+    out.write(reinterpret_cast<const char*>(rest), sizeof rest);
+  }
+  ir::Scene b = base_scene(1, 1, 1);
+  b.images.push_back({bomb, {}});
+  err = rt::check_images(b);
+  INFO(err);
+  CHECK(err.find("bomb.png") != std::string::npos);
+  CHECK(err.find("60000x60000") != std::string::npos);
 }
 
 namespace {
