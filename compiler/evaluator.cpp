@@ -44,7 +44,7 @@ std::int32_t Evaluator::intern(const std::string& name) {
 // charge, `for i in 0 .. 1e9 { box {} }` ran for 72 s before its budget stopped it,
 // and a language server analysing it spent 0.6 s on each keystroke.
 lang::DiagBuilder Evaluator::error(DiagKind kind, Span span, std::string message) {
-  steps_ += kErrorSteps;
+  steps_ += kErrorSteps + message.size() / kStringBytesPerStep;
   return diags_.report(kind, span, std::move(message));
 }
 

@@ -56,6 +56,8 @@ inline constexpr int kMaxCallDepth = 10000;
 // label, and small enough that a loop of doublings stops in megabytes, not in
 // the machine's whole memory (the step budget counts operations, not bytes).
 inline constexpr std::size_t kMaxStringLength = 1 << 20;
+// All string values alive at once hold at most this many bytes (LiveString).
+inline constexpr std::int64_t kMaxLiveStringBytes = std::int64_t(1) << 30;
 inline constexpr std::uint64_t kDefaultStepBudget = 400'000'000;
 
 // Resolves and loads `import "path";` (compile.cpp implements it): returns the
@@ -93,6 +95,10 @@ class Evaluator {
   std::uint64_t steps() const { return steps_; }
   // What an error costs of the step budget (Evaluator::error: why).
   static constexpr std::uint64_t kErrorSteps = 32;
+  // Bytes of a string copied or compared per step of the budget: a step is ~7 ns,
+  // and 64 bytes about as long to copy. Without it a loop over a 512 K string ran
+  // for minutes inside its step budget.
+  static constexpr std::uint64_t kStringBytesPerStep = 64;
   void set_define_observer(DefineObserver observer) { on_define_ = std::move(observer); }
 
  private:
@@ -225,6 +231,14 @@ class Evaluator {
     return step_exhausted(at);
   }
   bool step_exhausted(lang::Span at);
+  // Work worth `n` more steps (a long string's bytes); false once the budget is
+  // spent.
+  bool charge(lang::Span at, std::uint64_t n) {
+    steps_ += n;
+    if (steps_ <= step_budget_ && !aborted_) [[likely]]
+      return true;
+    return step_exhausted(at);
+  }
   // Reports a NaN or infinite result at `e`; true when `v` is fine.
   bool finite_ok(const Value& v, const lang::Expr& e) {
     if (v.finite()) [[likely]]

@@ -219,6 +219,18 @@ Value Evaluator::eval_binary(const Expr& e, const std::shared_ptr<Env>& env) {
                   " characters long; strings hold at most " + std::to_string(kMaxStringLength));
         return Value::error();
       }
+      if (!charge(e.span, (a.str().size() + b.str().size()) / kStringBytesPerStep))
+        return Value::error();
+      const std::int64_t live = live_string_bytes() + std::int64_t(a.str().size() + b.str().size());
+      if (live > kMaxLiveStringBytes) {
+        error(DiagKind::StringTooLong, e.span,
+              "the strings in use would hold " + std::to_string(live) +
+                  " bytes with this one; they hold at most " + std::to_string(kMaxLiveStringBytes) +
+                  " in all")
+            .note("long strings kept in each of many nested calls add up");
+        aborted_ = true;
+        return Value::error();
+      }
       return Value::string(a.str() + b.str());
     }
     bool an = a.type == Type::Number, bn = b.type == Type::Number;
@@ -255,9 +267,11 @@ Value Evaluator::eval_binary(const Expr& e, const std::shared_ptr<Env>& env) {
         eq = a.n == b.n;
       else if (a.type == Type::Bool && b.type == Type::Bool)
         eq = a.n == b.n;
-      else if (a.type == Type::String && b.type == Type::String)
+      else if (a.type == Type::String && b.type == Type::String) {
+        if (!charge(e.span, std::min(a.str().size(), b.str().size()) / kStringBytesPerStep))
+          return Value::error();
         eq = a.str() == b.str();
-      else if (a.is_vector() && a.type == b.type)
+      } else if (a.is_vector() && a.type == b.type)
         eq = a.v == b.v;
       else
         return mismatch("compares two numbers, bools, strings or vectors of one size");

@@ -1,11 +1,26 @@
 #include "compiler/value.hpp"
 
+#include <atomic>
 #include <charconv>
 #include <cmath>
 
 #include "compiler/object_value.hpp"
 
 namespace snell::compile {
+
+namespace {
+std::atomic<std::int64_t> g_live_string_bytes{0};
+}  // namespace
+
+LiveString::LiveString(std::string t) : text(std::move(t)) {
+  g_live_string_bytes.fetch_add(std::int64_t(text.size()), std::memory_order_relaxed);
+}
+LiveString::~LiveString() {
+  g_live_string_bytes.fetch_sub(std::int64_t(text.size()), std::memory_order_relaxed);
+}
+std::int64_t live_string_bytes() {
+  return g_live_string_bytes.load(std::memory_order_relaxed);
+}
 
 std::string_view type_name(Type t) {
   switch (t) {

@@ -39,6 +39,19 @@ std::string a_type(Type t);
 struct Env;
 struct ObjectNode;  // object_value.hpp
 
+// A string value's text, counted while it lives: the bytes of every string value
+// alive in the process (live_string_bytes), which concatenation keeps below a
+// cap, so a recursion holding long strings in each frame stops with an error
+// instead of taking the machine's memory.
+struct LiveString {
+  std::string text;
+  explicit LiveString(std::string t);
+  ~LiveString();
+  LiveString(const LiveString&) = delete;
+  LiveString& operator=(const LiveString&) = delete;
+};
+std::int64_t live_string_bytes();
+
 // A user function (closure over its defining scope) or a builtin.
 struct Closure {
   const lang::Stmt* def = nullptr;   // the `fn` statement; null for builtins
@@ -56,7 +69,7 @@ struct Value {
   // (it is copied on every variable read).
   std::shared_ptr<const void> obj;
 
-  const std::string& str() const { return *static_cast<const std::string*>(obj.get()); }
+  const std::string& str() const { return static_cast<const LiveString*>(obj.get())->text; }
   const ir::Material& mat() const { return *static_cast<const ir::Material*>(obj.get()); }
   const ir::Texture& pat() const { return *static_cast<const ir::Texture*>(obj.get()); }
   const Closure& func() const { return *static_cast<const Closure*>(obj.get()); }
@@ -97,7 +110,7 @@ struct Value {
   static Value string(std::string text) {
     Value r;
     r.type = Type::String;
-    r.obj = std::make_shared<const std::string>(std::move(text));
+    r.obj = std::make_shared<const LiveString>(std::move(text));
     return r;
   }
   static Value of_material(ir::Material m) {
