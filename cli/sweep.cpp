@@ -12,6 +12,7 @@
 
 #include "cli/metrics.hpp"
 #include "cli/plot_svg.hpp"
+#include "runtime/atomic_file.hpp"
 #include "runtime/render.hpp"
 
 namespace snell::cli {
@@ -92,19 +93,21 @@ std::uint64_t fnv1a(const std::string& s) {
   return h;
 }
 
-bool save_raw(const std::string& path, const rt::Image& img) {
-  std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    out.write("SNELLREF", 8);
-    out.write(reinterpret_cast<const char*>(&img.width), 4);
-    out.write(reinterpret_cast<const char*>(&img.height), 4);
-    out.write(reinterpret_cast<const char*>(img.rgb.data()), std::streamsize(img.rgb.size() * 4));
-    if (!out) return false;
-  }
+// Whole or not at all (atomic_file.hpp); an error message naming the file, or "".
+std::string save_raw(const std::string& path, const rt::Image& img) {
+  std::string bytes = "SNELLREF";
+  bytes.append(reinterpret_cast<const char*>(&img.width), 4);
+  bytes.append(reinterpret_cast<const char*>(&img.height), 4);
+  bytes.append(reinterpret_cast<const char*>(img.rgb.data()), img.rgb.size() * 4);
+  return rt::write_file_atomically(path, bytes.data(), bytes.size());
+}
+
+// The folder `dir` made (with its parents); an error message naming it, or "".
+std::string make_folder(const fs::path& dir) {
   std::error_code ec;
-  fs::rename(tmp, path, ec);
-  return !ec;
+  fs::create_directories(dir, ec);
+  if (ec) return "cannot create the folder " + dir.string() + ": " + ec.message();
+  return {};
 }
 
 bool load_raw(const std::string& path, rt::Image& img) {
@@ -184,7 +187,11 @@ class Sweeper {
       l.samples_u = std::max<std::uint32_t>(l.samples_u, 4);
       l.samples_v = std::max<std::uint32_t>(l.samples_v, 4);
     }
-    fs::create_directories(fs::path(o_.out_dir) / "cache");
+    if (std::string e = make_folder(fs::path(o_.out_dir) / "cache"); !e.empty()) {
+      std::cerr << "snell sweep: error: " << e << "\n";
+      code = kExitIo;
+      return false;
+    }
     char hex[17];
     std::snprintf(hex, sizeof hex, "%016llx",
                   static_cast<unsigned long long>(fnv1a(ir::to_string(scene))));
@@ -199,8 +206,8 @@ class Sweeper {
     double secs;
     ref = render(scene, false, secs).image;
     if (!o_.quiet) std::cerr << "reference: " << secs << " s\n";
-    if (!save_raw(path, ref)) {
-      std::cerr << "snell sweep: error: cannot write " << path << "\n";
+    if (std::string e = save_raw(path, ref); !e.empty()) {
+      std::cerr << "snell sweep: error: " << e << "\n";
       code = kExitIo;
       return false;
     }
@@ -213,7 +220,10 @@ class Sweeper {
     if (!reference(ref, code)) return code;
     std::vector<std::string> series_values =
         o_.series.key.empty() ? std::vector<std::string>{""} : o_.series.values;
-    fs::create_directories(fs::path(o_.out_dir) / "images");
+    if (std::string e = make_folder(fs::path(o_.out_dir) / "images"); !e.empty()) {
+      std::cerr << "snell sweep: error: " << e << "\n";
+      return kExitIo;
+    }
     std::string stem = o_.name.empty() ? fs::path(o_.scene).stem().string() : o_.name;
     for (const SweepAxis& axis : o_.vary) {
       // Every configuration of this axis, compiled first.
@@ -290,11 +300,16 @@ class Sweeper {
         rows_.push_back(row);
       }
     }
-    return write_outputs(stem) ? kExitOk : kExitIo;
+    if (std::string e = write_outputs(stem); !e.empty()) {
+      std::cerr << "snell sweep: error: " << e << "\n";
+      return kExitIo;
+    }
+    return kExitOk;
   }
 
  private:
-  bool write_outputs(const std::string& stem);
+  // Each file whole or not at all; the first failure's message, or "".
+  std::string write_outputs(const std::string& stem);
   std::string reading(const SweepAxis& axis) const;
 
   const SweepOptions& o_;
@@ -397,16 +412,19 @@ std::string Sweeper::reading(const SweepAxis& axis) const {
   return out;
 }
 
-bool Sweeper::write_outputs(const std::string& stem) {
+std::string Sweeper::write_outputs(const std::string& stem) {
   fs::path dir(o_.out_dir);
-  std::ofstream csv(dir / (stem + ".csv"));
+  auto save = [](const fs::path& path, const std::string& text) {
+    return rt::write_file_atomically(path.string(), text.data(), text.size());
+  };
+  std::ostringstream csv;
   csv << "scene,knob,value,series_key,series_value,seconds_median,seconds_min,rays,rmse,relmse,"
          "dssim,image\n";
   for (const SweepRow& r : rows_)
     csv << o_.scene << ',' << r.knob << ",\"" << r.value << "\"," << o_.series.key << ','
         << r.series_value << ',' << r.seconds << ',' << r.seconds_min << ',' << r.rays << ','
         << r.rmse << ',' << r.relmse << ',' << r.dssim << ',' << r.image << '\n';
-  std::ofstream json(dir / (stem + ".json"));
+  std::ostringstream json;
   json << "{\n  \"scene\": \"" << o_.scene << "\",\n  \"reference_spp\": " << o_.reference_spp
        << ",\n  \"repeats\": " << o_.repeats << ",\n  \"rows\": [\n";
   for (std::size_t i = 0; i < rows_.size(); ++i) {
@@ -437,7 +455,7 @@ bool Sweeper::write_outputs(const std::string& stem) {
       plot.series.push_back(std::move(s));
     }
     std::string svg_name = slug(stem + "-" + axis.key) + ".svg";
-    std::ofstream(dir / svg_name) << render_svg(plot);
+    if (std::string e = save(dir / svg_name, render_svg(plot)); !e.empty()) return e;
     md << "### " << stem << ": " << axis.key << (o_.series.key.empty() ? "" : " × " + o_.series.key)
        << "\n\n";
     md << "![" << plot.title << "](" << svg_name << ")\n\n";
@@ -451,13 +469,13 @@ bool Sweeper::write_outputs(const std::string& stem) {
            << num(r.dssim) << " | " << r.rays << " |\n";
     md << "\n" << reading(axis) << "\n";
   }
-  if (!o_.markdown.empty()) {
-    std::ofstream out(o_.markdown);
-    out << md.str();
-    if (!out) return false;
-  }
+  for (const auto& [path, text] :
+       {std::pair{dir / (stem + ".csv"), csv.str()}, std::pair{dir / (stem + ".json"), json.str()}})
+    if (std::string e = save(path, text); !e.empty()) return e;
+  if (!o_.markdown.empty())
+    if (std::string e = save(o_.markdown, md.str()); !e.empty()) return e;
   if (!o_.quiet) std::cerr << "wrote " << (dir / (stem + ".csv")).string() << ", .json and plots\n";
-  return bool(csv) && bool(json);
+  return {};
 }
 
 }  // namespace

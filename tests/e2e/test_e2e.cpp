@@ -305,6 +305,29 @@ TEST_CASE("a shorthand option's bad value is reported under its own name", "[e2e
   CHECK(err.find("--set resolution=0: 'resolution' must be >= 1") != std::string::npos);
 }
 
+TEST_CASE("sweep writes its tables whole or not at all, and says why it cannot", "[e2e]") {
+  // Its CSV, JSON, plots and Markdown go through the atomic writer as images do: a
+  // table that cannot be written is exit 3 with the file named, and the old one
+  // stays (on a full disk they were left empty, with exit 0).
+  Scratch tmp;
+  std::ofstream(tmp / "s.scn") << "settings { resolution <8, 6> }\n"
+                                  "point_light { position <0, 3, -3> intensity 10 }\n"
+                                  "sphere { }\n";
+  const std::string base = "sweep " + (tmp / "s.scn") +
+                           " --vary samples=1,2 --reference-spp 2 --no-images --quiet --out ";
+  std::string err;
+  REQUIRE(run_capture(base + (tmp / "out"), err, tmp) == 0);
+  CHECK(fs::file_size(tmp / "out/s.csv") > 0);
+  fs::create_directories(tmp / "md-folder");
+  std::ofstream(tmp / "out/s.csv") << "OLD\n";
+  CHECK(run_capture(base + (tmp / "out") + " --markdown " + (tmp / "md-folder"), err, tmp) == 3);
+  CHECK(err.find("md-folder") != std::string::npos);
+  std::ofstream(tmp / "a-file") << "x\n";
+  CHECK(run_capture(base + (tmp / "a-file"), err, tmp) == 3);
+  CHECK(err.find("cannot create the folder") != std::string::npos);
+  CHECK(err.find("internal error") == std::string::npos);
+}
+
 TEST_CASE("a render with --pixel alone prints the ray tree and writes no image", "[e2e]") {
   Scratch tmp;
   std::ofstream(tmp / "ok.scn") << "settings { resolution <8, 8> }\nsphere { center <0, 0, 3> }\n"
