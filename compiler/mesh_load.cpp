@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 
@@ -20,14 +21,40 @@ bool read_obj(const std::string& path, ir::MeshData& mesh, ObjReport& report) {
     report.error = "cannot open it";
     return false;
   }
-  // Line by line: the file is never held whole (a mesh may be gigabytes).
+  // Line by line: the file is never held whole (a mesh may be gigabytes), and no
+  // line is longer than kMaxObjLine (a file of 3 GB without a newline, NUL bytes
+  // say, was read into one string of 3 GB).
+  constexpr std::size_t kMaxObjLine = std::size_t(16) << 20;  // a 2 M-corner polygon
   ObjParser parser;
   std::string line;
-  while (std::getline(in, line)) parser.line(line);
+  std::uint64_t line_no = 1;
+  char buf[1 << 16];
+  for (;;) {
+    in.read(buf, sizeof buf);
+    const std::size_t got = static_cast<std::size_t>(in.gcount());
+    if (got == 0) break;
+    std::size_t start = 0;
+    while (start < got) {
+      const char* nl = static_cast<const char*>(std::memchr(buf + start, '\n', got - start));
+      const std::size_t end = nl ? std::size_t(nl - buf) : got;
+      line.append(buf + start, end - start);
+      if (line.size() > kMaxObjLine) {
+        report.error = "line " + std::to_string(line_no) + " is longer than " +
+                       std::to_string(kMaxObjLine) + " bytes: it is not an OBJ file";
+        return false;
+      }
+      if (!nl) break;
+      parser.line(line);
+      line.clear();
+      ++line_no;
+      start = end + 1;
+    }
+  }
   if (in.bad()) {
     report.error = "reading it failed";
     return false;
   }
+  if (!line.empty()) parser.line(line);
   ObjData obj = parser.finish();
   report.ignored_geometry = obj.ignored_geometry;
   report.first_ignored_line = obj.first_ignored_line;

@@ -395,3 +395,19 @@ TEST_CASE("OBJ lines and points are a warning: they are not drawn", "[compiler][
         "2 line, point or free-form statement(s) of '" + p.string() +
             "' are not drawn (the first on line 5); Snell draws the faces (f) only");
 }
+
+TEST_CASE("an OBJ is read a line at a time, and a line past 16 MB ends the read",
+          "[compiler][mesh]") {
+  // The last line needs no newline (the triangle is read); a file of 17 MB without
+  // one (NUL bytes, a binary file) is refused at its first line instead of being
+  // read whole into one string (3 GB of them took 4 GB).
+  compile::ObjReport r;
+  ir::MeshData tri = load("no-final-newline.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3", r);
+  CHECK(tri.indices.size() == 3);
+  ir::MeshData m;
+  compile::ObjReport big;
+  CHECK_FALSE(compile::read_obj(
+      write_file("binary.obj", std::string(std::size_t(17) << 20, '\0')).string(), m, big));
+  INFO(big.error);
+  CHECK(big.error.find("line 1 is longer than") != std::string::npos);
+}
