@@ -84,8 +84,7 @@ bool instanceable(const ObjectNode& n, bool in_csg) {
 void SceneBuilder::add_object_tree(const std::shared_ptr<const ObjectNode>& node) {
   // Refused before anything is placed: values of values multiply, and placing
   // them until the scene's cap would take minutes and gigabytes first.
-  const double room =
-      double(kMaxSceneObjects) - double(scene_.shapes.size() + scene_.parts.size());
+  const double room = double(kMaxSceneObjects) - double(scene_.shapes.size() + scene_.parts.size());
   const double n = expanded_objects(*node);
   expanded_.clear();  // keyed by address: a node freed later may be reused
   if (n > room) {
