@@ -143,14 +143,12 @@ Value Evaluator::eval_vector(const Expr& e, const std::shared_ptr<Env>& env) {
   // A component in error (reported already: the parser cut the vector short where
   // nesting ran too deep, or a name is undefined) says nothing sure about the
   // count: a 3000-deep vector gave a thousand arity errors after its one.
-  const bool cut = std::any_of(e.args.begin(), e.args.end(),
-                               [](const lang::ExprPtr& a) { return a->kind == ExprKind::Error; });
-  if ((e.args.size() < 2 || e.args.size() > 3) && !cut && !bad) {
+  if ((e.args.size() < 2 || e.args.size() > 3) && !bad) {
     error(DiagKind::BadVectorArity, e.span,
           "a vector has 2 or 3 components, not " + std::to_string(e.args.size()));
     return Value::error();
   }
-  if (bad || cut) return Value::error();
+  if (bad) return Value::error();
   return e.args.size() == 2 ? Value::vec2(c[0], c[1]) : Value::vec3({c[0], c[1], c[2]});
 }
 

@@ -152,11 +152,6 @@ class SceneBuilder {
   std::unordered_map<const ObjectNode*, PrototypeEntry> prototypes_;  // references stay valid
   std::vector<std::shared_ptr<const ObjectNode>> prototype_values_;   // keeps the keys alive
   std::vector<NestedInstance>* nesting_ = nullptr;                    // the prototype being built's
-  // How many shapes, parts and instances placing `node` can make at most: its
-  // leaves, counted through shared values once each (a value of two copies of a
-  // value of two copies... is 2^40 after forty lines, found in forty steps).
-  double expanded_objects(const ObjectNode& node);
-  std::unordered_map<const ObjectNode*, double> expanded_;
   void add_object(const BlockInfo& block, lang::Span kw, const std::vector<EvaluatedProp>& props);
   void apply_settings(const std::vector<EvaluatedProp>& props);
   void apply_camera(const std::vector<EvaluatedProp>& props);

@@ -21,6 +21,9 @@ struct ObjectNode {
   std::vector<EvaluatedProp> props;  // checked: the kind's own and the object ones
   // A CSG block's objects in the order made; an instance: the value it places.
   std::vector<std::shared_ptr<const ObjectNode>> children;
+  // How many shapes, parts and instances placing it can make at most (its leaves,
+  // through shared values); counted once, when first asked (lower_objects.cpp).
+  mutable double expanded = 0;
   bool instance() const { return block == nullptr; }
   bool csg() const { return block && block->csg_op >= 0; }
   std::string_view keyword_name() const { return block ? block->name : "object"; }

@@ -189,17 +189,14 @@ bool bounds_volume(const Shape& s) {
       s.geom);
 }
 
-// The first part of an instance's value (through nested instances) that has no
-// inside, or null: a prioritised instance is a solid only when all of it is.
-const Shape* part_without_inside(const Shape& s, const Scene& scene, int depth = 0) {
+// The first part of an instance's value that has no inside, or null: a
+// prioritised instance is a solid only when all of it is. (Parts are never
+// instances: a value's own instances are placed beside it.)
+const Shape* part_without_inside(const Shape& s, const Scene& scene) {
   const Instance* in = s.as<Instance>();
-  if (!in || in->prototype >= scene.prototypes.size() || depth > 64) return nullptr;
-  for (std::uint32_t p : scene.prototypes[in->prototype].parts) {
-    if (p >= scene.parts.size()) continue;
-    const Shape& part = scene.parts[p];
-    if (!bounds_volume(part)) return &part;
-    if (const Shape* deeper = part_without_inside(part, scene, depth + 1)) return deeper;
-  }
+  if (!in || in->prototype >= scene.prototypes.size()) return nullptr;
+  for (std::uint32_t p : scene.prototypes[in->prototype].parts)
+    if (p < scene.parts.size() && !bounds_volume(scene.parts[p])) return &scene.parts[p];
   return nullptr;
 }
 

@@ -2,10 +2,6 @@
 
 #include <fmt/format.h>
 
-#include <cmath>
-#include <type_traits>
-#include <variant>
-
 #include "runtime/geometry/point_inside.hpp"
 
 namespace snell::rt {
