@@ -9,6 +9,8 @@
 // Quadrics against triangles: twelve spheres and twelve CSG lenses, analytic and
 // tessellated (OBJ meshes written here), ns per camera sample and the ratio.
 //
+// Holes: a slab drilled with 10 to 10 000 holes (one difference), ns per sample.
+//
 // Instances: N objects of one mesh value (`object { m ... }`, one prototype, Embree
 // instancing) against the same N written as separate meshes (each object's
 // triangles copied into the scene's BVH): the resident memory the built scene
@@ -194,6 +196,31 @@ int main(int argc, char** argv) {
     std::printf("%-18s %14s %14s %8s\n", "", "analytic ns", "triangles ns", "ratio");
     std::printf("%-18s %14.1f %14.1f %8.2f\n", "per sample", x, y, x / y);
     std::fflush(stdout);
+  }
+
+  // A slab drilled with N holes (spheres on an m x m grid, so each is the same
+  // fraction of the slab whatever N): what a CSG object's size costs per sample.
+  // The leaves' BVH and the counting inside test should keep it nearly flat; a ray
+  // that tests every leaf grows with N.
+  {
+    std::printf("\nA slab with N holes (one difference), ns per sample and against N = 10:\n");
+    std::printf("%-18s %14s %8s\n", "holes", "ns/spl", "ratio");
+    double first = 0;
+    for (long holes : {10L, 100L, 1000L, 10000L}) {
+      long m = long(std::ceil(std::sqrt(double(holes))));
+      std::string ms = std::to_string(m);
+      std::string body =
+          "difference { box { min <-2, -0.3, -1.5> max <2, 0.3, 1.5> } for k in 0 .. " +
+          std::to_string(holes) + " { sphere { center <-2 + 4 * (k % " + ms + " + 0.5) / " + ms +
+          ", 0.3, -1.5 + 3 * (floor(k / " + ms + ") + 0.5) / " + ms + "> radius 1.05 / " + ms +
+          " } } material diffuse 0.8 }";
+      ir::Scene s = compile_scene(body, res, spp);
+      auto [x, y] = ns_per_sample(s, s, repeats);
+      double ns = std::fmin(x, y);
+      if (first == 0) first = ns;
+      std::printf("%-18ld %14.1f %8.2f\n", holes, ns, ns / first);
+      std::fflush(stdout);
+    }
   }
 
   std::string sphere = "\"" + write_sphere_obj(dir, tris) + "\"";

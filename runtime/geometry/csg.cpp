@@ -38,8 +38,15 @@ Box3 infinite_box() {
   return b;
 }
 
+// A leaf's box is padded by this fraction of the slab's |t0| + |t1| (a little slack:
+// the box is only a filter, and its faces may be a leaf's); a BVH node's by
+// kNodePad. A node's box holds its leaves' boxes and IEEE rounding is monotone, so
+// its slabs hold theirs; a leaf's |t0| + |t1| is at most twice the node's, so the
+// node's pad covers the leaf's: a leaf that passes its own test passes its nodes'.
+constexpr double kLeafPad = 1e-9, kNodePad = 4e-9;
+
 // [lo, hi] of the ray inside `box` (slab test; false when it misses).
-bool ray_box(const Box3& box, Vec3 o, Vec3 d, double lo, double hi) {
+bool ray_box(const Box3& box, Vec3 o, Vec3 d, double lo, double hi, double pad_factor = kLeafPad) {
   for (int k = 0; k < 3; ++k) {
     if (d[k] == 0) {
       if (o[k] < box.lo[k] || o[k] > box.hi[k]) return false;
@@ -48,8 +55,7 @@ bool ray_box(const Box3& box, Vec3 o, Vec3 d, double lo, double hi) {
     double inv = 1 / d[k];
     double t0 = (box.lo[k] - o[k]) * inv, t1 = (box.hi[k] - o[k]) * inv;
     if (t0 > t1) std::swap(t0, t1);
-    // A little slack: the box is only a filter, and its faces may be a leaf's.
-    double pad = 1e-9 * (std::fabs(t0) + std::fabs(t1)) + 1e-300;
+    double pad = pad_factor * (std::fabs(t0) + std::fabs(t1)) + 1e-300;
     lo = std::fmax(lo, t0 - pad), hi = std::fmin(hi, t1 + pad);
     if (lo > hi) return false;
   }
@@ -69,18 +75,89 @@ Spans leaf_spans(const ir::ShapeGeom& g, Vec3 o, Vec3 d, double lo, double hi) {
 
 struct Event {
   double t;
-  std::uint32_t leaf;
+  std::uint32_t leaf, seq;  // seq: the order pushed (a leaf's events in its order)
   bool enter;
   Vec3 n;
 };
 
+// A ray's view of a CsgProgram's tree: each node's inside flag and its count of
+// operands inside, valid where stamped with the ray's number and otherwise the
+// node's all-outside state, so a ray starts in O(1) whatever the tree's size. One
+// per thread, shared by every program: a stamp left by another program's ray is an
+// older number.
+struct RayState {
+  std::vector<std::uint32_t> stamp, ntrue;
+  std::vector<std::uint8_t> in;
+  std::uint32_t ray = 0;
+};
+thread_local RayState t_ray_state;
+
 }  // namespace
 
 CsgProgram::CsgProgram(const ir::Scene& scene, std::uint32_t root, bool motion) {
-  box_ = compile(scene, root, motion);
+  compile(scene, root, motion, box_);
+  for (std::uint32_t i = 0; i < leaves_.size(); ++i)
+    (leaves_[i].bounded ? bounded_ : unbounded_).push_back(i);
+  if (!bounded_.empty()) build_bvh(0, std::uint32_t(bounded_.size()));
 }
 
-Box3 CsgProgram::compile(const ir::Scene& scene, std::uint32_t index, bool motion) {
+std::uint32_t CsgProgram::build_bvh(std::uint32_t begin, std::uint32_t end) {
+  const std::uint32_t id = std::uint32_t(bvh_.size());
+  bvh_.emplace_back();
+  Box3 box = leaves_[bounded_[begin]].box, centres;
+  auto centre = [&](std::uint32_t leaf, int k) {
+    const Box3& b = leaves_[leaf].box;
+    return 0.5 * b.lo[k] + 0.5 * b.hi[k];
+  };
+  for (std::uint32_t i = begin; i < end; ++i) {
+    box = unite(box, leaves_[bounded_[i]].box);
+    centres.grow(Vec3(centre(bounded_[i], 0), centre(bounded_[i], 1), centre(bounded_[i], 2)));
+  }
+  bvh_[id].box = box;
+  if (end - begin <= 4) {
+    bvh_[id].first = begin, bvh_[id].count = end - begin;
+    return id;
+  }
+  int axis = 0;
+  for (int k = 1; k < 3; ++k)
+    if (centres.hi[k] - centres.lo[k] > centres.hi[axis] - centres.lo[axis]) axis = k;
+  // Median split; ties by leaf index, so the tree is the same on every run.
+  const std::uint32_t mid = begin + (end - begin) / 2;
+  std::nth_element(bounded_.begin() + begin, bounded_.begin() + mid, bounded_.begin() + end,
+                   [&](std::uint32_t a, std::uint32_t b) {
+                     double ca = centre(a, axis), cb = centre(b, axis);
+                     return ca < cb || (ca == cb && a < b);
+                   });
+  build_bvh(begin, mid);
+  const std::uint32_t right = build_bvh(mid, end);
+  bvh_[id].right = right;
+  return id;
+}
+
+template <class F>
+void CsgProgram::for_each_leaf(Vec3 o, Vec3 d, double lo, double hi, F&& f) const {
+  for (std::uint32_t leaf : unbounded_) f(leaf);
+  if (bvh_.empty()) return;
+  // Median splits of at most 2^32 leaves: fewer than 32 levels, so at most 33
+  // nodes wait at once.
+  std::uint32_t stack[64];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const std::uint32_t id = stack[--top];
+    const BvhNode& n = bvh_[id];
+    if (!ray_box(n.box, o, d, lo, hi, kNodePad)) continue;
+    if (n.count > 0) {
+      for (std::uint32_t k = 0; k < n.count; ++k) f(bounded_[n.first + k]);
+      continue;
+    }
+    stack[top++] = n.right;
+    stack[top++] = id + 1;
+  }
+}
+
+std::uint32_t CsgProgram::compile(const ir::Scene& scene, std::uint32_t index, bool motion,
+                                  Box3& box_out) {
   const ir::CsgNode& node = scene.csg_nodes[index];
   if (node.leaf()) {
     const ir::Shape& part = scene.parts[node.part];
@@ -103,52 +180,40 @@ Box3 CsgProgram::compile(const ir::Scene& scene, std::uint32_t index, bool motio
                    l.box);
     else
       ir::world_hull_points(part, scene, [&](Vec3 p) { l.box.grow(p); });
-    code_.push_back({Op::Leaf, static_cast<std::uint32_t>(leaves_.size())});
+    box_out = l.box;
+    leaf_node_.push_back(std::uint32_t(nodes_.size()));
     leaves_.push_back(l);
-    return l.box;
+    nodes_.push_back({Node::Leaf});
+    return leaf_node_.back();
   }
-  Box3 box;
+  std::vector<std::uint32_t> kids;
   for (std::size_t i = 0; i < node.children.size(); ++i) {
-    Box3 c = compile(scene, node.children[i], motion);
+    Box3 c;
+    kids.push_back(compile(scene, node.children[i], motion, c));
     if (i == 0)
-      box = c;
+      box_out = c;
     else if (node.op == ir::CsgOp::Intersection)
-      box = overlap(box, c);
+      box_out = overlap(box_out, c);
     else if (node.op != ir::CsgOp::Difference)
-      box = unite(box, c);
+      box_out = unite(box_out, c);
   }
-  Op::Kind k = node.op == ir::CsgOp::Intersection ? Op::All
-               : node.op == ir::CsgOp::Difference ? Op::FirstNotRest
-                                                  : Op::Any;
-  code_.push_back({k, static_cast<std::uint32_t>(node.children.size())});
-  return box;
-}
-
-bool CsgProgram::inside(const std::uint8_t* flags) const {
-  // The stack holds at most one flag per leaf.
-  thread_local std::vector<std::uint8_t> stack;
-  stack.clear();
-  for (const Op& op : code_) {
-    if (op.kind == Op::Leaf) {
-      stack.push_back(flags[op.arg]);
-      continue;
-    }
-    std::size_t base = stack.size() - op.arg;
-    bool r;
-    if (op.kind == Op::Any) {
-      r = false;
-      for (std::size_t i = base; i < stack.size(); ++i) r = r || stack[i];
-    } else if (op.kind == Op::All) {
-      r = true;
-      for (std::size_t i = base; i < stack.size(); ++i) r = r && stack[i];
-    } else {
-      r = stack[base];
-      for (std::size_t i = base + 1; i < stack.size(); ++i) r = r && !stack[i];
-    }
-    stack.resize(base);
-    stack.push_back(r);
+  Node n;
+  n.kind = node.op == ir::CsgOp::Intersection ? Node::All
+           : node.op == ir::CsgOp::Difference ? Node::FirstNotRest
+                                              : Node::Any;
+  n.count = std::uint32_t(kids.size());
+  const std::uint32_t id = std::uint32_t(nodes_.size());
+  for (std::size_t i = 0; i < kids.size(); ++i) {
+    Node& k = nodes_[kids[i]];
+    k.parent = id, k.first = i == 0;
+    if (k.inside0 && !(n.kind == Node::FirstNotRest && i == 0)) ++n.true0;
   }
-  return !stack.empty() && stack.back();
+  if (n.kind == Node::FirstNotRest && !kids.empty()) n.first_child = kids[0];
+  n.inside0 = n.kind == Node::Any   ? n.true0 > 0
+              : n.kind == Node::All ? n.true0 == n.count
+                                    : !kids.empty() && nodes_[kids[0]].inside0 && n.true0 == 0;
+  nodes_.push_back(n);
+  return id;
 }
 
 const ir::Mat4& CsgProgram::leaf_at(const Leaf& l, double u, ir::Mat4& scratch) const {
@@ -162,57 +227,103 @@ const ir::Mat4& CsgProgram::leaf_at(const Leaf& l, double u, ir::Mat4& scratch) 
 bool CsgProgram::intersect(Vec3 o, Vec3 d, double tnear, double tfar, double& t_hit, Vec3& n_hit,
                            std::uint32_t& leaf_hit, double u) const {
   if (!ray_box(box_, o, d, tnear, tfar)) return false;
+  RayState& st = t_ray_state;
+  if (st.stamp.size() < nodes_.size()) {
+    st.stamp.resize(nodes_.size(), 0);
+    st.ntrue.resize(nodes_.size());
+    st.in.resize(nodes_.size());
+  }
+  if (++st.ray == 0) {  // the numbers wrapped: no old stamp may pass for this ray's
+    std::fill(st.stamp.begin(), st.stamp.end(), 0);
+    st.ray = 1;
+  }
+  auto touch = [&](std::uint32_t id) {
+    if (st.stamp[id] == st.ray) return;
+    st.stamp[id] = st.ray, st.in[id] = nodes_[id].inside0, st.ntrue[id] = nodes_[id].true0;
+  };
+  // A leaf's flag, and the operations above it as far as their answers change.
+  auto set_leaf = [&](std::uint32_t leaf, bool v) {
+    std::uint32_t id = leaf_node_[leaf];
+    touch(id);
+    if (bool(st.in[id]) == v) return;
+    st.in[id] = v;
+    for (;;) {
+      const Node& c = nodes_[id];
+      const std::uint32_t p = c.parent;
+      if (p == kNone) return;
+      touch(p);
+      const Node& pn = nodes_[p];
+      if (!(pn.kind == Node::FirstNotRest && c.first)) st.ntrue[p] += v ? 1 : ~0u;
+      bool now;
+      if (pn.kind == Node::Any) {
+        now = st.ntrue[p] > 0;
+      } else if (pn.kind == Node::All) {
+        now = st.ntrue[p] == pn.count;
+      } else {
+        touch(pn.first_child);
+        now = st.in[pn.first_child] && st.ntrue[p] == 0;
+      }
+      if (now == bool(st.in[p])) return;
+      st.in[p] = now, id = p, v = now;
+    }
+  };
+  auto inside = [&] {
+    const std::uint32_t root = std::uint32_t(nodes_.size() - 1);
+    return st.stamp[root] == st.ray ? st.in[root] != 0 : nodes_[root].inside0;
+  };
   thread_local std::vector<Event> events;
-  thread_local std::vector<std::uint8_t> flags;
   events.clear();
-  flags.assign(leaves_.size(), 0);
   ir::Mat4 scratch;  // a moving leaf's placement at u
-  for (std::uint32_t i = 0; i < leaves_.size(); ++i) {
+  for_each_leaf(o, d, tnear, tfar, [&](std::uint32_t i) {
     const Leaf& l = leaves_[i];
-    if (l.bounded && !ray_box(l.box, o, d, tnear, tfar)) continue;
+    if (l.bounded && !ray_box(l.box, o, d, tnear, tfar)) return;
     const ir::Mat4& leaf_from_csg = leaf_at(l, u, scratch);
     Vec3 ol = xform_point(leaf_from_csg, o), dl = xform_vector(leaf_from_csg, d);
+    auto push = [&](double t, bool enter, Vec3 n) {
+      events.push_back({t, i, std::uint32_t(events.size()), enter, n});
+    };
     if (l.mesh) {
       thread_local std::vector<MeshSolid::Crossing> cross;
       bool in = false;
       l.mesh->crossings(ol, dl, tnear, cross, in);
-      if (in) flags[i] = 1;
+      if (in) set_leaf(i, true);
       for (const MeshSolid::Crossing& c : cross) {
         if (!(c.t < tfar)) break;
         if (c.t > tnear)
-          events.push_back({c.t, i, c.enter, xform_normal_by_inverse(leaf_from_csg, c.n)});
+          push(c.t, c.enter, xform_normal_by_inverse(leaf_from_csg, c.n));
         else
-          flags[i] = c.enter;
+          set_leaf(i, c.enter);
       }
-      continue;
+      return;
     }
     Spans sp = leaf_spans(l.geom, ol, dl, tnear, tfar);
     for (int k = 0; k < sp.count; ++k) {
       const Span& s = sp.span[k];
       // Normals to CSG space (inverse transpose of csg_from_leaf).
       if (s.t_in > tnear)
-        events.push_back({s.t_in, i, true, xform_normal_by_inverse(leaf_from_csg, s.n_in)});
+        push(s.t_in, true, xform_normal_by_inverse(leaf_from_csg, s.n_in));
       else
-        flags[i] = 1;  // the ray starts inside this leaf
-      if (s.t_out < tfar)
-        events.push_back({s.t_out, i, false, xform_normal_by_inverse(leaf_from_csg, s.n_out)});
+        set_leaf(i, true);  // the ray starts inside this leaf
+      if (s.t_out < tfar) push(s.t_out, false, xform_normal_by_inverse(leaf_from_csg, s.n_out));
     }
-  }
+  });
   if (events.empty()) return false;
+  // A total order (a leaf's own events in the order its test gave them), so the
+  // answer does not depend on the order the BVH visited the leaves.
   std::sort(events.begin(), events.end(), [](const Event& a, const Event& b) {
-    return a.t < b.t || (a.t == b.t && a.leaf < b.leaf);
+    return a.t < b.t || (a.t == b.t && (a.leaf < b.leaf || (a.leaf == b.leaf && a.seq < b.seq)));
   });
   double dmax = std::fmax(std::fabs(d.x), std::fmax(std::fabs(d.y), std::fabs(d.z)));
   double omax = std::fmax(std::fabs(o.x), std::fmax(std::fabs(o.y), std::fabs(o.z)));
-  bool state = inside(flags.data());
+  bool state = inside();
   for (std::size_t k = 0; k < events.size();) {
     double tol = kCoincident * (std::fabs(events[k].t) + omax / dmax);
     std::size_t j = k, owner = k;
     for (; j < events.size() && events[j].t - events[k].t <= tol; ++j) {
-      flags[events[j].leaf] = events[j].enter;
+      set_leaf(events[j].leaf, events[j].enter);
       if (events[j].leaf < events[owner].leaf) owner = j;
     }
-    bool now = inside(flags.data());
+    bool now = inside();
     if (now != state) {
       const Event& e = events[owner];
       t_hit = e.t;
@@ -252,7 +363,8 @@ double CsgProgram::leaf_crossing(std::uint32_t leaf, Vec3 o, Vec3 d, double t, s
 }
 
 std::string CsgProgram::to_string() const {
-  return fmt::format("csg_program {{ leaves {} ops {} }}", leaves_.size(), code_.size());
+  return fmt::format("csg_program {{ leaves {} nodes {} bvh_nodes {} unbounded {} }}",
+                     leaves_.size(), nodes_.size(), bvh_.size(), unbounded_.size());
 }
 
 // ---------------------------------------------------------------------------
