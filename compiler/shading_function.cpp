@@ -395,16 +395,21 @@ SVal ShadingCompiler::call(const Expr& e, Scope* s) {
 SVal ShadingCompiler::inline_call(const Stmt& def, Scope* body,
                                   const std::vector<std::int32_t>& params, std::vector<SVal>& args,
                                   const Expr& call, const std::string& fname) {
-  bool all_const = true;
-  for (const SVal& a : args) all_const &= a.is_const();
-  for (const Call& c : calls_)
-    if (c.def == &def && !all_const)
-      return unsupported(call.span, "'" + fname +
-                                        "' calls itself on run-time values here; a shading "
-                                        "function may recurse only on constants");
-  if (static_cast<int>(calls_.size()) >= kMaxInlineDepth)
+  // A recursion is unrolled like any call: on run-time values too, as long as it
+  // ends on constants within the depth limit (an escape-time fractal counting its
+  // iterations; every level is computed and the returns select the first taken).
+  if (static_cast<int>(calls_.size()) >= kMaxInlineDepth) {
+    bool recursive = false;
+    for (const Call& c : calls_) recursive = recursive || c.def == &def;
+    if (recursive)
+      return unsupported(
+          call.span, "'" + fname + "' calls itself more than " + std::to_string(kMaxInlineDepth) +
+                         " deep here; a shading function's recursion is unrolled when it is "
+                         "compiled, so it must end on constants within that many calls (a "
+                         "counter such as 'i + 1' up to a limit)");
     return unsupported(call.span, "calls are nested more than " + std::to_string(kMaxInlineDepth) +
                                       " deep here in a shading function");
+  }
   for (std::size_t i = 0; i < args.size(); ++i) body->vars.push_back({params[i], args[i]});
   calls_.push_back({&def, call.span, fname});
   SVal r;

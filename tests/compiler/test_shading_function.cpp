@@ -311,6 +311,40 @@ fn o(p) { let s = sphere { radius 1 }; return 1; }
         "ImpureShadingFunction 6:19 note 7:4\n");
 }
 
+TEST_CASE("shading: recursion on run-time values is unrolled while it ends on constants",
+          "[shading]") {
+  // An escape-time fractal: z and c are run-time values, the counter a constant, so
+  // the recursion unrolls 30 levels and every return is a select. Bit for bit the
+  // evaluator's value, at points inside and outside the set.
+  same_as_evaluator(R"(
+fn escape(z, c, i) {
+  if i >= 30 { return 1; }
+  if dot(z, z) > 4 { return i / 30; }
+  return escape(<z.x * z.x - z.y * z.y + c.x, 2 * z.x * z.y + c.y>, c, i + 1);
+}
+fn mandel(p) = escape(<0, 0>, <p.x - 0.5, p.y>, 0);)",
+                    "mandel", false, 1.5);
+  // Two recursions in one function, one of them through a helper.
+  same_as_evaluator(R"(
+fn sum_to(x, n) { if n == 0 { return 0; } return x * n + sum_to(x, n - 1); }
+fn twice(p, n) = sum_to(p.y, n) - sum_to(p.z, n);
+fn f(p) = twice(p, 12) + sum_to(p.x, 7);)",
+                    "f", false);
+  // One that never ends on constants is an error at the call, saying why.
+  Harness h(R"(
+fn halve(x) { if x < 1 { return x; } return halve(x / 2); }
+fn g(p) = halve(p.x);
+// USE
+)");
+  ir::Program p;
+  CHECK(!h.compile("g", p));
+  CHECK(h.report() == "UnsupportedInShadingFunction 2:45 note 3:11 note 4:4\n");
+  REQUIRE(!h.diags.diagnostics().empty());
+  CHECK_THAT(h.diags.diagnostics()[0].message,
+             Catch::Contains("'halve' calls itself more than 256 deep") &&
+                 Catch::Contains("must end on constants"));
+}
+
 TEST_CASE("shading: unsupported constructs and bad functions are errors with places", "[shading]") {
   Harness h(R"(
 let name = "x";
