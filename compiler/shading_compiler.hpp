@@ -8,6 +8,13 @@
 // calls are inlined. Code generation then walks back from the result (what it
 // does not reach is dropped) and gives each node a slot, reusing slots after
 // their last use.
+//
+// A tail recursion on run-time values (a function that calls itself only as
+// `return f(...)`, called with a run-time argument) is not inlined: its body is
+// compiled by a compiler of its own into a loop body (ir::Program::loops) whose
+// inputs are the parameters, and the call becomes a Loop node. In that body a
+// `return f(args)` is an outcome that is not done and carries args as the next
+// inputs; every outcome carries (done, value, next) and merges by selects.
 #pragma once
 
 #include <deque>
@@ -40,15 +47,22 @@ inline bool is_vec(Type t) {
   return t == Type::Vec2 || t == Type::Vec3;
 }
 
+// Whether `def` (a block-bodied fn) calls itself, by its name, and only as
+// `return NAME(...)` with no such call in the arguments (shading_loops.cpp). A
+// recursion on run-time values of such a function runs as a loop.
+bool tail_recursive(const lang::Stmt& def);
+
 // A node of the value graph.
 struct Node {
-  enum Kind : std::uint8_t { Input, Const, Comp, Apply } kind;
+  enum Kind : std::uint8_t { Input, Const, Comp, Apply, Loop } kind;
   Node(Kind k, Type t) : kind(k), type(t) {}
   Type type;
   Op op = Op::AddS;
   int arg[3] = {-1, -1, -1};
-  int index = 0;  // Input: 0 the point, 1 the normal; Comp: the component
-  Value value;    // Const
+  // Input: 0 the point, 1 the normal (a loop body's: its parameters); Comp: the
+  // component; Loop: the loop (its body and arguments in the compiler's tables)
+  int index = 0;
+  Value value;  // Const
 };
 
 struct Scope;
@@ -85,10 +99,15 @@ struct Scope {
 
 // The effect of a statement list on the function's return: it returned `val` when
 // `cond` (a bool: constant true, constant false = fell through, or a run-time bool).
+// In a loop body, `done` (a bool) is false where the outcome is a tail call, whose
+// arguments are `next` (one per parameter; None, or missing, where it does not
+// matter, as `val` is None for a tail call).
 struct Outcome {
   SVal cond = SVal::constant(Value::boolean(false));
   SVal val;
   lang::Span at;  // the return that gave val
+  SVal done;
+  std::vector<SVal> next;
 };
 
 inline bool const_false(const SVal& c) {
@@ -221,6 +240,10 @@ class ShadingCompiler {
   SVal fold_binary(const Expr& e, const Value& a, const Value& b);
   SVal component(const Expr& e, Scope* s);
   SVal call(const Expr& e, Scope* s);
+  SVal call_with(SVal callee, const Expr& e, Scope* s);
+  SVal loop_call(const Closure& fn, std::vector<SVal>& args, const Expr& call);
+  Outcome tail_call(const Stmt& ret, const Expr& call, std::vector<SVal> args);
+  void merge_loop(Outcome& r, const SVal& c, const Outcome& a, const Outcome& b);
   SVal call_builtin_fn(int id, const Expr& e, std::vector<SVal>& args);
   SVal inline_call(const Stmt& def, Scope* body_scope, const std::vector<std::int32_t>& params,
                    std::vector<SVal>& args, const Expr& call, const std::string& fname);
@@ -235,7 +258,8 @@ class ShadingCompiler {
   }
   void define(Scope* s, std::int32_t sym, SVal v, Span at);
 
-  bool codegen(const SVal& result, Span fn_span, ir::Program& out);
+  // roots[0] is the result; a loop body's are then done and the next inputs.
+  bool codegen(const std::vector<SVal>& roots, Span fn_span, ir::Program& out);
 
   Evaluator& ev_;
   Span use_;
@@ -253,6 +277,16 @@ class ShadingCompiler {
     std::string name;
   };
   std::vector<Call> calls_;  // the inlined calls in progress, outermost first
+  // Loops: the bodies this program runs, each Loop node's argument nodes; in a
+  // loop body's compiler, the function it is and how deep bodies nest here, and
+  // each input's first slot.
+  std::vector<ir::Program> loops_;
+  std::vector<std::vector<int>> loop_args_;
+  const Stmt* loop_def_ = nullptr;
+  int loop_depth_ = 0;
+  std::vector<int> input_slot_{ir::kPointSlot, ir::kNormalSlot};
+  std::vector<Type> loop_types_;  // a loop body's parameters' types
+  std::size_t loop_calls_ = 0;    // calls_.size() directly in a loop body
 };
 
 }  // namespace snell::compile

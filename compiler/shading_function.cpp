@@ -347,7 +347,10 @@ SVal ShadingCompiler::component(const Expr& e, Scope* s) {
 }
 
 SVal ShadingCompiler::call(const Expr& e, Scope* s) {
-  SVal callee = expr(*e.args[0], s);
+  return call_with(expr(*e.args[0], s), e, s);
+}
+
+SVal ShadingCompiler::call_with(SVal callee, const Expr& e, Scope* s) {
   std::vector<SVal> args;
   bool bad = callee.is_error();
   for (std::size_t i = 1; i < e.args.size(); ++i) {
@@ -380,6 +383,12 @@ SVal ShadingCompiler::call(const Expr& e, Scope* s) {
   }
   if (bad) return SVal::error();
   if (fn && fn->builtin >= 0) return call_builtin_fn(fn->builtin, e, args);
+  if (fn && tail_recursive(*def)) {
+    bool all_const = true, inside = false;
+    for (const SVal& a : args) all_const &= a.is_const();
+    for (const Call& c : calls_) inside = inside || c.def == def;
+    if (!all_const && !inside) return loop_call(*fn, args, e);
+  }
   std::vector<std::int32_t> params;
   Scope* body;
   if (fn) {
@@ -398,6 +407,11 @@ SVal ShadingCompiler::inline_call(const Stmt& def, Scope* body,
   // A recursion is unrolled like any call: on run-time values too, as long as it
   // ends on constants within the depth limit (an escape-time fractal counting its
   // iterations; every level is computed and the returns select the first taken).
+  if (&def == loop_def_)
+    return unsupported(call.span, "'" + fname + "' calls itself here other than as 'return " +
+                                      fname +
+                                      "(...)' directly in its body; a tail recursion on run-time "
+                                      "values runs as a loop, and this call cannot");
   if (static_cast<int>(calls_.size()) >= kMaxInlineDepth) {
     bool recursive = false;
     for (const Call& c : calls_) recursive = recursive || c.def == &def;

@@ -9,8 +9,9 @@
 // at most kMaxUnroll iterations in all); nested `fn`s; calls of other user
 // functions (inlined, recursive ones too: a recursion on constants folds away, one
 // on run-time values unrolls, and must end on constants within kMaxInlineDepth
-// calls, as an escape-time fractal counting its iterations does); every builtin
-// of §3 and §15. Captured names of the defining scope
+// calls); a tail recursion on run-time values (`return f(...)` its only
+// self-call) runs as a loop instead (shading_loops.cpp); every builtin of §3 and
+// §15. Captured names of the defining scope
 // are constants. Everything computable from constants is folded with the
 // evaluator's own arithmetic and builtins (so a folded error, such as a
 // non-finite value, is reported as the evaluator would); what the result does not
@@ -18,9 +19,10 @@
 //
 // Errors: ImpureShadingFunction at a scene item, object or background the
 // function would make; UnsupportedInShadingFunction at a string, material,
-// pattern, import, loop with run-time bounds, recursion that does not end on
-// constants within kMaxInlineDepth calls, or a function too big for the program's
-// limits; the usual kinds (TypeMismatch,
+// pattern, import, loop with run-time bounds, recursion that is not a tail call
+// and does not end on constants within kMaxInlineDepth calls, a loop whose
+// parameters change type or that never returns, or a function too big for the
+// program's limits; the usual kinds (TypeMismatch,
 // WrongArgumentCount, ...) for type errors; InvalidValue for other arities and a
 // result that is not a number. Each has a note at the use.
 #pragma once

@@ -31,6 +31,16 @@ void ShadingCompiler::define(Scope* s, std::int32_t sym, SVal v, Span at) {
   s->vars.push_back({sym, std::move(v)});
 }
 
+// A loop body's done flag and next inputs of `c ? a : b`.
+void ShadingCompiler::merge_loop(Outcome& r, const SVal& c, const Outcome& a, const Outcome& b) {
+  if (!loop_def_) return;
+  r.done = select(c, a.done, b.done, r.at);
+  r.next.resize(std::max(a.next.size(), b.next.size()));
+  for (std::size_t k = 0; k < r.next.size(); ++k)
+    r.next[k] = select(c, k < a.next.size() ? a.next[k] : SVal{},
+                       k < b.next.size() ? b.next[k] : SVal{}, r.at);
+}
+
 Outcome ShadingCompiler::seq(const Outcome& a, const Outcome& b) {
   if (const_false(a.cond)) return b;
   if (const_false(b.cond)) return a;
@@ -38,6 +48,7 @@ Outcome ShadingCompiler::seq(const Outcome& a, const Outcome& b) {
   r.cond = logic_or(a.cond, b.cond, a.at);
   r.val = select(a.cond, a.val, b.val, b.at);
   r.at = a.at;
+  merge_loop(r, a.cond, a, b);
   return r;
 }
 
@@ -74,8 +85,31 @@ Outcome ShadingCompiler::stmt(const Stmt& st, Scope* s) {
     case StmtKind::Return: {
       Outcome r;
       r.cond = SVal::constant(Value::boolean(true));
-      r.val = st.exprs.empty() ? SVal{} : expr(*st.exprs[0], s);
       r.at = st.span;
+      if (loop_def_) r.done = SVal::constant(Value::boolean(true));
+      if (st.exprs.empty()) return r;
+      const Expr& e = *st.exprs[0];
+      if (loop_def_ && calls_.size() == loop_calls_ && e.kind == ExprKind::Call) {
+        // `return f(...)` directly in f's loop body: the next run's inputs.
+        SVal callee = expr(*e.args[0], s);
+        if (callee.is_const() && callee.type == Type::Function && callee.k.func().builtin < 0 &&
+            callee.k.func().def == loop_def_) {
+          std::vector<SVal> args;
+          bool bad = false;
+          for (std::size_t i = 1; i < e.args.size(); ++i) {
+            args.push_back(expr(*e.args[i], s));
+            bad |= args.back().is_error() || args.back().kind == SVal::None;
+          }
+          if (bad) {
+            r.cond = SVal::error();
+            return r;
+          }
+          return tail_call(st, e, std::move(args));
+        }
+        r.val = call_with(callee, e, s);
+      } else {
+        r.val = expr(e, s);
+      }
       if (r.val.is_error()) r.cond = SVal::error();
       return r;
     }
@@ -133,6 +167,7 @@ Outcome ShadingCompiler::if_stmt(const Stmt& st, std::size_t i, Scope* s) {
   r.cond = select(c, yes.cond, no.cond, st.span);
   r.val = select(c, yes.val, no.val, const_false(yes.cond) ? no.at : yes.at);
   r.at = const_false(yes.cond) ? no.at : yes.at;
+  merge_loop(r, c, yes, no);
   return r;
 }
 
@@ -215,7 +250,9 @@ bool ShadingCompiler::run(const Value& fn, Span fn_span, ir::Program& out) {
   // The use stands for the call: it is what the notes point at.
   Expr use;
   use.span = use_;
-  SVal r = inline_call(*c.def, scope(nullptr, c.env), c.params, args, use, c.name);
+  SVal r = tail_recursive(*c.def)
+               ? loop_call(c, args, use)
+               : inline_call(*c.def, scope(nullptr, c.env), c.params, args, use, c.name);
   if (failed_) return false;
   if (r.kind == SVal::None) {
     error(DiagKind::MissingReturn, c.def->name_span, "'" + c.name + "' returns no value");
@@ -227,22 +264,31 @@ bool ShadingCompiler::run(const Value& fn, Span fn_span, ir::Program& out) {
         .note(c.def->name_span, "defined here");
     return false;
   }
-  return codegen(r, c.def->name_span, out);
+  out.first_constant = ir::kFirstConstantSlot;
+  return codegen({r}, c.def->name_span, out);
 }
 
-bool ShadingCompiler::codegen(const SVal& result, Span fn_span, ir::Program& out) {
+bool ShadingCompiler::codegen(const std::vector<SVal>& roots, Span fn_span, ir::Program& out) {
+  const std::uint8_t first_constant = out.first_constant;
   out = {};
-  int root = mat(result);
-  // Live nodes: what the result reaches (ids are topological: args come first).
+  out.first_constant = first_constant;
+  std::vector<int> root_ids;
+  for (const SVal& r : roots) root_ids.push_back(mat(r));
+  const int root = root_ids[0];
+  // Live nodes: what the roots reach (ids are topological: args come first).
   std::vector<char> live(nodes_.size(), 0);
-  live[root] = 1;
-  for (int i = root; i >= 0; --i)
-    if (live[i])
-      for (int a : nodes_[i].arg)
-        if (a >= 0) live[a] = 1;
+  for (int r : root_ids) live[r] = 1;
+  auto operands = [&](int id, auto&& f) {
+    for (int a : nodes_[id].arg)
+      if (a >= 0) f(a);
+    if (nodes_[id].kind == Node::Loop)
+      for (int a : loop_args_[nodes_[id].index]) f(a);
+  };
+  for (int i = static_cast<int>(nodes_.size()) - 1; i >= 0; --i)
+    if (live[i]) operands(i, [&](int a) { live[a] = 1; });
   std::vector<int> slot(nodes_.size(), -1);
   auto width = [&](int id) { return is_vec(nodes_[id].type) ? 3 : 1; };
-  int next = ir::kFirstConstantSlot;
+  int next = first_constant;
   auto too_big = [&](const std::string& what) {
     error(DiagKind::UnsupportedInShadingFunction, fn_span,
           "this shading function is too big for a program: " + what);
@@ -252,8 +298,8 @@ bool ShadingCompiler::codegen(const SVal& result, Span fn_span, ir::Program& out
     if (!live[i]) continue;
     const Node& nd = nodes_[i];
     if (nd.kind == Node::Input) {
-      slot[i] = nd.index == 0 ? ir::kPointSlot : ir::kNormalSlot;
-      (nd.index == 0 ? out.reads_point : out.reads_normal) = true;
+      slot[i] = input_slot_[nd.index];
+      if (!loop_def_) (nd.index == 0 ? out.reads_point : out.reads_normal) = true;
     } else if (nd.kind == Node::Const) {
       slot[i] = next;
       if (is_vec(nd.type))
@@ -266,13 +312,34 @@ bool ShadingCompiler::codegen(const SVal& result, Span fn_span, ir::Program& out
   if (next > ir::kMaxSlots) return too_big("more than " + std::to_string(ir::kMaxSlots) + " slots");
   // Last use of each node's slot (a component's use is its vector's).
   auto owner = [&](int id) { return nodes_[id].kind == Node::Comp ? nodes_[id].arg[0] : id; };
+  auto computed = [&](int id) {
+    return nodes_[id].kind == Node::Apply || nodes_[id].kind == Node::Loop;
+  };
   std::vector<int> last(nodes_.size(), -1);
   for (std::size_t i = 0; i < nodes_.size(); ++i)
-    if (live[i] && nodes_[i].kind == Node::Apply)
-      for (int a : nodes_[i].arg)
-        if (a >= 0) last[owner(a)] = static_cast<int>(i);
-  last[owner(root)] = static_cast<int>(nodes_.size());
+    if (live[i] && computed(static_cast<int>(i)))
+      operands(static_cast<int>(i), [&](int a) { last[owner(a)] = static_cast<int>(i); });
+  for (int r : root_ids) last[owner(r)] = static_cast<int>(nodes_.size());
   std::vector<int> free1, free3;
+  auto take = [&](int w) {
+    std::vector<int>& pool = w == 3 ? free3 : free1;
+    if (!pool.empty()) {
+      int t = pool.back();
+      pool.pop_back();
+      return t;
+    }
+    next += w;
+    return next - w;
+  };
+  auto emit = [&](Op op, int dst, int a, int b = -1, int c = -1) {
+    ir::Instr in;
+    in.op = op;
+    in.dst = static_cast<std::uint8_t>(dst);
+    if (a >= 0) in.a = static_cast<std::uint8_t>(a);
+    if (b >= 0) in.b = static_cast<std::uint8_t>(b);
+    if (c >= 0) in.c = static_cast<std::uint8_t>(c);
+    out.code.push_back(in);
+  };
   for (std::size_t i = 0; i < nodes_.size(); ++i) {
     if (!live[i]) continue;
     const Node& nd = nodes_[i];
@@ -280,38 +347,53 @@ bool ShadingCompiler::codegen(const SVal& result, Span fn_span, ir::Program& out
       slot[i] = slot[nd.arg[0]] + nd.index;
       continue;
     }
-    if (nd.kind != Node::Apply) continue;
+    if (!computed(static_cast<int>(i))) continue;
     // The destination is taken before the operands are freed, so an instruction
     // never writes a slot it reads.
-    std::vector<int>& pool = width(static_cast<int>(i)) == 3 ? free3 : free1;
-    if (!pool.empty()) {
-      slot[i] = pool.back();
-      pool.pop_back();
+    slot[i] = take(width(static_cast<int>(i)));
+    if (nd.kind == Node::Loop) {
+      // The arguments copied into consecutive slots, the body's inputs.
+      const std::vector<int>& args = loop_args_[nd.index];
+      int w = 0;
+      for (int a : args) w += width(a);
+      const int block = next;
+      next += w;
+      if (next <= ir::kMaxSlots) {
+        int at = block;
+        for (int a : args) {
+          emit(width(a) == 3 ? Op::MovV : Op::MovS, at, slot[a]);
+          at += width(a);
+        }
+        emit(is_vec(nd.type) ? Op::LoopV : Op::LoopS, slot[i], nd.index, block);
+        for (int at2 = block, k = 0; k < static_cast<int>(args.size()); at2 += width(args[k]), ++k)
+          (width(args[k]) == 3 ? free3 : free1).push_back(at2);
+      }
     } else {
-      slot[i] = next;
-      next += width(static_cast<int>(i));
-      if (next > ir::kMaxSlots)
-        return too_big("more than " + std::to_string(ir::kMaxSlots) + " slots");
+      emit(nd.op, slot[i], nd.arg[0] >= 0 ? slot[nd.arg[0]] : -1,
+           nd.arg[1] >= 0 ? slot[nd.arg[1]] : -1, nd.arg[2] >= 0 ? slot[nd.arg[2]] : -1);
     }
-    ir::Instr in;
-    in.op = nd.op;
-    std::uint8_t* operand[3] = {&in.a, &in.b, &in.c};
-    in.dst = static_cast<std::uint8_t>(slot[i]);
-    for (int k = 0; k < 3; ++k)
-      if (nd.arg[k] >= 0) *operand[k] = static_cast<std::uint8_t>(slot[nd.arg[k]]);
-    out.code.push_back(in);
+    if (next > ir::kMaxSlots)
+      return too_big("more than " + std::to_string(ir::kMaxSlots) + " slots");
     if (out.code.size() > static_cast<std::size_t>(ir::kMaxCode))
       return too_big("more than " + std::to_string(ir::kMaxCode) + " instructions");
-    for (int a : nd.arg) {
-      if (a < 0) continue;
+    operands(static_cast<int>(i), [&](int a) {
       int o = owner(a);
-      if (last[o] != static_cast<int>(i) || nodes_[o].kind != Node::Apply) continue;
+      if (last[o] != static_cast<int>(i) || !computed(o)) return;
       last[o] = -2;  // freed once, even when read twice by this instruction
       (width(o) == 3 ? free3 : free1).push_back(slot[o]);
-    }
+    });
   }
   out.slots = static_cast<std::uint16_t>(next);
   out.result = static_cast<std::uint8_t>(slot[root]);
+  if (loop_def_) {
+    // A body: done, then each parameter's next value into its input slots.
+    out.done = static_cast<std::uint8_t>(slot[root_ids[1]]);
+    out.next.assign(first_constant, 0);
+    for (std::size_t k = 0; k + 2 < root_ids.size(); ++k)
+      for (int c = 0; c < width(root_ids[k + 2]); ++c)
+        out.next[input_slot_[k] + c] = static_cast<std::uint8_t>(slot[root_ids[k + 2]] + c);
+  }
+  out.loops = std::move(loops_);
   return true;
 }
 

@@ -45,6 +45,16 @@ using Native = double (*)(ir::Vec3 p, ir::Vec3 n);
   double s = n.y > 0 ? n.y : 0;
   return ir::scalar::mix(pattern::cells(p * 3), 1, s * s);
 }
+// An escape-time fractal: the .scn form is a tail recursion, run as a loop.
+[[gnu::noinline]] double mandel(ir::Vec3 p, ir::Vec3) {
+  double zx = 0, zy = 0, cx = p.x * 0.25, cy = p.y * 0.25;
+  for (int i = 0; i < 100; ++i) {
+    if (zx * zx + zy * zy > 4) return i / 100.0;
+    double x = zx * zx - zy * zy + cx;
+    zy = 2 * zx * zy + cy, zx = x;
+  }
+  return 1;
+}
 [[gnu::noinline]] double interpreted(const ir::Program& prog, ir::Vec3 p, ir::Vec3 n) {
   bool finite;
   double r = pattern::run_program(prog, p, n, finite);
@@ -66,6 +76,14 @@ const Case kCases[] = {
      "fn f(p, n) { let s = if_up(n.y); return mix(cells(p * 3), 1, s * s); }\n"
      "fn if_up(y) { if y > 0 { return y; } return 0; }",
      lit, 10},
+    {"mandelbrot",
+     "fn esc(zx, zy, cx, cy, i) {\n"
+     "  if i >= 100 { return 1; }\n"
+     "  if zx * zx + zy * zy > 4 { return i / 100; }\n"
+     "  return esc(zx * zx - zy * zy + cx, 2 * zx * zy + cy, cx, cy, i + 1);\n"
+     "}\n"
+     "fn f(p) = esc(0, 0, p.x * 0.25, p.y * 0.25, 0);",
+     mandel, 20},
 };
 
 ir::Program compile_case(const Case& c) {

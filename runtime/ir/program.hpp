@@ -16,8 +16,16 @@
 // selects (the functions are pure, so this is exact), which keeps the interpreter
 // one loop over the code and dead-code removal a backward sweep.
 //
-// Limits: kMaxSlots slots and kMaxCode instructions; the compiler rejects a
-// function that needs more, so the interpreter never allocates.
+// The one exception is a tail recursion on run-time values (`return f(...)` as
+// the only way a function calls itself): its body is a program of its own in
+// `loops`, run by a LoopS/LoopV instruction until its `done` slot is true. A
+// body's inputs are its parameters, in slots 0 .. first_constant (a number or
+// bool one slot, a vector three), its constants after them; `next[j]` is the
+// slot whose value input slot j takes for the next run. Bodies nest (a body may
+// run loops of its own) at most kMaxLoopNesting deep.
+//
+// Limits: kMaxSlots slots and kMaxCode instructions per program; the compiler
+// rejects a function that needs more, so the interpreter never allocates.
 #pragma once
 
 #include <cstdint>
@@ -49,6 +57,9 @@ inline constexpr int kMaxCode = 1024;
 inline constexpr std::uint8_t kPointSlot = 0;
 inline constexpr std::uint8_t kNormalSlot = 3;
 inline constexpr std::uint8_t kFirstConstantSlot = 6;
+inline constexpr int kMaxLoopNesting = 8;
+// Runs of one loop body before it gives up (NaN): §4's bound on recursion.
+inline constexpr int kMaxLoopIterations = 10000;
 
 struct Instr {
   ProgramOp op = ProgramOp::AddS;
@@ -63,6 +74,13 @@ struct Program {
   std::uint8_t result = 0;                   // the scalar slot holding the value
   bool reads_point = false;
   bool reads_normal = false;
+  // Loop bodies run by this program's LoopS/LoopV instructions, and for a body
+  // itself: where its constants start (its inputs before), its done slot (a
+  // bool), and the slot each input takes its next value from.
+  std::vector<Program> loops;
+  std::uint8_t first_constant = kFirstConstantSlot;
+  std::uint8_t done = 0;
+  std::vector<std::uint8_t> next;
   bool operator==(const Program&) const = default;
 };
 

@@ -20,6 +20,29 @@ ir::Vec3 load(const double* s) {
   return {s[0], s[1], s[2]};
 }
 
+void run_code(const ir::Program& prog, double* s);
+
+// A LoopS/LoopV: the body in a register file of its own, its inputs from `args`,
+// run until its done slot is true; the result into `d` (`w` slots).
+void run_loop(const ir::Program& body, const double* args, double* d, int w) {
+  double t[ir::kMaxSlots], next[ir::kMaxSlots];
+  const int inputs = body.first_constant;
+  std::memcpy(t, args, inputs * sizeof(double));
+  if (!body.constants.empty())
+    std::memcpy(t + inputs, body.constants.data(), body.constants.size() * sizeof(double));
+  for (int run = 0; run < ir::kMaxLoopIterations; ++run) {
+    run_code(body, t);
+    if (t[body.done] != 0) {
+      for (int k = 0; k < w; ++k) d[k] = t[body.result + k];
+      return;
+    }
+    // All at once: an input's next value may be another input's current one.
+    for (int j = 0; j < inputs; ++j) next[j] = t[body.next[j]];
+    std::memcpy(t, next, inputs * sizeof(double));
+  }
+  for (int k = 0; k < w; ++k) d[k] = std::numeric_limits<double>::quiet_NaN();
+}
+
 }  // namespace
 
 double run_program(const ir::Program& prog, ir::Vec3 p, ir::Vec3 n, bool& finite) {
@@ -29,6 +52,15 @@ double run_program(const ir::Program& prog, ir::Vec3 p, ir::Vec3 n, bool& finite
   if (!prog.constants.empty())
     std::memcpy(s + ir::kFirstConstantSlot, prog.constants.data(),
                 prog.constants.size() * sizeof(double));
+  run_code(prog, s);
+  double r = s[prog.result];
+  finite = std::isfinite(r);
+  return r;
+}
+
+namespace {
+
+void run_code(const ir::Program& prog, double* s) {
   namespace m = ir::scalar;
   using Op = ir::ProgramOp;
   for (const ir::Instr& in : prog.code) {
@@ -182,14 +214,27 @@ double run_program(const ir::Program& prog, ir::Vec3 p, ir::Vec3 n, bool& finite
       case Op::Cells:
         d[0] = cells(load(a));
         break;
+      case Op::LoopS:
+        run_loop(prog.loops[in.a], s + in.b, d, 1);
+        break;
+      case Op::LoopV:
+        run_loop(prog.loops[in.a], s + in.b, d, 3);
+        break;
+      case Op::MovS:
+        d[0] = a[0];
+        break;
+      case Op::MovV: {
+        double x = a[0], y = a[1], z = a[2];
+        d[0] = x, d[1] = y, d[2] = z;
+        break;
+      }
     }
 #undef SNELL_MAP1
 #undef SNELL_MAP2
 #undef SNELL_MAP3
   }
-  double r = s[prog.result];
-  finite = std::isfinite(r);
-  return r;
 }
+
+}  // namespace
 
 }  // namespace snell::pattern
