@@ -109,7 +109,13 @@ Value Evaluator::eval_name(const Expr& e, const std::shared_ptr<Env>& env) {
   for (std::string_view c : lang::constructor_names()) visible.push_back(c);
   auto d = error(DiagKind::UndefinedName, e.span, "'" + e.text + "' is not defined");
   std::string guess = lang::closest_match(e.text, visible);
-  if (!guess.empty())
+  if (lang::is_constructor_name(e.text))
+    // Only where no argument follows, or one starting with '-' (docs/language.md:
+    // then it is an ordinary name, and `diffuse - c` a subtraction).
+    d.note("'" + e.text + "' takes its argument after it ('" + e.text + " { ... }' or '" + e.text +
+           " EXPR'); an argument that starts with '-' goes in parentheses: '" + e.text +
+           " (-c + 1)'");
+  else if (!guess.empty())
     d.note("did you mean '" + guess + "'?");
   else if (find_block(e.text))
     d.note("'" + e.text + "' is a block keyword; write '" + e.text + " { ... }'");

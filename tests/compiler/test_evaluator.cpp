@@ -346,6 +346,20 @@ TEST_CASE("an unknown property says what the block takes, or the near miss", "[c
   CHECK(d[1].notes[0].message == "did you mean 'radius'?");
 }
 
+TEST_CASE("a constructor before '-' says to put its argument in parentheses", "[compiler]") {
+  // `diffuse -c + 1` is `diffuse - c + 1` (docs/language.md: a constructor name
+  // followed by '-' is an ordinary name), so 'diffuse' is undefined; the note says
+  // why and how to write it, where it had said to write 'diffuse { ... }'.
+  auto c = run("let c = <0.2, 0.3, 0.4>;\nsphere { material diffuse -c + 1 }\n");
+  const auto& d = c->diags.diagnostics();
+  REQUIRE(d.size() == 1);
+  CHECK(d[0].kind == lang::DiagKind::UndefinedName);
+  REQUIRE(d[0].notes.size() == 1);
+  CHECK(d[0].notes[0].message.find("goes in parentheses: 'diffuse (-c + 1)'") != std::string::npos);
+  CHECK(run("let c = <0.2, 0.3, 0.4>;\nsphere { material diffuse (-c + 1) }\n")->status ==
+        compile::CompileStatus::Ok);
+}
+
 TEST_CASE("a misspelt constructor gets a near miss, as a name and before its argument",
           "[compiler]") {
   // `material difuse` reads as a name; `material mirorr 0.5` leaves `0.5` where a
