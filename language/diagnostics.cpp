@@ -21,6 +21,60 @@ constexpr KindInfo kKinds[] = {
 
 constexpr std::size_t kDropped = std::numeric_limits<std::size_t>::max();
 
+// The length of the UTF-8 sequence at s[i] (1..4), or 0 when the bytes there are
+// not one (a stray continuation byte, an overlong form, a surrogate, past U+10FFFF,
+// or cut short).
+std::size_t utf8_length(std::string_view s, std::size_t i) {
+  const auto b = [&](std::size_t k) { return static_cast<unsigned char>(s[i + k]); };
+  const unsigned char c = b(0);
+  if (c < 0x80) return 1;
+  std::size_t n = c >= 0xC2 && c <= 0xDF   ? 2
+                  : c >= 0xE0 && c <= 0xEF ? 3
+                  : c >= 0xF0 && c <= 0xF4 ? 4
+                                           : 0;
+  if (n == 0 || i + n > s.size()) return 0;
+  unsigned char lo = 0x80, hi = 0xBF;  // the second byte's range
+  if (c == 0xE0) lo = 0xA0;
+  if (c == 0xED) hi = 0x9F;
+  if (c == 0xF0) lo = 0x90;
+  if (c == 0xF4) hi = 0x8F;
+  if (b(1) < lo || b(1) > hi) return 0;
+  for (std::size_t k = 2; k < n; ++k)
+    if (b(k) < 0x80 || b(k) > 0xBF) return 0;
+  return n;
+}
+
+// Calls f(text, is_tab) once per character of `s` as a terminal should show it:
+// valid UTF-8 as it is, a byte that is not as U+FFFD, and a control character (C0
+// but tab, DEL, C1) as a space, so a source line or a message that echoes one can
+// neither drive the terminal nor shift the caret under it.
+template <class F>
+void each_visible(std::string_view s, F&& f) {
+  for (std::size_t i = 0; i < s.size();) {
+    std::size_t n = utf8_length(s, i);
+    if (n == 0) {
+      f(std::string_view("\xEF\xBF\xBD"), false);
+      ++i;
+      continue;
+    }
+    const auto c = static_cast<unsigned char>(s[i]);
+    const bool c1 = n == 2 && c == 0xC2 && static_cast<unsigned char>(s[i + 1]) < 0xA0;
+    if (c == '\t')
+      f(std::string_view("\t"), true);
+    else if ((n == 1 && (c < 0x20 || c == 0x7F)) || c1)
+      f(std::string_view(" "), false);
+    else
+      f(s.substr(i, n), false);
+    i += n;
+  }
+}
+
+std::string visible(std::string_view s) {
+  std::string out;
+  each_visible(s, [&](std::string_view t, bool) { out += t; });
+  return out;
+}
+
 }  // namespace
 
 std::string_view diag_name(DiagKind kind) {
@@ -108,16 +162,26 @@ void DiagnosticEngine::snippet(std::string& out, Span span, bool color) const {
   std::size_t start = 0;
   std::size_t col0 = lc.col - 1;
   if (line.size() > kMaxShown && col0 > kMaxShown / 2) start = col0 - kMaxShown / 2;
+  // Not from inside a character.
+  while (start < col0 && start < line.size() &&
+         (static_cast<unsigned char>(line[start]) & 0xC0) == 0x80)
+    ++start;
   std::string_view shown = line.substr(std::min(start, line.size()), kMaxShown);
   std::string num = std::to_string(lc.line);
   std::string pad(num.size(), ' ');
   out += " " + num + " | ";
-  for (char c : shown) out += (static_cast<unsigned char>(c) < 0x20 && c != '\t') ? ' ' : c;
+  each_visible(shown, [&](std::string_view t, bool) { out += t; });
   out += "\n " + pad + " | ";
-  for (std::size_t i = start; i < col0 && i < line.size(); ++i) out += line[i] == '\t' ? '\t' : ' ';
-  std::size_t len = span.end > span.begin ? span.end - span.begin : 1;
-  std::size_t room = col0 < line.size() ? line.size() - col0 : 1;
-  len = std::max<std::size_t>(1, std::min({len, room, kMaxShown}));
+  // One column per character up to the caret (col is in bytes), tabs kept.
+  if (start < col0 && start < line.size())
+    each_visible(line.substr(start, col0 - start),
+                 [&](std::string_view, bool tab) { out += tab ? '\t' : ' '; });
+  std::size_t bytes = span.end > span.begin ? span.end - span.begin : 1;
+  std::size_t len = 0;
+  if (col0 < line.size())
+    each_visible(line.substr(col0, std::min(bytes, kMaxShown)),
+                 [&](std::string_view, bool) { ++len; });
+  len = std::max<std::size_t>(1, std::min(len, kMaxShown));
   if (color) out += "\x1b[1;32m";
   out += '^';
   out += std::string(len - 1, '~');
@@ -136,7 +200,7 @@ std::string DiagnosticEngine::format(const Diagnostic& d, bool color) const {
     if (color) out += label_color;
     out += label;
     if (color) out += "\x1b[0m\x1b[1m";
-    out += ": " + msg;
+    out += ": " + visible(msg);
     if (color) out += "\x1b[0m";
   };
   bool err = d.severity == Severity::Error;
@@ -150,7 +214,7 @@ std::string DiagnosticEngine::format(const Diagnostic& d, bool color) const {
       snippet(out, *n.span, color);
     } else {
       out += color ? "\x1b[1;36mnote\x1b[0m: " : "note: ";
-      out += n.message + '\n';
+      out += visible(n.message) + '\n';
     }
   }
   return out;

@@ -225,3 +225,30 @@ TEST_CASE("diagnostics: one per place, repeats counted, up to three messages apa
   diags.report(DiagKind::UndefinedName, Span{f, 4, 5}, "'x' is not defined");
   CHECK(diags.diagnostics().size() == 5);
 }
+
+TEST_CASE("diagnostics: a source line or message shows as text, the caret under its character",
+          "[diagnostics]") {
+  // Invalid UTF-8 is shown as U+FFFD, control characters (an escape sequence, a
+  // C1 CSI) as spaces, valid UTF-8 as it is; the caret counts characters, not
+  // bytes, so it stands under 'x' after three two-byte letters.
+  SourceManager sm;
+  FileId f =
+      sm.add("u.scn", "let s = \"\xc3\xa9\xc3\xa9\xc3\xa9\xff\x1b[31m\xc2\x9b\"; let t = x;\n");
+  DiagnosticEngine diags(sm);
+  std::size_t x = sm.file(f).text().find(" x;") + 1;
+  diags.report(DiagKind::UndefinedName,
+               Span{f, static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(x + 1)},
+               "'x\xfe' is not defined \x1b[2J");
+  std::string shown = diags.format(diags.diagnostics()[0]);
+  INFO(shown);
+  CHECK(shown.find('\x1b') == std::string::npos);
+  CHECK(shown.find("\xc2\x9b") == std::string::npos);
+  CHECK(shown.find('\xff') == std::string::npos);
+  CHECK(shown.find('\xfe') == std::string::npos);
+  CHECK(shown.find("'x\xEF\xBF\xBD' is not defined  [2J") != std::string::npos);
+  CHECK(shown.find(" 1 | let s = \"\xc3\xa9\xc3\xa9\xc3\xa9\xEF\xBF\xBD [31m \"; let t = x;\n") !=
+        std::string::npos);
+  // "let s = \"" (9) + 3 letters + U+FFFD + 5 (space and "[31m") + space + "\"; let t = " (11).
+  CHECK(shown.find("\n   | " + std::string(9 + 3 + 1 + 5 + 1 + 11, ' ') + "^\n") !=
+        std::string::npos);
+}
