@@ -191,9 +191,21 @@ class Driver {
       return nullptr;
     }
     if (found.empty()) {
+      // Something by that name that is not a file (a folder, a FIFO): say what it
+      // is, rather than that nothing was found (exit 3 either way).
+      for (const std::string& dir : dirs) {
+        fs::path p = fs::path(name).is_absolute() ? fs::path(name) : fs::path(dir) / name;
+        std::error_code ec;
+        if (!fs::exists(fs::symlink_status(p, ec)) || fs::is_regular_file(p, ec)) continue;
+        c_.diags.report(DiagKind::FileUnreadable, span,
+                        "cannot import '" + name + "': '" + p.lexically_normal().string() + "' " +
+                            not_a_file(p.string()));
+        return nullptr;
+      }
       auto d = c_.diags.report(DiagKind::ImportNotFound, span, "cannot find '" + name + "'");
       std::string where;
-      for (const std::string& dir : dirs) where += (where.empty() ? "" : ", ") + dir;
+      for (const std::string& dir : dirs)
+        where += (where.empty() ? "" : ", ") + (dir.empty() ? std::string(".") : dir);
       d.note("searched: " + where);
       return nullptr;
     }
@@ -353,12 +365,12 @@ std::unique_ptr<Compilation> compile_source(const std::string& path, std::string
   });
   if (c->status == CompileStatus::Ok && c->diags.has_errors()) {
     // §10: exit 3 is "a file could not be read". When that is all that went wrong
-    // (a missing import or mesh file), say so with the status; any other error
-    // makes it a scene error.
+    // (a missing import or mesh file, one too large to read), say so with the
+    // status; any other error makes it a scene error.
     bool only_files = true;
     for (const lang::Diagnostic& d : c->diags.diagnostics())
       if (d.severity == lang::Severity::Error && d.kind != lang::DiagKind::FileUnreadable &&
-          d.kind != lang::DiagKind::ImportNotFound)
+          d.kind != lang::DiagKind::ImportNotFound && d.kind != lang::DiagKind::FileTooLarge)
         only_files = false;
     c->status = only_files ? CompileStatus::FileErrors : CompileStatus::SceneErrors;
   }

@@ -1,6 +1,8 @@
 // Evaluation rules of spec §3-§9, checked through the compiler's public entry
 // point: a small program is compiled and the value of interest is read back from
 // the IR (a sphere's radius or centre carries a number or a vector out).
+#include <sys/stat.h>
+
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <filesystem>
@@ -10,6 +12,7 @@
 #include "compiler/builtins.hpp"
 #include "compiler/compile.hpp"
 #include "compiler/evaluator.hpp"
+#include "language/lexer.hpp"
 
 using namespace snell;
 namespace fs = std::filesystem;
@@ -260,6 +263,35 @@ TEST_CASE("imports: folder of the importer, -I, stdlib, once per scene, cycles",
   auto cyc = compile::compile_file((dir / "c1.scn").string(), o);
   CHECK(diag_kinds(*cyc) == "ImportCycle ");
   CHECK(first_error("import \"nowhere.scn\";") == "ImportNotFound");
+  fs::remove_all(dir);
+}
+
+TEST_CASE("imports: a folder, a FIFO or a file too large is a file error (exit 3) that says so",
+          "[compiler]") {
+  // They exist but are not source files: "cannot find" was wrong for the first two,
+  // and the third was a scene error (exit 1) where §10 says exit 3.
+  fs::path dir = fs::temp_directory_path() / "snell_import_kinds";
+  fs::remove_all(dir);
+  fs::create_directories(dir / "lib.scn");
+  REQUIRE(::mkfifo((dir / "pipe.scn").c_str(), 0600) == 0);
+  {
+    std::ofstream big(dir / "big.scn");
+    big.seekp(std::streamoff(lang::kMaxSourceBytes) + 10);
+    big << ' ';
+  }
+  compile::CompileOptions o;
+  o.stdlib_dir = std::string(SNELL_SOURCE_DIR) + "/stdlib";
+  auto check = [&](const std::string& name, const std::string& says) {
+    std::ofstream(dir / "main.scn") << "import \"" << name << "\";\nsphere { radius 1 }\n";
+    auto c = compile::compile_file((dir / "main.scn").string(), o);
+    INFO(name << ": " << diag_kinds(*c));
+    CHECK(c->status == compile::CompileStatus::FileErrors);
+    REQUIRE(!c->diags.diagnostics().empty());
+    CHECK_THAT(c->diags.diagnostics()[0].message, Catch::Contains(says));
+  };
+  check("lib.scn", "is a folder, not a file");
+  check("pipe.scn", "is a named pipe (FIFO), not a file");
+  check("big.scn", "source files may be at most 100 MB");
   fs::remove_all(dir);
 }
 
