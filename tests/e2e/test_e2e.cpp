@@ -226,6 +226,13 @@ TEST_CASE("every subcommand's usage errors exit 2, its --help 0", "[e2e]") {
   CHECK(run("sweep " + ok + " --vary bad") == 2);
   CHECK(run("sweep " + ok + " --vary samples=1 --series bad") == 2);
   CHECK(run("dump-ast " + ok + " -I .") == 2);
+  // Counts are not negative (an unsigned field read "-5" as 2^64 - 5: no limit).
+  CHECK(run("check " + ok + " --max-steps -5") == 2);
+  CHECK(run("check " + ok + " --max-steps 0") == 2);
+  CHECK(run("check " + ok + " --max-steps 1e20") == 2);
+  CHECK(run("check " + ok + " --max-errors -5") == 2);
+  CHECK(run("check " + ok + " --max-errors 99999999999999999999") == 2);
+  CHECK(run("check " + ok + " --max-steps 1000000 --max-errors 0") == 0);
   // §18's clock is a number: one that is not finite is wrong usage, not a scene
   // error at the line that reads it (nor exit 0 for a scene that does not).
   std::ofstream(tmp / "clock.scn") << "settings { resolution <8, 8> }\nlet x = clock * 2;\n"
