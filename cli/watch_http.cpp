@@ -145,6 +145,14 @@ WatchPage::WatchPage(std::string scene) : impl_(std::make_unique<Impl>()) {
     int yes = 1;
     setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
   });
+  // A connection holds a worker while it is idle (a browser's keep-alive sockets,
+  // a client that connects and sends nothing) for up to the timeouts below.
+  // cpp-httplib's 8 workers and 5 s let a few tabs, or 8 idle sockets, stall every
+  // other request for 5 s at a time; 64 workers and 2 s keep the page answering
+  // (tests/watch/test_connections.py). Idle workers cost no CPU.
+  impl_->server.new_task_queue = [] { return new httplib::ThreadPool(64); };
+  impl_->server.set_keep_alive_timeout(2);
+  impl_->server.set_read_timeout(2, 0);
 }
 
 WatchPage::~WatchPage() {
