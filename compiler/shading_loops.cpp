@@ -16,7 +16,6 @@ namespace snell::compile {
 using lang::DiagKind;
 using lang::Expr;
 using lang::ExprKind;
-using lang::Span;
 using lang::Stmt;
 using lang::StmtKind;
 using namespace shading;
