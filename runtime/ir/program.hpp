@@ -60,6 +60,10 @@ inline constexpr std::uint8_t kFirstConstantSlot = 6;
 inline constexpr int kMaxLoopNesting = 8;
 // Runs of one loop body before it gives up (NaN): §4's bound on recursion.
 inline constexpr int kMaxLoopIterations = 10000;
+// Runs of every loop body in one evaluation together (loops inside loops would
+// otherwise multiply their bounds: 10 000^8 runs at one hit). Past it every loop
+// still running gives NaN.
+inline constexpr int kMaxLoopRuns = 100000;
 
 struct Instr {
   ProgramOp op = ProgramOp::AddS;

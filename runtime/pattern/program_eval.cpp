@@ -20,18 +20,19 @@ ir::Vec3 load(const double* s) {
   return {s[0], s[1], s[2]};
 }
 
-void run_code(const ir::Program& prog, double* s);
+void run_code(const ir::Program& prog, double* s, int& runs_left);
 
 // A LoopS/LoopV: the body in a register file of its own, its inputs from `args`,
 // run until its done slot is true; the result into `d` (`w` slots).
-void run_loop(const ir::Program& body, const double* args, double* d, int w) {
+void run_loop(const ir::Program& body, const double* args, double* d, int w, int& runs_left) {
   double t[ir::kMaxSlots], next[ir::kMaxSlots];
   const int inputs = body.first_constant;
   std::memcpy(t, args, inputs * sizeof(double));
   if (!body.constants.empty())
     std::memcpy(t + inputs, body.constants.data(), body.constants.size() * sizeof(double));
-  for (int run = 0; run < ir::kMaxLoopIterations; ++run) {
-    run_code(body, t);
+  for (int run = 0; run < ir::kMaxLoopIterations && runs_left > 0; ++run) {
+    --runs_left;
+    run_code(body, t, runs_left);
     if (t[body.done] != 0) {
       for (int k = 0; k < w; ++k) d[k] = t[body.result + k];
       return;
@@ -52,7 +53,8 @@ double run_program(const ir::Program& prog, ir::Vec3 p, ir::Vec3 n, bool& finite
   if (!prog.constants.empty())
     std::memcpy(s + ir::kFirstConstantSlot, prog.constants.data(),
                 prog.constants.size() * sizeof(double));
-  run_code(prog, s);
+  int runs_left = ir::kMaxLoopRuns;
+  run_code(prog, s, runs_left);
   double r = s[prog.result];
   finite = std::isfinite(r);
   return r;
@@ -60,7 +62,7 @@ double run_program(const ir::Program& prog, ir::Vec3 p, ir::Vec3 n, bool& finite
 
 namespace {
 
-void run_code(const ir::Program& prog, double* s) {
+void run_code(const ir::Program& prog, double* s, int& runs_left) {
   namespace m = ir::scalar;
   using Op = ir::ProgramOp;
   for (const ir::Instr& in : prog.code) {
@@ -215,10 +217,10 @@ void run_code(const ir::Program& prog, double* s) {
         d[0] = cells(load(a));
         break;
       case Op::LoopS:
-        run_loop(prog.loops[in.a], s + in.b, d, 1);
+        run_loop(prog.loops[in.a], s + in.b, d, 1, runs_left);
         break;
       case Op::LoopV:
-        run_loop(prog.loops[in.a], s + in.b, d, 3);
+        run_loop(prog.loops[in.a], s + in.b, d, 3, runs_left);
         break;
       case Op::MovS:
         d[0] = a[0];

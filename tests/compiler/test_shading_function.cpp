@@ -407,6 +407,21 @@ fn g(p) = spin(p.x);
   REQUIRE(h.compile("g", p));
   pattern::run_program(p, {0, 0, 0}, {}, finite);
   CHECK(!finite);
+  // Loops in loops share one budget of kMaxLoopRuns (100 000) per evaluation: 400
+  // outer runs of 300 inner ones are too many (the inner loops' bounds would
+  // multiply), 300 of 200 are not.
+  Harness n(R"(
+fn inner(x, k) { if k <= 0 { return x; } return inner(x + 1, k - 1); }
+fn outer(x, k, m) { if k <= 0 { return x; } return outer(inner(x, m), k - 1, m); }
+fn big(p) = outer(p.x, 400, 300);
+fn small(p) = outer(p.x, 300, 200);
+)");
+  REQUIRE(n.compile("big", p));
+  pattern::run_program(p, {0, 0, 0}, {}, finite);
+  CHECK(!finite);
+  REQUIRE(n.compile("small", p));
+  CHECK(pattern::run_program(p, {0, 0, 0}, {}, finite) == 300 * 200);
+  CHECK(finite);
 }
 
 TEST_CASE("shading: a loop's limits are errors with places", "[shading]") {
