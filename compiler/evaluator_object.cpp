@@ -2,6 +2,8 @@
 // Evaluating a block makes an ObjectNode (object_value.hpp); making one as a
 // statement places it: into the CSG block being evaluated (collectors_), or, at the
 // outermost level, into the scene through the builder.
+#include <fmt/format.h>
+
 #include "compiler/evaluator.hpp"
 
 namespace snell::compile {
@@ -25,6 +27,21 @@ void Evaluator::emit(std::shared_ptr<const ObjectNode> node) {
     collectors_.back().children->push_back(std::move(node));
     return;
   }
+  // Placing costs a step per object it makes, checked before anything is made:
+  // values of values multiply (each line can double them), so a few steps of
+  // evaluation could make 16 M objects, 19 s and 6 GB, under any budget. A
+  // placement past the budget is refused alone; evaluation goes on.
+  if (aborted_) return;
+  const double n = node->leaf_count();
+  if (double(steps_) + n > double(step_budget_)) {
+    error(DiagKind::StepBudget, node->keyword,
+          fmt::format("placing this {} makes {:.3g} objects, past the evaluation step budget "
+                      "({} steps, a step per object placed)",
+                      node->keyword_name(), n, step_budget_))
+        .note("raise the budget with --max-steps N if the scene really needs it");
+    return;
+  }
+  steps_ += static_cast<std::uint64_t>(n);
   builder_.add_object_tree(node);
 }
 

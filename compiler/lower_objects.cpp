@@ -76,16 +76,6 @@ bool instanceable(const ObjectNode& n, bool in_csg) {
   return in_csg || n.block->shape_kind != static_cast<int>(ir::ShapeKind::Plane);
 }
 
-// How many shapes, parts and instances placing `n` can make at most: its leaves,
-// counted through shared values once each (a value of two copies of a value of two
-// copies... is 2^40 after forty lines, found in forty steps).
-double expanded_objects(const ObjectNode& n) {
-  if (n.children.empty()) return 1;
-  if (n.expanded == 0)
-    for (const auto& c : n.children) n.expanded += expanded_objects(*c);
-  return n.expanded;
-}
-
 }  // namespace
 
 // The outermost objects inherit "no material yet": the default material is made
@@ -95,7 +85,7 @@ void SceneBuilder::add_object_tree(const std::shared_ptr<const ObjectNode>& node
   // Refused before anything is placed: values of values multiply, and placing
   // them until the scene's cap would take minutes and gigabytes first.
   const double room = double(kMaxSceneObjects) - double(scene_.shapes.size() + scene_.parts.size());
-  if (const double n = expanded_objects(*node); n > room) {
+  if (const double n = node->leaf_count(); n > room) {
     diags_.report(DiagKind::StepBudget, node->keyword,
                   fmt::format("this {} makes {:.3g} objects, more than the scene's {} at most",
                               node->keyword_name(), n, kMaxSceneObjects));

@@ -266,6 +266,28 @@ TEST_CASE("imports: folder of the importer, -I, stdlib, once per scene, cycles",
   fs::remove_all(dir);
 }
 
+TEST_CASE("placing costs a step per object: values of values past the budget are refused",
+          "[compiler]") {
+  // 2^23 objects from a few steps of values of values are under the scene's cap of
+  // 20 M but far past a budget of 200 000 steps: each placement is refused alone,
+  // before anything is made (the fuzzer found it taking 19 s and 6 GB), and
+  // evaluation goes on to the next (two errors, not one).
+  std::string src = "let a0 = sphere { radius 0.1 };\n";
+  for (int i = 1; i <= 23; ++i)
+    src += "let a" + std::to_string(i) + " = union { object { a" + std::to_string(i - 1) +
+           " } object { a" + std::to_string(i - 1) + " translate <0.001, 0, 0> } };\n";
+  src += "object { a23 }\ndifference { box { min -1 max 1 } object { a23 } }\n";
+  compile::CompileOptions o;
+  o.step_budget = 200000;
+  auto c = run(src, o);
+  const auto& d = c->diags.diagnostics();
+  REQUIRE(d.size() == 2);
+  CHECK(d[0].kind == lang::DiagKind::StepBudget);
+  CHECK(d[1].kind == lang::DiagKind::StepBudget);
+  CHECK(d[0].message.find("makes 8.39e+06 objects, past the evaluation step budget") !=
+        std::string::npos);
+}
+
 TEST_CASE("imports: a folder, a FIFO or a file too large is a file error (exit 3) that says so",
           "[compiler]") {
   // They exist but are not source files: "cannot find" was wrong for the first two,
