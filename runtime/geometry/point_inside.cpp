@@ -98,4 +98,10 @@ bool point_inside(const ir::Scene& scene, const ir::Shape& shape, ir::Vec3 world
   return contains(scene, shape, world_point, rule, 0);
 }
 
+bool point_inside_part(const ir::Scene& scene, const ir::Shape& instance, const ir::Shape& part,
+                       ir::Vec3 world_point, InsideRule rule) {
+  if (rule == InsideRule::Object && ir::moves(instance, scene)) return false;
+  return contains(scene, part, instance.world_from_object().inverse().point(world_point), rule, 1);
+}
+
 }  // namespace snell::rt::geom

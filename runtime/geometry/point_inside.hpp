@@ -21,5 +21,9 @@ enum class InsideRule {
 
 bool point_inside(const ir::Scene& scene, const ir::Shape& shape, ir::Vec3 world_point,
                   InsideRule rule);
+// Whether the world point lies inside one part of an instance (§14: each part of
+// an instance is a solid of its own).
+bool point_inside_part(const ir::Scene& scene, const ir::Shape& instance, const ir::Shape& part,
+                       ir::Vec3 world_point, InsideRule rule);
 
 }  // namespace snell::rt::geom

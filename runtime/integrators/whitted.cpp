@@ -368,8 +368,10 @@ template <class K, class P>
   [[maybe_unused]] int passes = 0;
   [[maybe_unused]] std::conditional_t<K::interiors, Crossing, NoInterior> crossing{};
   if constexpr (K::interiors) {
-    while (found && hit.kind == Hit::Kind::Shape && interiors_.priority(hit.index) > 0) {
-      crossing = interiors_.cross(node.interior, hit.index, dot(d, hit.ng) < 0);
+    std::uint32_t solid = 0;
+    while (found && hit.kind == Hit::Kind::Shape &&
+           interiors_.priority(solid = interiors_.solid(hit)) > 0) {
+      crossing = interiors_.cross(node.interior, solid, dot(d, hit.ng) < 0);
       if (crossing.overflow) ++stats.interior_overflows;
       if (crossing.counts) {
         prioritised = true;

@@ -63,8 +63,10 @@ bool WhittedIntegrator::shadow_blocked(const Ray& ray, const Interior* in, Color
           }
           return false;
         }
-        if (h.kind != Hit::Kind::Shape || interiors_.priority(h.index) == 0) return true;
-        Crossing c = interiors_.cross(cur, h.index, dot(r.dir, h.ng) < 0);
+        if (h.kind != Hit::Kind::Shape) return true;
+        const std::uint32_t solid = interiors_.solid(h);
+        if (interiors_.priority(solid) == 0) return true;
+        Crossing c = interiors_.cross(cur, solid, dot(r.dir, h.ng) < 0);
         if (c.counts) return true;
         cur = c.after;
         r.tnear = std::nextafter(h.t, float(INFINITY));

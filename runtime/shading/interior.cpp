@@ -37,28 +37,71 @@ Interiors::Interiors(const ir::Scene& scene) : scene_(scene) {
     const ir::Dielectric* d = scene.materials[m].as<ir::Dielectric>();
     return d && d->priority > 0 ? d : nullptr;
   };
-  for (std::size_t i = 0; i < scene.shapes.size(); ++i) {
-    const ir::Shape& s = scene.shapes[i];
-    // A solid's medium: its material's, or for a CSG object whose block has no
-    // prioritised dielectric, the first of its children's (a glass cup written
-    // with the glass on its cylinders is as glass as one with it on the block).
-    std::uint32_t m = s.material;
+  // A solid's medium: its material's (an instance's, for a part that has none), or
+  // for a CSG object whose block has no prioritised dielectric, the first of its
+  // children's (a glass cup written with the glass on its cylinders is as glass as
+  // one with it on the block). ir::validate keeps priorities to solids and the
+  // language to 32 bits.
+  auto medium_of = [&](const ir::Shape& s, std::uint32_t inherited) -> std::uint32_t {
+    std::uint32_t m = s.material == ir::kInheritMaterial ? inherited : s.material;
     if (!prioritised(m) && s.as<ir::Csg>())
-      ir::surface_materials(scene, s, [&](std::uint32_t leaf) {
-        if (!prioritised(m) && prioritised(leaf)) m = leaf;
-      });
-    const ir::Dielectric* d = prioritised(m);
-    if (!d) continue;
-    // ir::validate keeps priorities to solids and the language to 32 bits.
-    priority_[i] = std::uint32_t(d->priority);
-    medium_[i] = m;
-  }
+      ir::surface_materials(
+          scene, s,
+          [&](std::uint32_t leaf) {
+            if (!prioritised(m) && prioritised(leaf)) m = leaf;
+          },
+          m);
+    return m;
+  };
   // Camera rays start inside the solids that contain the camera, entered in the
   // scene's order (so among equal priorities the later object is the medium).
-  for (std::size_t i = 0; i < priority_.size(); ++i)
-    if (priority_[i] > 0 &&
-        geom::point_inside(scene, scene.shapes[i], scene.camera.location, geom::InsideRule::Medium))
-      camera_.enter(std::uint32_t(i), priority_[i]);
+  const ir::Vec3 cam = scene.camera.location;
+  auto enter_if_inside = [&](std::uint32_t solid, bool inside) {
+    if (inside) camera_.enter(solid, priority_[solid]);
+  };
+  for (std::size_t i = 0; i < scene.shapes.size(); ++i) {
+    const ir::Shape& s = scene.shapes[i];
+    if (const ir::Instance* inst = s.as<ir::Instance>()) {
+      if (inst->prototype >= scene.prototypes.size()) continue;
+      const std::vector<std::uint32_t>& parts = scene.prototypes[inst->prototype].parts;
+      std::vector<std::uint32_t> media(parts.size(), 0);
+      bool some = false;
+      for (std::size_t j = 0; j < parts.size(); ++j)
+        if (parts[j] < scene.parts.size()) {
+          media[j] = medium_of(scene.parts[parts[j]], s.material);
+          some = some || prioritised(media[j]);
+        }
+      if (!some) continue;
+      const std::uint32_t base = std::uint32_t(priority_.size());
+      instance_base_[std::uint32_t(i)] = base;
+      for (std::size_t j = 0; j < parts.size(); ++j) {
+        const ir::Dielectric* d = prioritised(media[j]);
+        priority_.push_back(d ? std::uint32_t(d->priority) : 0);
+        medium_.push_back(d ? media[j] : 0);
+        part_place_.emplace(parts[j], std::uint32_t(j));
+        if (d)
+          enter_if_inside(base + std::uint32_t(j),
+                          geom::point_inside_part(scene, s, scene.parts[parts[j]], cam,
+                                                  geom::InsideRule::Medium));
+      }
+      continue;
+    }
+    const std::uint32_t m = medium_of(s, s.material);
+    const ir::Dielectric* d = prioritised(m);
+    if (!d) continue;
+    priority_[i] = std::uint32_t(d->priority);
+    medium_[i] = m;
+    enter_if_inside(std::uint32_t(i), geom::point_inside(scene, s, cam, geom::InsideRule::Medium));
+  }
+}
+
+std::uint32_t Interiors::solid_of_instance(const Hit& hit) const {
+  auto base = instance_base_.find(hit.index);
+  if (base == instance_base_.end()) return hit.index;
+  // The part hit: an instance's CSG part holds the leaf in `part`, itself in `outer`.
+  const std::uint32_t part = hit.outer != ir::kNoPart ? hit.outer : hit.part;
+  auto place = part_place_.find(part);
+  return place == part_place_.end() ? hit.index : base->second + place->second;
 }
 
 double Interiors::ior(std::uint32_t medium) const {
@@ -71,18 +114,18 @@ const ir::Vec3* Interiors::absorb(std::uint32_t medium) const {
   return &scene_.materials[medium_[medium]].as<ir::Dielectric>()->absorb;
 }
 
-Crossing Interiors::cross(const Interior& in, std::uint32_t shape, bool entering) const {
+Crossing Interiors::cross(const Interior& in, std::uint32_t solid, bool entering) const {
   Crossing c;
   c.after = in;
-  const std::uint32_t p = priority(shape);
+  const std::uint32_t p = priority(solid);
   const int mb = in.medium_index();
   c.from = mb < 0 ? Interior::kAir : in.entries[mb].shape;
   if (entering) {
-    c.overflow = !c.after.enter(shape, p);
-  } else if (int i = in.find(shape); i >= 0) {
+    c.overflow = !c.after.enter(solid, p);
+  } else if (int i = in.find(solid); i >= 0) {
     c.after.remove(i);
   } else if (mb < 0 || p > in.entries[mb].priority) {
-    c.from = shape;  // no entry: as if it had been entered first (interior.hpp)
+    c.from = solid;  // no entry: as if it had been entered first (interior.hpp)
   }
   c.to = c.after.medium();
   c.counts = c.from != c.to;

@@ -24,12 +24,20 @@
 //   - the camera's starting interior is found once, by inside tests at the camera
 //     location at shutter open (geometry/point_inside.hpp: solid primitives, a
 //     plane's half-space, closed meshes, CSG objects by their trees, instances).
+//
+// A solid is a top-level shape, or one part of an instance (§13): each instance
+// of an object value places its own solids, so a glass of water bound by `let`
+// and placed with `object { }` nests as the same glass written out does. Solids
+// are numbered: the scene's shapes first, then the parts of each instance that has
+// a prioritised one, in the scene's order.
 #pragma once
 
 #include <cstdint>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
+#include "runtime/geometry/ray.hpp"
 #include "runtime/ir/ir.hpp"
 
 namespace snell::rt {
@@ -40,7 +48,7 @@ struct Interior {
   static constexpr int kMax = 8;
   static constexpr std::uint32_t kAir = 0xffffffffu;  // the medium outside every solid
   struct Entry {
-    std::uint32_t shape = 0;     // index into ir::Scene::shapes
+    std::uint32_t shape = 0;     // the solid (Interiors::solid)
     std::uint32_t priority = 0;  // >= 1
   };
   Entry entries[kMax];
@@ -55,7 +63,7 @@ struct Interior {
       if (best < 0 || entries[i].priority >= entries[best].priority) best = i;
     return best;
   }
-  // The shape whose inside the ray travels in, or kAir.
+  // The solid whose inside the ray travels in, or kAir.
   std::uint32_t medium() const {
     int i = medium_index();
     return i < 0 ? kAir : entries[i].shape;
@@ -111,9 +119,14 @@ class Interiors {
  public:
   explicit Interiors(const ir::Scene& scene);
 
-  // The shape's priority, or 0 when it is not a prioritised dielectric solid.
-  std::uint32_t priority(std::uint32_t shape) const {
-    return shape < priority_.size() ? priority_[shape] : 0;
+  // The solid a shape hit is on: the top-level shape, or the instance's part.
+  std::uint32_t solid(const Hit& hit) const {
+    if (instance_base_.empty()) return hit.index;
+    return solid_of_instance(hit);
+  }
+  // The solid's priority, or 0 when it is not a prioritised dielectric solid.
+  std::uint32_t priority(std::uint32_t solid) const {
+    return solid < priority_.size() ? priority_[solid] : 0;
   }
   // The index of refraction of a medium (1 for air).
   double ior(std::uint32_t medium) const;
@@ -122,16 +135,22 @@ class Interiors {
   // The interior camera rays start with.
   const Interior& camera() const { return camera_; }
 
-  // Crossing the surface of prioritised shape `shape` (priority(shape) > 0) with
+  // Crossing the surface of prioritised solid `solid` (priority(solid) > 0) with
   // interior `in`, entering (against the outward normal) or leaving it.
-  Crossing cross(const Interior& in, std::uint32_t shape, bool entering) const;
+  Crossing cross(const Interior& in, std::uint32_t solid, bool entering) const;
 
   std::string to_string() const;
 
  private:
+  std::uint32_t solid_of_instance(const Hit& hit) const;
+
   const ir::Scene& scene_;
-  std::vector<std::uint32_t> priority_;  // per shape; empty when the scene has none
-  std::vector<std::uint32_t> medium_;    // per prioritised shape: the material of its medium
+  std::vector<std::uint32_t> priority_;  // per solid; empty when the scene has none
+  std::vector<std::uint32_t> medium_;    // per prioritised solid: the material of its medium
+  // Instances with a prioritised part: the solid of their first part; and each such
+  // part's place in its value (into Prototype::parts).
+  std::unordered_map<std::uint32_t, std::uint32_t> instance_base_;
+  std::unordered_map<std::uint32_t, std::uint32_t> part_place_;
   Interior camera_;
 };
 

@@ -277,6 +277,52 @@ TEST_CASE("a camera inside a prioritised solid starts in its medium", "[runtime]
   }
 }
 
+TEST_CASE("each part of an instance is a prioritised solid of its own", "[runtime][interiors]") {
+  // The camera-inside scene above as one object value placed twice (§13): its
+  // parts are the water (no material: the instance's) and the glass sphere. The
+  // instance at the origin holds the camera; the other, 100 away, is a second
+  // glass of water that nothing sees. The analytic tree is the same, so every
+  // part must be tracked as its own solid with its own medium: taken as one solid
+  // (the instance, with its material) the glass would be water too, and its
+  // surfaces would not count.
+  ir::Scene s = base_scene(1, 1, 1);
+  s.background = ir::Vec3{1, 1, 1};
+  s.settings.min_weight = 0;
+  s.settings.max_depth = 3;
+  look(s, {0, 0, 0}, {0, 0, 1}, 1e-3);
+  const std::uint32_t water = add_material(s, prioritised(1.33, kWaterAbsorb, 1));
+  s.parts.push_back(sphere({0, 0, 0}, 10, ir::kInheritMaterial));
+  s.parts.push_back(sphere({0, 0, 3}, 1, add_material(s, prioritised(1.5, {}, 2))));
+  ir::Prototype proto;
+  proto.parts = {0, 1};
+  proto.lo = {-10, -10, -10}, proto.hi = {10, 10, 10};
+  s.prototypes.push_back(proto);
+  for (double x : {0.0, 100.0}) {
+    ir::Shape inst;
+    inst.geom = ir::Instance{0};
+    inst.material = water;
+    inst.set_world_from_object(ir::Transform::translate({x, 0, 0}));
+    s.shapes.push_back(inst);
+  }
+  rt::Interiors in(s);
+  REQUIRE(in.camera().count == 1);
+  const std::uint32_t camera_solid = in.camera().medium();
+  CHECK(camera_solid >= s.shapes.size());  // an instance's part, not a shape
+  CHECK(in.priority(camera_solid) == 1);
+  CHECK(in.ior(camera_solid) == 1.33);
+  // Both instances' water and glass: four solids.
+  CHECK(in.to_string().find("4 prioritised solid(s)") != std::string::npos);
+  rt::RenderResult r = rt::render(s, {});
+  auto R = [](double a, double b) { return rt::fresnel_exact(rt::make_interface(1, b / a)); };
+  double straight = (1 - R(1.33, 1.5)) * (1 - R(1.5, 1.33)) * (1 - R(1.33, 1));
+  double back = R(1.33, 1.5) * (1 - R(1.33, 1));
+  for (int c = 0; c < 3; ++c) {
+    double sigma = kWaterAbsorb[c];
+    double expect = std::exp(-sigma * 8) * straight + std::exp(-sigma * 14) * back;
+    CHECK(r.image.at(0, 0)[c] == Approx(expect).epsilon(2e-5));
+  }
+}
+
 TEST_CASE("interior stack: medium, ties, overflow and unknown exits", "[runtime][interiors]") {
   ir::Scene s = base_scene(1, 1, 1);
   for (std::uint64_t p : {1, 3, 3, 2, 1, 1, 1, 1, 1, 5})
