@@ -118,6 +118,9 @@ class SceneBuilder {
     ir::Transform world_from_parent;  // or the CSG object's / prototype's space
     std::uint32_t material = 0;       // the material of the nearest enclosing object with one
     ir::Motion motion;                // how the enclosing objects move the parent's space
+    // The top-level object's space (a union's, an outer instance's) when the
+    // objects placed are not it; null: each is its own top-level object.
+    std::shared_ptr<const ir::ObjectSpace> object = nullptr;
   };
   // Places `node` into the scene's shapes, or, with `proto`, into prototype parts.
   void place(const ObjectNode& node, const Placement& at, std::vector<std::uint32_t>* proto);

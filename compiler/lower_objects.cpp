@@ -78,6 +78,18 @@ bool instanceable(const ObjectNode& n, bool in_csg) {
 
 }  // namespace
 
+namespace {
+// Records the top-level object's space on `s` where it differs from s's own
+// (patterns see the same space either way when it does not).
+void set_object_space(ir::Shape& s, const ir::ObjectSpace* object) {
+  if (!object) return;
+  if (object->world_from_object.m == s.world_from_object().m && object->motion.empty() &&
+      s.motion().empty())
+    return;
+  s.set_object_space(*object);
+}
+}  // namespace
+
 // The outermost objects inherit "no material yet": the default material is made
 // only for an object that ends up without one (so a scene's material table is the
 // same whichever way its objects are written).
@@ -108,7 +120,7 @@ void SceneBuilder::place(const ObjectNode& n, const Placement& at,
                          std::vector<std::uint32_t>* proto) {
   Placement inner{at.world_from_parent * object_transforms(n.props),
                   material_of(n.props, at.material),
-                  motion_in(at.motion, at.world_from_parent, n.props)};
+                  motion_in(at.motion, at.world_from_parent, n.props), at.object};
   // In the scene (not a prototype) an object without a material has the default.
   auto settle = [&] {
     if (!proto && inner.material == ir::kInheritMaterial) inner.material = default_material();
@@ -122,6 +134,7 @@ void SceneBuilder::place(const ObjectNode& n, const Placement& at,
     s.material = inner.material;
     s.set_world_from_object(inner.world_from_parent);
     s.set_motion(inner.motion);
+    if (!proto) set_object_space(s, inner.object.get());
     s.src = ref(n.keyword);
   };
   if (n.instance()) {
@@ -141,6 +154,11 @@ void SceneBuilder::place(const ObjectNode& n, const Placement& at,
   }
   if (n.csg()) {
     if (op_of(n) == ir::CsgOp::Union) {
+      // Its children go into the scene one by one; §15's `space "object"` is still
+      // the whole union's (in a prototype, the instance's: no record needed).
+      if (!proto && !inner.object)
+        inner.object =
+            std::make_shared<const ir::ObjectSpace>(inner.world_from_parent, inner.motion);
       for (const auto& c : n.children) place(*c, inner, proto);
       return;
     }
@@ -246,13 +264,18 @@ void SceneBuilder::place_instance(const std::shared_ptr<const ObjectNode>& value
     s.material = at.material == ir::kInheritMaterial ? default_material() : at.material;
     s.set_world_from_object(at.world_from_parent);
     s.set_motion(at.motion);
+    set_object_space(s, at.object.get());
     s.src = ref(keyword);
   }
+  // The value's own instances are placed beside it, in its space (§15).
+  std::shared_ptr<const ir::ObjectSpace> object = at.object;
+  if (!object && !e.nested.empty())
+    object = std::make_shared<const ir::ObjectSpace>(at.world_from_parent, at.motion);
   for (const NestedInstance& k : e.nested)
-    place_instance(
-        k.value, k.site->keyword,
-        Placement{at.world_from_parent * k.proto_from_object,
-                  k.material == ir::kInheritMaterial ? at.material : k.material, at.motion});
+    place_instance(k.value, k.site->keyword,
+                   Placement{at.world_from_parent * k.proto_from_object,
+                             k.material == ir::kInheritMaterial ? at.material : k.material,
+                             at.motion, object});
 }
 
 }  // namespace snell::compile

@@ -163,6 +163,11 @@ std::string to_string(const Shape& sh) {
   if (!sh.world_from_object().is_identity())
     s += " world_from_object " + to_string(sh.world_from_object());
   if (!sh.motion().empty()) s += " " + to_string(sh.motion());
+  if (sh.in_object()) {
+    s += " object_space { world_from_object " + to_string(sh.object_space().world_from_object);
+    if (!sh.object_space().motion.empty()) s += " " + to_string(sh.object_space().motion);
+    s += " }";
+  }
   return s + " }";
 }
 

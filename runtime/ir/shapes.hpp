@@ -234,6 +234,15 @@ struct Motion {
 // in the world by `world_from_frame`) inside objects that move by `outer`.
 Motion nest_motion(const Motion& outer, const Transform& world_from_frame, const Motion& own);
 
+// §15 `space "object"`: the space of the top-level object a shape belongs to, where
+// that is not the shape itself: a child of a top-level `union` (placed in the
+// scene one by one) takes the union's space, and an instance placed by another
+// instance's value the outer instance's. Patterns move with it.
+struct ObjectSpace {
+  Transform world_from_object;
+  Motion motion;
+};
+
 // A shape's transform and motion are held out of line, and only when they are not
 // the default (identity, still): most of a big scene's objects are spheres placed
 // by `center`, and inline the two took 312 of a Shape's 416 bytes (#18: 10 M
@@ -255,10 +264,15 @@ struct Shape {
     bool still = m.ops.empty() && !m.has_pivot && m.nested.empty();
     motion_.set(std::move(m), still);
   }
+  // The enclosing top-level object's space (ObjectSpace), when it has one.
+  bool in_object() const { return object_space_.held(); }
+  const ObjectSpace& object_space() const { return object_space_.get(); }
+  void set_object_space(ObjectSpace o) { object_space_.set(std::move(o), false); }
 
  private:
   Sparse<Transform> world_from_object_;
   Sparse<Motion> motion_;
+  Sparse<ObjectSpace> object_space_;
 };
 
 // A part (an element of Scene::parts: a CSG leaf or a prototype's shape) whose

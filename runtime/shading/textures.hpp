@@ -74,9 +74,10 @@ inline PatternFrame pattern_frame(const ir::Texture& t, const TexturePoint& tp) 
   bool object = t.space == ir::PatternSpace::Object && tp.shape;
   if (object) {
     const ir::Shape& sh = *tp.shape;
-    ir::Transform world_from_object =
-        sh.motion().empty() ? sh.world_from_object()
-                            : sh.motion().at(double(tp.time)) * sh.world_from_object();
+    const ir::Transform& placed =
+        sh.in_object() ? sh.object_space().world_from_object : sh.world_from_object();
+    const ir::Motion& motion = sh.in_object() ? sh.object_space().motion : sh.motion();
+    ir::Transform world_from_object = motion.empty() ? placed : motion.at(double(tp.time)) * placed;
     // A CSG leaf that moves inside its object carries the object's space along
     // with it (the space is the object's where the leaf stands at shutter open).
     if (tp.leaf_motion) world_from_object = world_from_object * tp.leaf_motion->at(double(tp.time));

@@ -98,3 +98,44 @@ TEST_CASE("a value of instances renders as the same objects placed one by one",
   for (float v : a.image.rgb) sum += v;
   CHECK(sum > 1);  // the objects are in view and lit
 }
+
+TEST_CASE("space \"object\" is the top-level object's space, however it is written",
+          "[compiler][instances][patterns]") {
+  // §15: the pattern "moves with the object's transforms"; the object is the
+  // top-level one the hit belongs to. A box face 0.3 from the object's origin
+  // along a gradient of z, the object placed 2 further, seen head on: every form
+  // must show 0.3 (+ the 1e-4 inward step), never the box's own 0 (its translate
+  // taken as the object's) or 2.3 (the world's). Top-level unions are placed child
+  // by child and the instances a value holds beside it, so both carry the whole
+  // object's space. The light stands at the camera with intensity π·2.3², so the
+  // pixel is the pattern's value.
+  const std::string head =
+      "settings { resolution <3, 3> samples 1 }\n"
+      "camera { location <0, 0, 0> look_at <0, 0, 1> fov 0.01 }\n"
+      "point_light { position <0, 0, 0> intensity " +
+      std::to_string(3.14159265358979 * 2.3 * 2.3) +
+      " }\n"
+      "let m = diffuse gradient { direction <0, 0, 1> space \"object\" };\n"
+      "let w = box { min <-1, -1, 0> max <1, 1, 1> };\n";
+  const char* forms[] = {
+      "merge { box { min <-1, -1, 0> max <1, 1, 1> translate <0, 0, 0.3> }\n"
+      "  sphere { center <0, 0, 50> radius 0.1 } material m translate <0, 0, 2> }\n",
+      "union { box { min <-1, -1, 0> max <1, 1, 1> translate <0, 0, 0.3> }\n"
+      "  sphere { center <0, 0, 50> radius 0.1 } material m translate <0, 0, 2> }\n",
+      "union { union { object { w translate <0, 0, 0.3> } } material m translate <0, 0, 2> }\n",
+      "let v = union { object { w translate <0, 0, 0.3> } sphere { center <0, 0, 50> radius 0.1 } "
+      "};\n"
+      "object { v material m translate <0, 0, 2> }\n",
+      "let v = union { box { min <-1, -1, 0> max <1, 1, 1> translate <0, 0, 0.3> } };\n"
+      "object { v material m translate <0, 0, 2> }\n",
+  };
+  for (const char* body : forms) {
+    auto c = test::compile_text(head + body);
+    INFO(body << "\n" << test::messages(*c));
+    REQUIRE(c->status == compile::CompileStatus::Ok);
+    rt::RenderOptions o;
+    o.threads = 1;
+    rt::RenderResult r = rt::render(c->scene, o);
+    CHECK(r.image.at(1, 1)[0] == Approx(0.3001).epsilon(1e-4));
+  }
+}
