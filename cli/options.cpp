@@ -24,6 +24,14 @@ const CLI::Validator kFinite(
     },
     "FINITE");
 
+// An option's value is never empty: `--crop ""` (a script's unset variable) would
+// otherwise read as no --crop at all and render the whole image.
+const CLI::Validator kNonEmpty(
+    [](std::string& s) -> std::string {
+      return s.empty() ? "needs a value, not an empty one" : "";
+    },
+    "");
+
 // One row bound to its field: a bool is a flag, anything else takes a value.
 template <class T>
 void bind(CLI::App& app, const OptionRow& row, Command cmd, T& field) {
@@ -40,6 +48,7 @@ void bind(CLI::App& app, const OptionRow& row, Command cmd, T& field) {
       opt = app.add_flag(names, field, help);
   } else {
     opt = app.add_option(names, field, help);
+    opt->check(kNonEmpty);
   }
   if (r.ranged) opt->check(CLI::Range(r.lo, r.hi));
   if constexpr (Real<T>::value) opt->check(kFinite);

@@ -297,3 +297,32 @@ TEST_CASE("option values are checked as before the table", "[cli][options]") {
   Line line;
   CHECK_NOTHROW(line.parse("render a.scn --spp 1048576 --threads 1024 --seed 0"));
 }
+
+TEST_CASE("an empty option value is a usage error, not the option left out", "[cli][options]") {
+  // A script's `--crop "$C"` with C unset rendered the whole image and exited 0.
+  // Every option that takes a value, in every subcommand that takes it.
+  std::size_t tried = 0;
+  for (const cli::CommandInfo& c : cli::kCommands) {
+    Line probe;
+    CLI::App* sub = probe.app.get_subcommand(std::string(c.name));
+    for (const CLI::Option* opt : sub->get_options()) {
+      if (opt == sub->get_help_ptr() || opt->get_items_expected_min() == 0) continue;
+      // argv after the program's name: the subcommand, its required options and
+      // positionals with some value, then this option with an empty one.
+      std::vector<std::string> argv = {std::string(c.name)};
+      for (const CLI::Option* req : sub->get_options())
+        if (req != opt && req->get_required()) {
+          if (!req->get_positional()) argv.push_back(req->get_name(false, false));
+          argv.push_back("x=1");
+        }
+      if (!opt->get_positional()) argv.push_back(opt->get_name(false, false));
+      argv.push_back("");
+      Line line;
+      INFO(c.name << " " << opt->get_name());
+      CHECK_THROWS_AS(line.app.parse(std::vector<std::string>(argv.rbegin(), argv.rend())),
+                      CLI::ValidationError);
+      ++tried;
+    }
+  }
+  CHECK(tried > 40);
+}
