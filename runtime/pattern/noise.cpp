@@ -58,13 +58,26 @@ inline void split(double x, int& cell, double& frac) {
   cell = int(m);
 }
 
+// The next octave's amplitude, amp · gain. Where that would overflow (a gain of
+// 1e10 over 32 octaves reaches 1e310) the sums so far are scaled down with it
+// first: only their ratio is used, and it stays the sum weighted towards the last
+// octaves, where inf / inf was NaN. Gains up to 2^500 or so never take that path,
+// so every ordinary sum keeps its bits.
+inline void next_amplitude(double& amp, double gain, double& sum, double& norm) {
+  if (amp > 0x1p1000 / gain) {
+    const double s = 1 / amp;
+    sum *= s, norm *= s, amp = 1;
+  }
+  amp *= gain;
+}
+
 double signed_fbm(ir::Vec3 p, int octaves, double lacunarity, double gain) {
   octaves = std::clamp(octaves, 1, kMaxOctaves);
   double sum = 0, norm = 0, amp = 1;
   for (int i = 0; i < octaves; ++i) {
     sum += amp * perlin(p);
     norm += amp;
-    amp *= gain;
+    next_amplitude(amp, gain, sum, norm);
     p = p * lacunarity;
   }
   return norm > 0 ? sum / norm : 0;
@@ -113,7 +126,7 @@ double turbulence(ir::Vec3 p, int octaves, double lacunarity, double gain) {
   for (int i = 0; i < octaves; ++i) {
     sum += amp * std::fabs(perlin(p));
     norm += amp;
-    amp *= gain;
+    next_amplitude(amp, gain, sum, norm);
     p = p * lacunarity;
   }
   return norm > 0 ? std::clamp(sum / norm, 0.0, 1.0) : 0;

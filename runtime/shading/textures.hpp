@@ -200,10 +200,14 @@ inline double kind_value(const ir::ImageTexture& im, const ir::Texture& t, ir::V
   Color c = tp.images->lookup(im.image, uv.u, uv.v, 0, 0, 0, 0, im.repeat);
   return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
 }
+// A value pattern whose arithmetic overflows at a point (its own coordinates past
+// ~1e154, where a length or a dot product is infinite) is 0 there: §15's
+// patterns map to [0, 1], and a NaN would drop the whole sample.
 template <class K>
 double kind_value(const K& kind, const ir::Texture& t, ir::Vec3 q, const PatternFrame&,
                   const TexturePoint&) {
-  return pattern::value(kind, turbulent(t, q), int(t.octaves));
+  const double v = pattern::value(kind, turbulent(t, q), int(t.octaves));
+  return std::isfinite(v) ? v : 0.0;
 }
 
 inline double value_at(const ir::Texture& t, ir::Vec3 q, const PatternFrame& frame,

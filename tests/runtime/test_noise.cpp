@@ -1,6 +1,7 @@
 // §15's noise functions (runtime/pattern/noise.hpp): the reference values of
 // Perlin's improved noise, the properties the spec asks for (range, lattice value,
 // mean, continuity, determinism across threads) and inputs at the edges of double.
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdint>
@@ -130,4 +131,35 @@ TEST_CASE("noise: non-finite and huge inputs give finite values", "[noise]") {
   // Octave counts are clamped, never loop for ever or index out of range.
   CHECK(std::isfinite(pat::fbm({0.3, 0.1, 0.2}, 1000000)));
   CHECK(std::isfinite(pat::fbm({0.3, 0.1, 0.2}, -5)));
+}
+
+TEST_CASE("fbm and turbulence: any gain gives a value in [0, 1]", "[noise]") {
+  // The plain weighted sum, as the octave loop was before huge gains were scaled:
+  // every ordinary gain must keep these bits.
+  auto plain = [](Vec3 p, int octaves, double lac, double gain) {
+    double sum = 0, norm = 0, amp = 1;
+    for (int i = 0; i < octaves; ++i) {
+      sum += amp * pat::perlin(p);
+      norm += amp;
+      amp *= gain;
+      p = p * lac;
+    }
+    return std::clamp(0.5 + 0.5 * sum / norm, 0.0, 1.0);
+  };
+  for (int i = 0; i < 200; ++i) {
+    Vec3 p{std::sin(i * 1.3) * 7, std::cos(i * 0.7) * 7, i * 0.031};
+    for (double gain : {0.5, 0.9, 2.0, 1e3}) CHECK(pat::fbm(p, 8, 2, gain) == plain(p, 8, 2, gain));
+    // 1e10 over 32 octaves reached 1e310: inf / inf was NaN. The sum is the last
+    // octave's noise but for 1e-10 of the one before.
+    const double huge = pat::fbm(p, 32, 1.01, 1e10);
+    const double last = 0.5 + 0.5 * pat::perlin(p * std::pow(1.01, 31));
+    CHECK_THAT(huge, WithinAbs(last, 1e-9));
+    for (double gain : {1e100, 1e300, 1.7e308}) {
+      const double v = pat::fbm(p, 32, 1.01, gain), t = pat::turbulence(p, 32, 1.01, gain);
+      CHECK(v >= 0);
+      CHECK(v <= 1);
+      CHECK(t >= 0);
+      CHECK(t <= 1);
+    }
+  }
 }

@@ -274,3 +274,30 @@ TEST_CASE("checker: the §8 formula, bit for bit, and a colour map", "[patterns]
   rt::TexturePoint even{{0.1f, 0.1f, 0.1f}, {0, 1, 0}, {0, 0, 0}};
   CHECK(rt::texture_color(t, even).x == 0.2f);
 }
+
+TEST_CASE("patterns: a point past where a pattern's arithmetic overflows gives 0, not NaN",
+          "[patterns]") {
+  // ripples { scale 1e-155 } puts the hit 1e155 out in the pattern's space: the
+  // lengths to the wave sources are infinite and sin(inf) NaN, which dropped the
+  // whole sample. Every value pattern, through the lookup the renderer uses.
+  ir::PatternVariant kinds[] = {ir::Gradient{}, ir::Onion{}, ir::Radial{},  ir::Brick{},
+                                ir::Noise{},    ir::Fbm{},   ir::Marble{},  ir::Wood{},
+                                ir::Granite{},  ir::Agate{}, ir::Leopard{}, ir::Ripples{},
+                                ir::Waves{},    ir::Cells{}};
+  std::uint64_t nonfinite = 0;
+  rt::TexturePoint tp{};
+  tp.nonfinite = &nonfinite;
+  for (const ir::PatternVariant& k : kinds)
+    for (double x : {1e160, -1e200, 1e308}) {
+      ir::Texture t;
+      t.pattern = k;
+      const double v = rt::value_at(t, Vec3{x, x, x}, rt::PatternFrame{}, tp);
+      INFO("kind " << k.index() << " at " << x);
+      CHECK(v >= 0);
+      CHECK(v <= 1);
+    }
+  // Ripples, waves and onion overflowed there: their value is 0.
+  ir::Texture ripples;
+  ripples.pattern = ir::Ripples{};
+  CHECK(rt::value_at(ripples, Vec3{1e160, 0, 0}, rt::PatternFrame{}, tp) == 0);
+}
