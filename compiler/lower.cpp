@@ -224,6 +224,7 @@ void SceneBuilder::expect_objects(std::size_t n) {
 void SceneBuilder::set_background(const Value& color, Span span) {
   if (!first_of_kind("background", span)) return;
   assign(scene_.background, color);
+  scene_.background_src = ref(span);
 }
 
 void SceneBuilder::add_item(const BlockInfo& block, Span kw,

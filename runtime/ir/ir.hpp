@@ -108,6 +108,7 @@ struct Scene {
   // §17: a colour or a pattern (an image) evaluated at the escaping ray's unit
   // direction; never lights diffuse surfaces.
   Texture background{Vec3{0, 0, 0}};
+  SourceRef background_src;  // the `background` statement, when there is one
   std::vector<Material> materials;
   std::vector<Shape> shapes;
   // §12-§13: what CSG objects and instances are made of. A part's world_from_object

@@ -53,15 +53,18 @@ bool all_finite(const T& kind) {
 // Whether some colour of a texture is past the radiometric limit.
 template <class TooBright>
 bool too_bright_texture(const Texture& t, TooBright too_bright) {
+  // Colours only (a constant's, a checker's, a colour map's stops): a gradient's
+  // direction or a brick's size is a length, and 1e31 of it is fine.
   bool bright = false;
   std::visit(
       [&](const auto& p) {
-        for_each_field(p, [&](const char*, const auto& c) {
+        for_each_field(p, [&](const char* name, const auto& c) {
           if constexpr (std::is_same_v<std::decay_t<decltype(c)>, Vec3>)
-            bright = bright || too_bright(c);
+            if (std::string_view(name).starts_with("color")) bright = bright || too_bright(c);
         });
       },
       t.pattern);
+  for (const ColorStop& stop : t.color_map) bright = bright || too_bright(stop.color);
   return bright;
 }
 
@@ -220,7 +223,7 @@ void check_ranges(const Scene& scene, Bad&& bad) {
   if (c.focal_distance > kFar) bad(c.src, far_message("the focal plane", c.focal_distance));
   auto too_bright = [](Vec3 v) { return largest(v) > kMaxRadiometric; };
   if (too_bright_texture(scene.background, too_bright))
-    bad({}, "background radiance must be at most 1e30");
+    bad(scene.background_src, "background radiance must be at most 1e30");
   for (const Material& m : scene.materials)
     if (too_bright_colours(m, too_bright)) bad(m.src, "material colours must be at most 1e30");
   for (const Shape& s : scene.shapes) {

@@ -76,3 +76,24 @@ TEST_CASE("noise builtins at scene-build time are the patterns' values", "[compi
       1 + pattern::noise(p) + pattern::fbm(p, 5) + pattern::turbulence(p, 3) + pattern::cells(p);
   CHECK(std::get<ir::Sphere>(c->scene.shapes[0].geom).radius == want);
 }
+
+TEST_CASE("a pattern's lengths are not colours: only colours are held to 1e30",
+          "[compiler][patterns]") {
+  // `gradient { direction <1e31, 0, 0> }` was refused as "material colours must be
+  // at most 1e30", at the material, naming no direction (and for a background at
+  // 1:1, the settings line).
+  const std::string head =
+      "camera { location <0, 0, -5> look_at <0, 0, 0> }\n"
+      "point_light { position <0, 0, -5> intensity 25 }\n";
+  for (const char* item : {"sphere { material diffuse gradient { direction <1e31, 0, 0> } }\n",
+                           "sphere { material diffuse brick { size <1e31, 1, 1> } }\n",
+                           "background gradient { direction <0, 1e31, 0> }\nsphere { }\n"}) {
+    auto c = run(head + item);
+    INFO(item << test::messages(*c));
+    CHECK(c->status == compile::CompileStatus::Ok);
+  }
+  // A colour past it is still refused, where it is written.
+  auto c = run(head + "sphere { material diffuse checker { color1 <1e31, 0, 0> } }\n");
+  CHECK(c->status != compile::CompileStatus::Ok);
+  CHECK(test::messages(*c).find("1e30") != std::string::npos);
+}
