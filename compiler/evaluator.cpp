@@ -206,6 +206,7 @@ void Evaluator::exec_let(const Stmt& s, const std::shared_ptr<Env>& env) {
           "this call returns nothing to bind to '" + s.name + "'");
     v = Value::error();
   }
+  if (v.type == Type::Object) builder_.check_value(v.object());
   define(env, symbol_of(s), std::move(v), s.name_span);
 }
 

@@ -9,6 +9,7 @@
 #include <memory>
 #include <string>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include "compiler/properties.hpp"
@@ -74,6 +75,12 @@ class SceneBuilder {
   // §12-§13 (lower_objects.cpp): places an object value's tree in the scene: a CSG
   // block, an instance, or any object made where a CSG block was being evaluated.
   void add_object_tree(const std::shared_ptr<const ObjectNode>& node);
+  // Reports what placing the object value `node` would report of its own shapes
+  // (each shape's checks, §12's solids under merge, intersection and difference),
+  // without placing anything: a value bound by `let` may never be placed, and its
+  // errors are still errors (§5). A value found wrong is not placed later, so each
+  // error is reported once. Mesh files are read only when a mesh is placed.
+  void check_value(const std::shared_ptr<const ObjectNode>& node);
 
   // Settings overrides from the command line (--set, --spp, --res, --seed),
   // applied after the program ran. `value` has passed check_value.
@@ -129,6 +136,10 @@ class SceneBuilder {
   // space, in the CSG object's space.
   std::int64_t csg_node(const ObjectNode& node, const ir::Transform& csg_from_parent,
                         const ir::Motion& motion, std::uint32_t material, const ObjectNode& csg);
+  // check_value below `n`; `csg`: the merge, intersection or difference it is a
+  // solid of, or null.
+  bool check_tree(const ObjectNode& n, const ObjectNode* csg);
+  std::unordered_set<const ObjectNode*> wrong_values_;  // check_value found errors
   std::int64_t csg_children(const ObjectNode& node, const ir::Transform& csg_from_node,
                             const ir::Motion& motion, std::uint32_t material,
                             const ObjectNode& csg);

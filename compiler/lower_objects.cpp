@@ -62,6 +62,24 @@ std::string no_inside(const ir::ShapeGeom& g, const ir::Scene& scene) {
       g);
 }
 
+// §12: whether the shape `c` (its geometry `geom`) may be a child of the CSG
+// operation `csg`; reports why not.
+bool report_not_solid(const ObjectNode& c, const ir::ShapeGeom& geom, const ObjectNode& csg,
+                      const ir::Scene& scene, lang::DiagnosticEngine& diags) {
+  std::string why = no_inside(geom, scene);
+  if (why.empty()) return true;
+  std::string_view csg_name = csg.block->name;
+  diags
+      .report(DiagKind::NotASolid, c.keyword,
+              "this " + std::string(c.block->name) + " cannot be part of the '" +
+                  std::string(csg_name) + "': " + why)
+      .note(csg.keyword, "the '" + std::string(csg_name) +
+                             "' is here; its objects must be solids: sphere, box, cylinder, "
+                             "cone, torus, plane, closed mesh or CSG of them ('union' takes "
+                             "any object)");
+  return false;
+}
+
 // Whether an object value can be a prototype that the BVH instances: bounded and
 // static (no plane outside a CSG block, nothing moves).
 bool instanceable(const ObjectNode& n, bool in_csg) {
@@ -116,8 +134,30 @@ ir::Motion motion_in(const ir::Motion& outer, const ir::Transform& frame,
 }
 }  // namespace
 
+void SceneBuilder::check_value(const std::shared_ptr<const ObjectNode>& node) {
+  if (!node || wrong_values_.count(node.get())) return;
+  if (!check_tree(*node, nullptr)) wrong_values_.insert(node.get());
+}
+
+bool SceneBuilder::check_tree(const ObjectNode& n, const ObjectNode* csg) {
+  if (wrong_values_.count(&n)) return false;
+  if (n.instance()) return check_tree(*n.children[0], csg);
+  if (n.csg()) {
+    const ObjectNode* solid_of = op_of(n) == ir::CsgOp::Union ? csg : &n;
+    bool ok = true;
+    for (const auto& c : n.children) ok = check_tree(*c, solid_of) && ok;
+    return ok;
+  }
+  if (n.block->shape_kind == static_cast<int>(ir::ShapeKind::Mesh)) return true;
+  ir::ShapeGeom geom;
+  LowerContext cx{*this, n.keyword, n.props, diags_};
+  if (!lower_shape(*n.block, cx, geom)) return false;
+  return !csg || report_not_solid(n, geom, *csg, scene_, diags_);
+}
+
 void SceneBuilder::place(const ObjectNode& n, const Placement& at,
                          std::vector<std::uint32_t>* proto) {
+  if (wrong_values_.count(&n)) return;  // check_value reported it
   Placement inner{at.world_from_parent * object_transforms(n.props),
                   material_of(n.props, at.material),
                   motion_in(at.motion, at.world_from_parent, n.props), at.object};
@@ -194,7 +234,7 @@ std::int64_t SceneBuilder::csg_children(const ObjectNode& n, const ir::Transform
 std::int64_t SceneBuilder::csg_node(const ObjectNode& c, const ir::Transform& csg_from_parent,
                                     const ir::Motion& motion, std::uint32_t material,
                                     const ObjectNode& csg) {
-  std::string_view csg_name = csg.block->name;
+  if (wrong_values_.count(&c)) return -1;  // check_value reported it
   ir::Transform xf = csg_from_parent * object_transforms(c.props);
   ir::Motion moves = motion_in(motion, csg_from_parent, c.props);
   std::uint32_t mat = material_of(c.props, material);
@@ -203,17 +243,7 @@ std::int64_t SceneBuilder::csg_node(const ObjectNode& c, const ir::Transform& cs
   ir::ShapeGeom geom;
   LowerContext cx{*this, c.keyword, c.props, diags_};
   if (!lower_shape(*c.block, cx, geom)) return -1;
-  if (std::string why = no_inside(geom, scene_); !why.empty()) {
-    diags_
-        .report(DiagKind::NotASolid, c.keyword,
-                "this " + std::string(c.block->name) + " cannot be part of the '" +
-                    std::string(csg_name) + "': " + why)
-        .note(csg.keyword,
-              "the '" + std::string(csg_name) +
-                  "' is here; its objects must be solids: sphere, box, cylinder, "
-                  "cone, torus, plane, closed mesh or CSG of them ('union' takes any object)");
-    return -1;
-  }
+  if (!report_not_solid(c, geom, csg, scene_, diags_)) return -1;
   ir::Shape& s = scene_.parts.emplace_back();
   s.geom = std::move(geom);
   s.material = mat;
