@@ -158,6 +158,8 @@ int check_output_folder(const std::string& out) {
   return -1;
 }
 
+}  // namespace
+
 // An output never replaces a file the work reads (§10: nothing is lost): the
 // scene, an import, a mesh, an image, a piece being merged. The same file by
 // any name counts (a symlink, a hard link, "./a/../a"). Exit 2, before the render.
@@ -182,8 +184,6 @@ std::vector<std::string> scene_inputs(const ir::Scene& s) {
   for (const ir::ImageFile& im : s.images) files.push_back(im.path);
   return files;
 }
-
-}  // namespace
 
 int dump_ast(const std::string& path) {
   std::string text, message;

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "cli/options.hpp"
 #include "compiler/compile.hpp"
@@ -19,6 +20,15 @@ int usage_error(const std::string& message);  // prints it, returns kExitUsage
 // Turns the shorthand flags into settings overrides (--set first, then --spp, --res,
 // --seed, which are more specific); false with `error` set on a malformed value.
 bool build_compile_options(const CliArgs& o, compile::CompileOptions& c, std::string& error);
+
+// An output never replaces a file the work reads (§10: nothing is lost): the
+// scene, an import, a mesh, an image, a piece being merged. The same file by any
+// name counts (a symlink, a hard link, "./a/../a"). kExitUsage after printing
+// why, or -1 when every output is safe.
+int check_not_an_input(const std::vector<std::string>& outputs,
+                       const std::vector<std::string>& inputs);
+// The files a compiled scene was made from.
+std::vector<std::string> scene_inputs(const ir::Scene& s);
 
 int run_render(const CliArgs& o);
 int run_check(const CliArgs& o);

@@ -10,6 +10,7 @@
 #include <map>
 #include <sstream>
 
+#include "cli/commands.hpp"
 #include "cli/metrics.hpp"
 #include "cli/plot_svg.hpp"
 #include "runtime/atomic_file.hpp"
@@ -44,8 +45,6 @@ bool parse_axis(const std::string& text, SweepAxis& axis) {
 }
 
 namespace {
-
-constexpr int kExitOk = 0, kExitScene = 1, kExitUsage = 2, kExitIo = 3;
 
 struct Config {
   std::vector<std::pair<std::string, std::string>> settings;  // compile overrides
@@ -484,6 +483,36 @@ int run_sweep(const SweepOptions& options) {
   if (options.vary.empty()) {
     std::cerr << "snell sweep: error: give at least one --vary KEY=V1,V2,...\n";
     return kExitUsage;
+  }
+  // --name is a prefix of file names in --out, not a path (a '/' in it sent the
+  // CSV and JSON to a folder that was never made, after every render).
+  const std::string& name = options.name;
+  if (name.find_first_of("/\\") != std::string::npos || name == "." || name == "..")
+    return usage_error("--name " + name + " is a prefix of the files in --out, not a path");
+  // Nothing it writes may be a file it reads (§10): the scene by its own stem
+  // beside the CSV, --markdown onto the scene, an image of it onto a texture.
+  {
+    std::vector<std::string> inputs{options.scene};
+    auto comp = compile::compile_file(options.scene, options.compile);
+    if (comp->status == compile::CompileStatus::Ok) inputs = scene_inputs(comp->scene);
+    const fs::path dir(options.out_dir);
+    const std::string stem = name.empty() ? fs::path(options.scene).stem().string() : name;
+    std::vector<std::string> outputs{(dir / (stem + ".csv")).string(),
+                                     (dir / (stem + ".json")).string()};
+    if (!options.markdown.empty()) outputs.push_back(options.markdown);
+    const std::vector<std::string> none{""};
+    const std::vector<std::string>& series =
+        options.series.key.empty() ? none : options.series.values;
+    for (const SweepAxis& axis : options.vary) {
+      outputs.push_back((dir / (slug(stem + "-" + axis.key) + ".svg")).string());
+      for (const std::string& sv : series)
+        for (const std::string& v : axis.values)
+          outputs.push_back(
+              (dir / "images" /
+               (slug(stem + "-" + axis.key + "-" + v + (sv.empty() ? "" : "-" + sv)) + ".png"))
+                  .string());
+    }
+    if (int code = check_not_an_input(outputs, inputs); code >= 0) return code;
   }
   Sweeper s(options);
   return s.run();

@@ -335,6 +335,39 @@ TEST_CASE("sweep writes its tables whole or not at all, and says why it cannot",
   CHECK(err.find("internal error") == std::string::npos);
 }
 
+TEST_CASE("sweep never writes over a file it reads, and --name is no path", "[e2e]") {
+  // --markdown onto the scene, or --out beside a scene named like its CSV, replaced
+  // the scene with exit 0; render and merge refused the same. A '/' in --name
+  // sent the CSV and JSON to a folder never made, after every render.
+  Scratch tmp;
+  const std::string scene =
+      "settings { resolution <8, 6> }\n"
+      "point_light { position <0, 3, -3> intensity 10 }\n"
+      "sphere { }\n";
+  std::ofstream(tmp / "s.scn") << scene;
+  fs::create_directories(tmp / "e");
+  std::ofstream(tmp / "e/s.csv") << scene;
+  auto text = [&](const std::string& f) {
+    std::ifstream in(tmp / f);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  };
+  const std::string opts = " --vary samples=1 --reference-spp 2 --quiet --out ";
+  std::string err;
+  CHECK(run_capture(
+            "sweep " + (tmp / "s.scn") + opts + (tmp / "o") + " --markdown " + (tmp / "s.scn"), err,
+            tmp) == 2);
+  CHECK(err.find("a file this command reads") != std::string::npos);
+  CHECK(text("s.scn") == scene);
+  CHECK(run_capture("sweep " + (tmp / "e/s.csv") + opts + (tmp / "e"), err, tmp) == 2);
+  CHECK(text("e/s.csv") == scene);
+  CHECK(run_capture("sweep " + (tmp / "s.scn") + opts + (tmp / "o") + " --name a/b", err, tmp) ==
+        2);
+  CHECK(err.find("not a path") != std::string::npos);
+  CHECK(!fs::exists(tmp / "o"));
+  CHECK(run_capture("sweep " + (tmp / "s.scn") + opts + (tmp / "o") + " --name ab", err, tmp) == 0);
+  CHECK(fs::exists(tmp / "o/ab.csv"));
+}
+
 TEST_CASE("a render with --pixel alone prints the ray tree and writes no image", "[e2e]") {
   Scratch tmp;
   std::ofstream(tmp / "ok.scn") << "settings { resolution <8, 8> }\nsphere { center <0, 0, 3> }\n"
