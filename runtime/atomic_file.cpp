@@ -59,8 +59,18 @@ extern "C" void remove_temporaries_and_die(int sig) {
 
 std::string temp_name(const fs::path& target) {
   static std::atomic<unsigned> counter{0};
-  std::string name =
-      fmt::format(".{}.snell-tmp-{}-{}", target.filename().string(), ::getpid(), counter++);
+  const std::string file = target.filename().string();
+  std::string name = fmt::format(".{}.snell-tmp-{}-{}", file, ::getpid(), counter++);
+  // A name of 236..255 bytes is legal, but its temporary one would not be (255
+  // bytes a name on Linux file systems): then the temporary takes a prefix of it.
+  constexpr std::size_t kNameMax = 255;
+  if (name.size() > kNameMax) {
+    const std::string tail = name.substr(1 + file.size());  // ".snell-tmp-PID-N"
+    std::size_t keep = kNameMax - 1 - tail.size();
+    // Cut on a UTF-8 character boundary, not inside a multi-byte sequence.
+    while (keep > 0 && (static_cast<unsigned char>(file[keep]) & 0xC0) == 0x80) --keep;
+    name = "." + file.substr(0, keep) + tail;
+  }
   return (target.parent_path() / name).string();
 }
 

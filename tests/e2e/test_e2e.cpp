@@ -368,6 +368,29 @@ TEST_CASE("sweep never writes over a file it reads, and --name is no path", "[e2
   CHECK(fs::exists(tmp / "o/ab.csv"));
 }
 
+TEST_CASE("an output name of up to 255 bytes is written", "[e2e]") {
+  // The temporary beside it took the name plus 20-odd bytes, past the 255 a name
+  // may have: names from 236 bytes failed with exit 3 after the whole render.
+  Scratch tmp;
+  std::ofstream(tmp / "ok.scn") << "settings { resolution <8, 8> }\nsphere { }\n"
+                                   "point_light { position <0, 3, -3> intensity 10 }\n";
+  std::string err;
+  for (std::size_t n : {200, 240, 251}) {
+    const std::string name = std::string(n, 'c') + ".png";  // n + 4 bytes
+    INFO(name.size() << " bytes");
+    CHECK(run_capture("render " + (tmp / "ok.scn") + " --quiet -o " + (tmp / name), err, tmp) == 0);
+    CHECK(fs::exists(tmp / name));
+  }
+  // UTF-8 names are cut on a character when their temporary is shortened.
+  std::string wide;
+  for (int i = 0; i < 125; ++i) wide += "\xc3\xa9";  // é, 250 bytes
+  CHECK(run_capture("render " + (tmp / "ok.scn") + " --quiet -o " + (tmp / (wide + ".exr")), err,
+                    tmp) == 0);
+  CHECK(fs::exists(tmp / (wide + ".exr")));
+  for (const auto& e : fs::directory_iterator(tmp.dir))
+    CHECK(e.path().filename().string().find(".snell-tmp-") == std::string::npos);
+}
+
 TEST_CASE("a render with --pixel alone prints the ray tree and writes no image", "[e2e]") {
   Scratch tmp;
   std::ofstream(tmp / "ok.scn") << "settings { resolution <8, 8> }\nsphere { center <0, 0, 3> }\n"
