@@ -25,6 +25,21 @@ Color to_color(ir::Vec3 v) {
 // The camera ray's path key (hash_combine(0x5eed, 0)), computed once.
 const std::uint64_t kRootKey = hash_combine(0x5eed, 0);
 
+// Whether a node is outside every prioritised solid (§14): its plain medium, if
+// any, is then the one it travels in.
+template <class N>
+bool in_air(const N& n) {
+  if constexpr (requires { n.interior.empty(); })
+    return n.interior.empty();
+  else
+    return true;
+}
+
+// The Beer factor of coefficient a over distance `dist` (beer: exp(-0·∞) is 1).
+Color beer_color(const ir::Vec3& a, double dist) {
+  return to_float(beer(a.x, dist), beer(a.y, dist), beer(a.z, dist));
+}
+
 std::string fmt_color(Color c) {
   return fmt::format("({:.6g}, {:.6g}, {:.6g})", c.x, c.y, c.z);
 }
@@ -41,6 +56,7 @@ template <class N>
   node.kind = RayKind::Camera;
   node.mis_pdf = 0;
   node.key = kRootKey;
+  node.medium = nullptr;
   node.interior = {};
 }
 
@@ -333,7 +349,7 @@ template <class K, class P>
   [[maybe_unused]] std::conditional_t<K::interiors, Interior, NoInterior> far_side{};
   if constexpr (K::interiors) far_side = node.interior;
   auto spawn = [&](RayKind kind, Vec3f org, Vec3f dir, Color w, std::uint64_t slot,
-                   float tnear = 0) {
+                   const ir::Vec3* medium, float tnear = 0) {
     if (w.x == 0 && w.y == 0 && w.z == 0) return;  // nothing to carry: not a prune
     if (node.depth + 1 > max_depth_) {
       ++stats.pruned_by_depth;
@@ -358,6 +374,7 @@ template <class K, class P>
     k.kind = kind;
     k.mis_pdf = 0;
     k.key = child_key(node.key, slot);
+    k.medium = medium;
     if constexpr (K::interiors) k.interior = kind == RayKind::Refraction ? far_side : node.interior;
   };
 
@@ -404,6 +421,10 @@ template <class K, class P>
     contrib = node.weight * (background_pattern_ ? sky(d, node.ray.time, stats) : background_);
     if constexpr (K::interiors && K::absorption)
       if (!node.interior.empty()) contrib = contrib * medium_beer(INFINITY);
+    // §8: a ray that escapes from inside an absorbing dielectric (a half-space:
+    // the sea seen from below) has travelled an infinite distance in it.
+    if constexpr (K::absorption)
+      if (node.medium && in_air(node)) contrib = contrib * beer_color(*node.medium, INFINITY);
     if (trace) desc = "escapes: background";
   } else if (hit.kind == Hit::Kind::AreaLight) {
     const AreaLightF& l = lights_.areas[hit.index];
@@ -419,6 +440,11 @@ template <class K, class P>
       if (!node.interior.empty()) {
         Vec3f path = (node.ray.org - node.start) + d * hit.t;
         contrib = contrib * medium_beer(double(length(path)));
+      }
+    if constexpr (K::absorption)
+      if (node.medium && in_air(node)) {
+        Vec3f path = (node.ray.org - node.start) + d * hit.t;
+        contrib = contrib * beer_color(*node.medium, double(length(path)));
       }
     if (trace)
       desc = fmt::format("hits area light {} ({}) t={:.6g}", hit.index,
@@ -496,6 +522,10 @@ template <class K, class P>
       else if (!a)
         a = interiors_.absorb(node.interior.medium());
     }
+    // Else the dielectric the ray entered, whatever it meets inside it (a mirror,
+    // a diffuse pebble under the sea): §8's light travelling d inside.
+    if constexpr (K::absorption)
+      if (!a) a = node.medium;
     if (a) {
       // Beer over the path inside this object (nested media are not modelled),
       // measured from the surface point the ray left, not its offset origin:
@@ -514,6 +544,11 @@ template <class K, class P>
     auto lobe2 = [&] { return draw2(sc, node_dim(node.key, 7)); };
     ScatterContext<decltype(lobe1), decltype(lobe2)> cx{
         -d, frame.ns, entering, tex, fresnel_, stochastic_branching_, lobe1, lobe2};
+    // The medium a refracted child travels in: the dielectric it enters, air when
+    // it leaves one (or crosses a prioritised surface: its interior says).
+    [[maybe_unused]] const ir::Vec3* far_medium = nullptr;
+    if constexpr (K::absorption)
+      if (entering && !(K::interiors && prioritised)) far_medium = medium_absorb(mat);
     if (shaded) {
       const Scatter s = [&] {
         if constexpr (K::interiors) {
@@ -549,15 +584,15 @@ template <class K, class P>
         const Branch& b = s.branches[i];
         switch (b.from) {
           case Branch::From::Outside:
-            spawn(b.kind, o_out, frame.leave(b.wi, true), w * b.weight, b.slot);
+            spawn(b.kind, o_out, frame.leave(b.wi, true), w * b.weight, b.slot, node.medium);
             break;
           case Branch::From::Inside:
             spawn(b.kind, spawn_origin(hit, -nf, offset_scale_), frame.leave(b.wi, false),
-                  w * b.weight, b.slot);
+                  w * b.weight, b.slot, far_medium);
             break;
           case Branch::From::SameRay:
             // Still a refraction for max_depth and min_weight as §6 defines them.
-            spawn(b.kind, node.ray.org, d, w * b.weight, b.slot,
+            spawn(b.kind, node.ray.org, d, w * b.weight, b.slot, far_medium,
                   std::nextafter(hit.t, float(INFINITY)));
             break;
         }

@@ -52,6 +52,11 @@ struct NodeOf {
   // it hits an area light (shading/glossy_mis.hpp); 0: the ray's light counts whole.
   float mis_pdf = 0;
   std::uint64_t key = 0;  // hashed path: names this node's sampler dimensions
+  // §8: the Beer coefficient of the dielectric (without priority) the ray travels
+  // inside, or null in air: set by a refraction into one, kept by reflections,
+  // cleared by a refraction out of one (nested ones are not modelled: leaving the
+  // inner one is leaving to air). Read only by kernels with absorption.
+  const ir::Vec3* medium = nullptr;
   [[no_unique_address]] std::conditional_t<Tracked, Interior, NoInterior> interior;
 };
 using Node = NodeOf<false>;

@@ -190,3 +190,37 @@ TEST_CASE("a scene far from the origin renders like the original", "[scene][robu
   CHECK(worst <= 1e-4);
   CHECK(b.stats.nonfinite_samples == 0);
 }
+
+TEST_CASE("Beer absorbs along every stretch inside a dielectric, to whatever it meets",
+          "[scene][beer]") {
+  // §8: "light travelling a distance d inside is multiplied per channel by
+  // exp(-B·d)". A mirror sphere (radius 0.5) inside a glass sphere (radius 2,
+  // absorb σ per channel), seen head on: the light goes 1.5 in to the mirror and
+  // 1.5 back out, so the pixel is R + T² e^{-3σ} (the reflection inside at the
+  // exit goes back to the mirror at depth 3, past max_depth). Only the stretch that
+  // ends on the glass's own surface used to count: T² e^{-1.5σ}.
+  const ir::Vec3 sigma{0.5, 0.1, 0};
+  ir::Scene s = base_scene(1, 1, 1);
+  s.background = ir::Vec3{1, 1, 1};
+  s.settings.min_weight = 0;
+  s.settings.max_depth = 3;
+  look(s, {0, 0, -5}, {0, 0, 0}, 1e-3);
+  s.shapes.push_back(sphere({0, 0, 0}, 2, add_material(s, dielectric(1.5, sigma))));
+  s.shapes.push_back(sphere({0, 0, 0}, 0.5, add_material(s, mirror({1, 1, 1}))));
+  const double R = rt::fresnel_exact(rt::make_interface(1, 1.5)), T = 1 - R;
+  rt::RenderResult r = rt::render(s, {});
+  for (int c = 0; c < 3; ++c)
+    CHECK(r.image.at(0, 0)[c] == Approx(R + T * T * std::exp(-3 * sigma[c])).epsilon(1e-5));
+
+  // The sea seen from above, nothing under it: the refracted ray travels for ever
+  // inside, so only the channel that does not absorb comes back (R + T there).
+  ir::Scene sea = base_scene(1, 1, 1);
+  sea.background = ir::Vec3{1, 1, 1};
+  sea.settings.min_weight = 0;
+  look(sea, {0, 5, 0}, {0, 0, 0.001}, 1e-3);
+  sea.shapes.push_back(plane({0, 1, 0}, 0, add_material(sea, dielectric(1.5, sigma))));
+  rt::RenderResult below = rt::render(sea, {});
+  CHECK(below.image.at(0, 0)[0] == Approx(R).epsilon(1e-5));
+  CHECK(below.image.at(0, 0)[1] == Approx(R).epsilon(1e-5));
+  CHECK(below.image.at(0, 0)[2] == Approx(1).epsilon(1e-5));
+}
