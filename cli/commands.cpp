@@ -104,7 +104,8 @@ int compile_scene(const CliArgs& o, const compile::CompileOptions& copts,
     case compile::CompileStatus::SceneErrors:
     case compile::CompileStatus::FileErrors: {
       std::size_t n = out->diags.error_count();
-      std::cerr << n << " error" << (n == 1 ? "" : "s") << " in " << o.scene << "\n";
+      std::cerr << (out->diags.counts_are_lower_bounds() ? "at least " : "") << n << " error"
+                << (n == 1 ? "" : "s") << " in " << o.scene << "\n";
       return out->status == compile::CompileStatus::FileErrors ? kExitIo : kExitScene;
     }
     case compile::CompileStatus::UsageError:

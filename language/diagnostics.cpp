@@ -222,7 +222,11 @@ std::string DiagnosticEngine::format(const Diagnostic& d, bool color) const {
 
 void DiagnosticEngine::print(std::ostream& out, bool color) const {
   for (const Diagnostic& d : diags_) out << format(d, color);
-  if (dropped_ > 0)
+  if (stopped_)
+    out << "error: too many errors: reading stopped at the limit, after " << errors_
+        << (dropped_ > 0 ? " (" + std::to_string(dropped_) + " not shown)" : std::string())
+        << ", and more may follow; raise --max-errors to see them all [TooManyErrors]\n";
+  else if (dropped_ > 0)
     out << "error: too many errors (" << errors_ << " in all, " << dropped_
         << " not shown); raise --max-errors to see more [TooManyErrors]\n";
 }

@@ -83,6 +83,10 @@ class DiagnosticEngine {
   // Errors past this many are counted but not kept; 0 means no limit.
   void set_max_errors(std::size_t n) { max_errors_ = n; }
   bool limit_reached() const { return max_errors_ != 0 && errors_ >= max_errors_; }
+  // The parser read no further once the limit was reached: the counts are then
+  // what was found before it stopped, a lower bound.
+  void stopped_reading() { stopped_ = true; }
+  bool counts_are_lower_bounds() const { return stopped_; }
 
   const std::vector<Diagnostic>& diagnostics() const { return diags_; }
   const SourceManager& sources() const { return sources_; }
@@ -103,6 +107,7 @@ class DiagnosticEngine {
   std::size_t warnings_ = 0;
   std::size_t max_errors_ = 20;
   std::size_t dropped_ = 0;
+  bool stopped_ = false;  // stopped_reading()
   // (kind, file, begin, end) of each kept diagnostic -> its index.
   std::unordered_map<std::uint64_t, std::vector<std::size_t>> places_;
 };

@@ -65,6 +65,7 @@ void Parser::advance() {
   // Past the error limit nothing more can be shown: pretend the file ends here so
   // every loop unwinds at once (hostile input stays cheap).
   if (diags_.limit_reached() && cur_.kind != TokenKind::EndOfFile) {
+    diags_.stopped_reading();
     cur_.kind = TokenKind::EndOfFile;
     peek_ = cur_;
     return;

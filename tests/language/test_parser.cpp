@@ -1,6 +1,7 @@
 // The parser: the precedence table, vector and constructor rules, statements,
 // recovery, and the nesting limits.
 #include <catch2/catch.hpp>
+#include <sstream>
 
 #include "test_support.hpp"
 
@@ -283,6 +284,21 @@ TEST_CASE("the error limit stops the parse", "[parser]") {
   parse(sm, f, diags);
   CHECK(diags.diagnostics().size() == 20);
   CHECK(diags.limit_reached());
+  // What it counted is a lower bound, and the closing line says so even when no
+  // error past the limit was counted (25 errors showed 20 and "20 errors").
+  CHECK(diags.counts_are_lower_bounds());
+  std::ostringstream out;
+  diags.print(out);
+  CHECK(out.str().find("reading stopped at the limit, after 20, and more may follow") !=
+        std::string::npos);
+  // Under the limit every error is read and counted exactly.
+  SourceManager sm2;
+  FileId g = sm2.add("u.scn", "let = 1;\nlet = 2;\n");
+  DiagnosticEngine all(sm2);
+  all.set_max_errors(20);
+  parse(sm2, g, all);
+  CHECK(all.error_count() == 2);
+  CHECK(!all.counts_are_lower_bounds());
 }
 
 TEST_CASE("nesting limits: clear errors, no stack overflow", "[parser][limits]") {
