@@ -62,6 +62,12 @@ Value Evaluator::eval(const Expr& e, const std::shared_ptr<Env>& env) {
     case ExprKind::Bool:
       return Value::boolean(e.boolean);
     case ExprKind::String:
+      if (e.text.size() > kMaxStringLength) {  // a literal is a string too
+        error(DiagKind::StringTooLong, e.span,
+              "this string is " + std::to_string(e.text.size()) +
+                  " characters long; strings hold at most " + std::to_string(kMaxStringLength));
+        return Value::error();
+      }
       return Value::string(e.text);
     case ExprKind::Name:
       return eval_name(e, env);
