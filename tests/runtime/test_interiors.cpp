@@ -247,6 +247,30 @@ TEST_CASE("an air bubble of higher priority in water is the core's bubble",
   CHECK(worst < 1e-4);
 }
 
+namespace {
+// The scene of the two camera-inside tests: one pixel at the origin looking down
+// +z through a tiny field, a white background, max_depth 3.
+ir::Scene camera_inside_scene() {
+  ir::Scene s = base_scene(1, 1, 1);
+  s.background = ir::Vec3{1, 1, 1};
+  s.settings.min_weight = 0;
+  s.settings.max_depth = 3;
+  look(s, {0, 0, 0}, {0, 0, 1}, 1e-3);
+  return s;
+}
+// Their pixel: the two paths the first test's comment derives.
+void check_camera_inside(const rt::RenderResult& r) {
+  auto R = [](double a, double b) { return rt::fresnel_exact(rt::make_interface(1, b / a)); };
+  double straight = (1 - R(1.33, 1.5)) * (1 - R(1.5, 1.33)) * (1 - R(1.33, 1));
+  double back = R(1.33, 1.5) * (1 - R(1.33, 1));
+  for (int c = 0; c < 3; ++c) {
+    double sigma = kWaterAbsorb[c];
+    double expect = std::exp(-sigma * 8) * straight + std::exp(-sigma * 14) * back;
+    CHECK(r.image.at(0, 0)[c] == Approx(expect).epsilon(2e-5));
+  }
+}
+}  // namespace
+
 TEST_CASE("a camera inside a prioritised solid starts in its medium", "[runtime][interiors]") {
   // The camera sits inside an absorbing water sphere (priority 1, radius 10) and
   // looks through a clear glass sphere (priority 2, radius 1, 3 ahead). The centre
@@ -256,25 +280,13 @@ TEST_CASE("a camera inside a prioritised solid starts in its medium", "[runtime]
   // back through 2 + 12 of water and out behind the camera, exp(-σ·14) · R(1.33→1.5)
   // T(1.33→1); every other path needs a fourth interaction. Starting in air
   // instead would make the first interface 1 -> 1.5 and drop the first 2 of water.
-  ir::Scene s = base_scene(1, 1, 1);
-  s.background = ir::Vec3{1, 1, 1};
-  s.settings.min_weight = 0;
-  s.settings.max_depth = 3;
-  look(s, {0, 0, 0}, {0, 0, 1}, 1e-3);
+  ir::Scene s = camera_inside_scene();
   s.shapes.push_back(sphere({0, 0, 0}, 10, add_material(s, prioritised(1.33, kWaterAbsorb, 1))));
   s.shapes.push_back(sphere({0, 0, 3}, 1, add_material(s, prioritised(1.5, {}, 2))));
   rt::Interiors in(s);
   REQUIRE(in.camera().count == 1);
   CHECK(in.camera().medium() == 0);
-  rt::RenderResult r = rt::render(s, {});
-  auto R = [](double a, double b) { return rt::fresnel_exact(rt::make_interface(1, b / a)); };
-  double straight = (1 - R(1.33, 1.5)) * (1 - R(1.5, 1.33)) * (1 - R(1.33, 1));
-  double back = R(1.33, 1.5) * (1 - R(1.33, 1));
-  for (int c = 0; c < 3; ++c) {
-    double sigma = kWaterAbsorb[c];
-    double expect = std::exp(-sigma * 8) * straight + std::exp(-sigma * 14) * back;
-    CHECK(r.image.at(0, 0)[c] == Approx(expect).epsilon(2e-5));
-  }
+  check_camera_inside(rt::render(s, {}));
 }
 
 TEST_CASE("each part of an instance is a prioritised solid of its own", "[runtime][interiors]") {
@@ -285,11 +297,7 @@ TEST_CASE("each part of an instance is a prioritised solid of its own", "[runtim
   // part must be tracked as its own solid with its own medium: taken as one solid
   // (the instance, with its material) the glass would be water too, and its
   // surfaces would not count.
-  ir::Scene s = base_scene(1, 1, 1);
-  s.background = ir::Vec3{1, 1, 1};
-  s.settings.min_weight = 0;
-  s.settings.max_depth = 3;
-  look(s, {0, 0, 0}, {0, 0, 1}, 1e-3);
+  ir::Scene s = camera_inside_scene();
   const std::uint32_t water = add_material(s, prioritised(1.33, kWaterAbsorb, 1));
   s.parts.push_back(sphere({0, 0, 0}, 10, ir::kInheritMaterial));
   s.parts.push_back(sphere({0, 0, 3}, 1, add_material(s, prioritised(1.5, {}, 2))));
@@ -312,15 +320,7 @@ TEST_CASE("each part of an instance is a prioritised solid of its own", "[runtim
   CHECK(in.ior(camera_solid) == 1.33);
   // Both instances' water and glass: four solids.
   CHECK(in.to_string().find("4 prioritised solid(s)") != std::string::npos);
-  rt::RenderResult r = rt::render(s, {});
-  auto R = [](double a, double b) { return rt::fresnel_exact(rt::make_interface(1, b / a)); };
-  double straight = (1 - R(1.33, 1.5)) * (1 - R(1.5, 1.33)) * (1 - R(1.33, 1));
-  double back = R(1.33, 1.5) * (1 - R(1.33, 1));
-  for (int c = 0; c < 3; ++c) {
-    double sigma = kWaterAbsorb[c];
-    double expect = std::exp(-sigma * 8) * straight + std::exp(-sigma * 14) * back;
-    CHECK(r.image.at(0, 0)[c] == Approx(expect).epsilon(2e-5));
-  }
+  check_camera_inside(rt::render(s, {}));
 }
 
 TEST_CASE("interior stack: medium, ties, overflow and unknown exits", "[runtime][interiors]") {
