@@ -11,6 +11,8 @@
 #include <pmmintrin.h>
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
+#include <tbb/global_control.h>
+#include <tbb/info.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 #include <xmmintrin.h>
@@ -20,6 +22,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <utility>
 
 #include "runtime/camera.hpp"
@@ -177,6 +180,12 @@ RenderResult render(const ir::Scene& scene, const RenderOptions& options) {
   };
 
   int threads = options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency();
+  // TBB keeps its workers to the machine's cores unless told otherwise: --threads 8
+  // on 2 cores ran 2 and printed a "TBB Warning" on stderr. More threads than cores
+  // is the user's choice (the image is the same for any count).
+  std::optional<tbb::global_control> allow;
+  if (threads > tbb::info::default_concurrency())
+    allow.emplace(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
   tbb::task_arena arena(threads);
   arena.execute([&] {
     tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, ntiles, 1),
