@@ -472,7 +472,22 @@ void Evaluator::eval_props(const BlockInfo& block, const lang::Block& body, Span
     // POV-Ray's positional values: one error that shows the named form, and no
     // "needs 'radius'" errors after it (they would say the same thing again).
     std::vector<std::string> texts;
+    // POV-Ray's axis vectors x, y and z, where no such name is defined here, are
+    // shown as the vectors they stand for, so the note compiles as written.
+    auto axis = [&](const lang::Expr& v) -> const char* {
+      if (v.kind != ExprKind::Name || v.text.size() != 1) return nullptr;
+      for (const Env* s = env.get(); s; s = s->parent.get())
+        if (s->find_local(symbol_of(v))) return nullptr;
+      return v.text == "x"   ? "<1, 0, 0>"
+             : v.text == "y" ? "<0, 1, 0>"
+             : v.text == "z" ? "<0, 0, 1>"
+                             : nullptr;
+    };
     for (const lang::ExprPtr& v : body.positional) {
+      if (const char* a = axis(*v)) {
+        texts.emplace_back(a);
+        continue;
+      }
       std::string_view src =
           v->span.file < sources_.size() ? sources_.file(v->span.file).text() : std::string_view();
       texts.emplace_back(v->span.end <= src.size()
