@@ -367,6 +367,22 @@ bool Parser::parse_property(Property& prop) {
   return true;
 }
 
+namespace {
+// The name in `rgb < …` (POV-Ray's colour keywords before a vector), in a value
+// or a constructor's argument, or null.
+const Expr* povray_colour_keyword(const Expr* e) {
+  if (!e) return nullptr;
+  if (e->kind == ExprKind::Constructor && !e->args.empty()) e = e->args[0].get();
+  if (!e || e->kind != ExprKind::Binary || e->op != TokenKind::Less || e->args.size() != 2)
+    return nullptr;
+  const Expr* lhs = e->args[0].get();
+  if (!lhs || lhs->kind != ExprKind::Name) return nullptr;
+  for (std::string_view k : {"rgb", "rgbf", "rgbt", "rgbft", "srgb", "color", "colour"})
+    if (lhs->text == k) return lhs;
+  return nullptr;
+}
+}  // namespace
+
 // block -> '{' [ positional ] { property } '}'
 // positional -> expr ',' expr { ',' expr }
 // Properties have no separators: a value ends where the next property name starts,
@@ -437,6 +453,11 @@ BlockPtr Parser::parse_block_rest(const Token& open, std::string_view owner) {
           d.note(last.value->span,
                  "'" + last.value->text + "' is no constructor; did you mean '" + guess + "'?");
       }
+      // POV-Ray's `rgb <1, 0, 0>` (or `color <…>`) reads as the comparison
+      // `rgb < 1`, and the block stops at the ',' after it.
+      if (const Expr* name = povray_colour_keyword(last.value.get()))
+        d.note(name->span, "POV-Ray's '" + name->text +
+                               " <r, g, b>': a colour is the vector itself here, write <r, g, b>");
     }
     // Skip the stray tokens (with any groups they open) up to the next name.
     int level = 0;

@@ -399,3 +399,31 @@ TEST_CASE("a CSG body holds statements and object properties (§12)", "[parser]"
   CHECK(o.block->subject->text == "w");
   CHECK(o.block->properties.size() == 2);
 }
+
+TEST_CASE("POV-Ray's rgb <…> in a block names itself in a note", "[parser]") {
+  // `diffuse rgb <1, 0, 0>` reads as the comparison `rgb < 1`, and the block stops
+  // at the ',': the error is there, and a note at `rgb` says what to write.
+  for (auto [text, word] : {std::pair{"sphere { material diffuse rgb <1, 0, 0> }", "rgb"},
+                            std::pair{"sphere { material diffuse { color rgb <1, 0, 0> } }", "rgb"},
+                            std::pair{"sphere { material diffuse color <1, 0, 0> }", "color"}}) {
+    SourceManager sm;
+    FileId f = sm.add("t.scn", text);
+    DiagnosticEngine diags(sm);
+    parse(sm, f, diags);
+    INFO(text);
+    REQUIRE(!diags.diagnostics().empty());
+    const Diagnostic& d = diags.diagnostics()[0];
+    CHECK(d.kind == DiagKind::ExpectedProperty);
+    REQUIRE(d.notes.size() == 1);
+    REQUIRE(d.notes[0].span);
+    CHECK(std::string_view(text).substr(d.notes[0].span->begin,
+                                        d.notes[0].span->end - d.notes[0].span->begin) == word);
+    CHECK(d.notes[0].message.find("write <r, g, b>") != std::string::npos);
+  }
+  // A comparison of the user's own `rgb` elsewhere is still a comparison.
+  SourceManager sm;
+  FileId f = sm.add("t.scn", "let rgb = 2;\nlet b = rgb < 3;\n");
+  DiagnosticEngine diags(sm);
+  parse(sm, f, diags);
+  CHECK(diags.diagnostics().empty());
+}
