@@ -379,6 +379,18 @@ Token Scanner::invalid(std::uint32_t begin) {
   if (c == '&') builder.note("the logical 'and' operator is '&&'");
   if (c == '|') builder.note("the logical 'or' operator is '||'");
   if (c == '[' || c == ']') builder.note("vectors are written in angle brackets: <1, 2, 3>");
+  if (c == '#') {
+    // POV-Ray's directives: say what Snell writes instead.
+    std::string_view word = src_.substr(pos_, 8);
+    if (word.starts_with("include"))
+      builder.note("Snell has no directives: write import \"file.scn\"; (§9)");
+    else if (word.starts_with("declare") || word.starts_with("local"))
+      builder.note("Snell has no directives: write let NAME = VALUE; (§4)");
+    else if (word.starts_with("macro"))
+      builder.note("Snell has no directives: write fn NAME(P, ...) { ... } (§4)");
+    else if (word.starts_with("while") || word.starts_with("for") || word.starts_with("if"))
+      builder.note("Snell has no directives: write for, if and recursion as statements (§4)");
+  }
   return make(TokenKind::Error, begin, pos_);
 }
 

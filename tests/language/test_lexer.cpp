@@ -252,3 +252,21 @@ TEST_CASE("diagnostics: a source line or message shows as text, the caret under 
   CHECK(shown.find("\n   | " + std::string(9 + 3 + 1 + 5 + 1 + 11, ' ') + "^\n") !=
         std::string::npos);
 }
+
+TEST_CASE("POV-Ray's # directives say what to write instead", "[lexer]") {
+  for (auto [text, hint] : {std::pair{"#include \"colors.inc\"", "import \"file.scn\";"},
+                            std::pair{"#declare R = 1;", "let NAME = VALUE;"},
+                            std::pair{"#macro M(a) #end", "fn NAME(P, ...)"},
+                            std::pair{"#while (i < 3) #end", "for, if and recursion"}}) {
+    SourceManager sm;
+    FileId f = sm.add("t.scn", text);
+    DiagnosticEngine diags(sm);
+    lex(sm, f, diags);
+    INFO(text);
+    REQUIRE(!diags.diagnostics().empty());
+    const Diagnostic& d = diags.diagnostics()[0];
+    CHECK(d.kind == DiagKind::InvalidCharacter);
+    REQUIRE(d.notes.size() == 1);
+    CHECK(d.notes[0].message.find(hint) != std::string::npos);
+  }
+}
