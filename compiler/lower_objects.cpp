@@ -197,8 +197,8 @@ void SceneBuilder::place(const ObjectNode& n, const Placement& at,
       // Its children go into the scene one by one; §15's `space "object"` is still
       // the whole union's (in a prototype, the instance's: no record needed).
       if (!proto && !inner.object)
-        inner.object =
-            std::make_shared<const ir::ObjectSpace>(inner.world_from_parent, inner.motion);
+        inner.object = std::make_shared<const ir::ObjectSpace>(
+            ir::ObjectSpace{inner.world_from_parent, inner.motion});
       for (const auto& c : n.children) place(*c, inner, proto);
       return;
     }
@@ -300,7 +300,8 @@ void SceneBuilder::place_instance(const std::shared_ptr<const ObjectNode>& value
   // The value's own instances are placed beside it, in its space (§15).
   std::shared_ptr<const ir::ObjectSpace> object = at.object;
   if (!object && !e.nested.empty())
-    object = std::make_shared<const ir::ObjectSpace>(at.world_from_parent, at.motion);
+    object =
+        std::make_shared<const ir::ObjectSpace>(ir::ObjectSpace{at.world_from_parent, at.motion});
   for (const NestedInstance& k : e.nested)
     place_instance(k.value, k.site->keyword,
                    Placement{at.world_from_parent * k.proto_from_object,
