@@ -472,7 +472,7 @@ void EmbreeScene::Impl::add_instance(const ir::Scene& sc, const ir::Shape& s, co
       corners.push_back(Vec3{i & 1 ? proto.box.hi[0] : proto.box.lo[0],
                              i & 2 ? proto.box.hi[1] : proto.box.lo[1],
                              i & 4 ? proto.box.hi[2] : proto.box.lo[2]});
-    unsigned segs = motion_segments(s, corners, origin);
+    unsigned segs = motion_segments(s, corners, origin, 1e-6);
     rtcSetGeometryTimeStepCount(geom, segs + 1);
     for (unsigned step = 0; step <= segs; ++step)
       set_step(step, rel_at(s, origin, double(step) / segs).m);

@@ -18,7 +18,8 @@ ir::Mat4 rel_from_object_inverse_at(const ir::Shape& s, Vec3 origin, double u) {
       .inv;
 }
 
-unsigned motion_segments(const ir::Shape& s, const std::vector<Vec3>& verts, Vec3 origin) {
+unsigned motion_segments(const ir::Shape& s, const std::vector<Vec3>& verts, Vec3 origin,
+                         double tolerance) {
   if (verts.empty()) return 1;
   std::vector<Vec3> probe;
   std::size_t stride = std::max<std::size_t>(1, verts.size() / 64);
@@ -28,7 +29,7 @@ unsigned motion_segments(const ir::Shape& s, const std::vector<Vec3>& verts, Vec
   for (const Vec3& v : verts) box.grow(t0.point(v));
   double size =
       ir::length(Vec3(box.hi[0] - box.lo[0], box.hi[1] - box.lo[1], box.hi[2] - box.lo[2]));
-  double tol = 1e-4 * (size > 0 ? size : 1);
+  double tol = tolerance * (size > 0 ? size : 1);
   unsigned segs = 1;
   for (; segs < 128; segs *= 2) {
     double err = 0;

@@ -50,6 +50,14 @@ void swept_bounds(At&& rel_at_u, Corners&& corners, Box3& box) {
   for (int k = 0; k < 3; ++k) box.lo[k] -= pad, box.hi[k] += pad;
 }
 
-unsigned motion_segments(const ir::Shape& s, const std::vector<ir::Vec3>& verts, ir::Vec3 origin);
+// The number of equal segments of the shutter (a power of 2, at most 128, Embree's
+// limit being 129 time steps) over which Embree's linear interpolation of `verts`
+// placed by s's motion stays within `tolerance` × the shape's size of the exact
+// path. A moving mesh takes 1e-4: its hits are o + t·d on what Embree traces. A
+// moving instance takes 1e-6: its hits are resolved with the exact placement at the
+// ray's time, and where the two differ a ray that grazes a CSG rim was shaded as
+// the wrong surface (a spinning wheel's rims speckled at 1e-4).
+unsigned motion_segments(const ir::Shape& s, const std::vector<ir::Vec3>& verts, ir::Vec3 origin,
+                         double tolerance = 1e-4);
 
 }  // namespace snell::rt::geom
