@@ -138,8 +138,18 @@ class SceneBuilder {
                         const ir::Motion& motion, std::uint32_t material, const ObjectNode& csg);
   // check_value below `n`; `csg`: the merge, intersection or difference it is a
   // solid of, or null.
-  bool check_tree(const ObjectNode& n, const ObjectNode* csg);
-  std::unordered_set<const ObjectNode*> wrong_values_;  // check_value found errors
+  // `seen`: the nodes of this value already checked, by context (0: free, 1: a
+  // solid of a CSG operation), and their answers. A value of values shares its
+  // nodes (a 30-line chain of doublings is 31 nodes and 2^30 paths), so each is
+  // checked once per context.
+  using CheckMemo = std::unordered_map<const ObjectNode*, bool>;
+  bool check_tree(const ObjectNode& n, const ObjectNode* csg, CheckMemo (&seen)[2]);
+  bool wrong(const ObjectNode& n) const {
+    return !wrong_values_.empty() && wrong_values_.count(&n) != 0;
+  }
+  // The values check_value found wrong, held so that no other node takes their
+  // address while the scene is built.
+  std::unordered_map<const ObjectNode*, std::shared_ptr<const ObjectNode>> wrong_values_;
   std::int64_t csg_children(const ObjectNode& node, const ir::Transform& csg_from_node,
                             const ir::Motion& motion, std::uint32_t material,
                             const ObjectNode& csg);

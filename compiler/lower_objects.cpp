@@ -135,29 +135,34 @@ ir::Motion motion_in(const ir::Motion& outer, const ir::Transform& frame,
 }  // namespace
 
 void SceneBuilder::check_value(const std::shared_ptr<const ObjectNode>& node) {
-  if (!node || wrong_values_.count(node.get())) return;
-  if (!check_tree(*node, nullptr)) wrong_values_.insert(node.get());
+  if (!node || wrong(*node)) return;
+  CheckMemo seen[2];
+  if (!check_tree(*node, nullptr, seen)) wrong_values_.emplace(node.get(), node);
 }
 
-bool SceneBuilder::check_tree(const ObjectNode& n, const ObjectNode* csg) {
-  if (wrong_values_.count(&n)) return false;
-  if (n.instance()) return check_tree(*n.children[0], csg);
-  if (n.csg()) {
+bool SceneBuilder::check_tree(const ObjectNode& n, const ObjectNode* csg, CheckMemo (&seen)[2]) {
+  if (wrong(n)) return false;
+  CheckMemo& memo = seen[csg ? 1 : 0];
+  if (auto it = memo.find(&n); it != memo.end()) return it->second;
+  bool ok = true;
+  if (n.instance()) {
+    ok = check_tree(*n.children[0], csg, seen);
+  } else if (n.csg()) {
     const ObjectNode* solid_of = op_of(n) == ir::CsgOp::Union ? csg : &n;
-    bool ok = true;
-    for (const auto& c : n.children) ok = check_tree(*c, solid_of) && ok;
-    return ok;
+    for (const auto& c : n.children) ok = check_tree(*c, solid_of, seen) && ok;
+  } else if (n.block->shape_kind != static_cast<int>(ir::ShapeKind::Mesh)) {
+    ir::ShapeGeom geom;
+    LowerContext cx{*this, n.keyword, n.props, diags_};
+    ok = lower_shape(*n.block, cx, geom) &&
+         (!csg || report_not_solid(n, geom, *csg, scene_, diags_));
   }
-  if (n.block->shape_kind == static_cast<int>(ir::ShapeKind::Mesh)) return true;
-  ir::ShapeGeom geom;
-  LowerContext cx{*this, n.keyword, n.props, diags_};
-  if (!lower_shape(*n.block, cx, geom)) return false;
-  return !csg || report_not_solid(n, geom, *csg, scene_, diags_);
+  memo.emplace(&n, ok);
+  return ok;
 }
 
 void SceneBuilder::place(const ObjectNode& n, const Placement& at,
                          std::vector<std::uint32_t>* proto) {
-  if (wrong_values_.count(&n)) return;  // check_value reported it
+  if (wrong(n)) return;  // check_value reported it
   Placement inner{at.world_from_parent * object_transforms(n.props),
                   material_of(n.props, at.material),
                   motion_in(at.motion, at.world_from_parent, n.props), at.object};
@@ -234,7 +239,7 @@ std::int64_t SceneBuilder::csg_children(const ObjectNode& n, const ir::Transform
 std::int64_t SceneBuilder::csg_node(const ObjectNode& c, const ir::Transform& csg_from_parent,
                                     const ir::Motion& motion, std::uint32_t material,
                                     const ObjectNode& csg) {
-  if (wrong_values_.count(&c)) return -1;  // check_value reported it
+  if (wrong(c)) return -1;  // check_value reported it
   ir::Transform xf = csg_from_parent * object_transforms(c.props);
   ir::Motion moves = motion_in(motion, csg_from_parent, c.props);
   std::uint32_t mat = material_of(c.props, material);
