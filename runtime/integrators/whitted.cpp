@@ -25,16 +25,6 @@ Color to_color(ir::Vec3 v) {
 // The camera ray's path key (hash_combine(0x5eed, 0)), computed once.
 const std::uint64_t kRootKey = hash_combine(0x5eed, 0);
 
-// Whether a node is outside every prioritised solid (§14): its plain medium, if
-// any, is then the one it travels in.
-template <class N>
-bool in_air(const N& n) {
-  if constexpr (requires { n.interior.empty(); })
-    return n.interior.empty();
-  else
-    return true;
-}
-
 // The Beer factor of coefficient a over distance `dist` (beer: exp(-0·∞) is 1).
 Color beer_color(const ir::Vec3& a, double dist) {
   return to_float(beer(a.x, dist), beer(a.y, dist), beer(a.z, dist));
@@ -406,25 +396,24 @@ template <class K, class P>
     }
     far_side = node.interior;
   }
-  // The Beer factor of the medium the ray travels in, over `dist` (interiors:
-  // rays that escape or reach a light inside an absorbing solid).
-  [[maybe_unused]] auto medium_beer = [&](double dist) {
-    Color f(1);
-    if constexpr (K::interiors && K::absorption)
-      if (const ir::Vec3* a = interiors_.absorb(node.interior.medium()))
-        f = to_float(beer(a->x, dist), beer(a->y, dist), beer(a->z, dist));
-    return f;
+  // The Beer coefficient of the medium the ray travels in, or null in air: the
+  // prioritised solid its interior names (§14), else the plain dielectric it
+  // entered (§8). Rays that escape or reach a light inside one are absorbed too.
+  [[maybe_unused]] auto travel_medium = [&]() -> const ir::Vec3* {
+    const ir::Vec3* a = nullptr;
+    if constexpr (K::absorption) {
+      if constexpr (K::interiors) a = interiors_.absorb(node.interior.medium());
+      if (!a) a = node.medium;
+    }
+    return a;
   };
   if (K::interiors && lost) {
     if (trace) desc = fmt::format("lost: passed through {} surfaces", passes - 1);
   } else if (!found) {
     contrib = node.weight * (background_pattern_ ? sky(d, node.ray.time, stats) : background_);
-    if constexpr (K::interiors && K::absorption)
-      if (!node.interior.empty()) contrib = contrib * medium_beer(INFINITY);
-    // §8: a ray that escapes from inside an absorbing dielectric (a half-space:
-    // the sea seen from below) has travelled an infinite distance in it.
-    if constexpr (K::absorption)
-      if (node.medium && in_air(node)) contrib = contrib * beer_color(*node.medium, INFINITY);
+    // A ray that escapes from inside an absorbing medium (the sea seen from below)
+    // has travelled an infinite distance in it.
+    if (const ir::Vec3* a = travel_medium()) contrib = contrib * beer_color(*a, INFINITY);
     if (trace) desc = "escapes: background";
   } else if (hit.kind == Hit::Kind::AreaLight) {
     const AreaLightF& l = lights_.areas[hit.index];
@@ -436,16 +425,10 @@ template <class K, class P>
       double p_c = cell_density(d2, double(dot(d, l.n)), l.cell_area());
       contrib = contrib * float(mis_ray_weight(node.mis_pdf, p_c));
     }
-    if constexpr (K::interiors && K::absorption)
-      if (!node.interior.empty()) {
-        Vec3f path = (node.ray.org - node.start) + d * hit.t;
-        contrib = contrib * medium_beer(double(length(path)));
-      }
-    if constexpr (K::absorption)
-      if (node.medium && in_air(node)) {
-        Vec3f path = (node.ray.org - node.start) + d * hit.t;
-        contrib = contrib * beer_color(*node.medium, double(length(path)));
-      }
+    if (const ir::Vec3* a = travel_medium()) {
+      Vec3f path = (node.ray.org - node.start) + d * hit.t;
+      contrib = contrib * beer_color(*a, double(length(path)));
+    }
     if (trace)
       desc = fmt::format("hits area light {} ({}) t={:.6g}", hit.index,
                          ir::to_string(scene_.area_lights[hit.index].src, scene_), hit.t);
@@ -514,18 +497,14 @@ template <class K, class P>
     // Not compiled in: a kernel without dielectrics has none to shade.
     bool shaded = K::dielectric || !std::holds_alternative<ir::Dielectric>(mat.model);
     // The medium the ray has travelled in: the inside of the dielectric it leaves
-    // (§8), or with interiors the medium its interior names (§14).
+    // (§8), the near side of a prioritised surface that counts (§14), else the
+    // medium it travels in, whatever it meets there (a mirror, a pebble under the
+    // sea): §8's light travelling d inside.
     const ir::Vec3* a = K::absorption && !entering ? medium_absorb(mat) : nullptr;
-    if constexpr (K::interiors && K::absorption) {
-      if (prioritised)
-        a = interiors_.absorb(crossing.from);
-      else if (!a)
-        a = interiors_.absorb(node.interior.medium());
-    }
-    // Else the dielectric the ray entered, whatever it meets inside it (a mirror,
-    // a diffuse pebble under the sea): §8's light travelling d inside.
-    if constexpr (K::absorption)
-      if (!a) a = node.medium;
+    bool crossed = false;  // a prioritised surface that counts: its near medium
+    if constexpr (K::interiors && K::absorption)
+      if (prioritised) a = interiors_.absorb(crossing.from), crossed = true;
+    if (!a && !crossed) a = travel_medium();
     if (a) {
       // Beer over the path inside this object (nested media are not modelled),
       // measured from the surface point the ray left, not its offset origin:
