@@ -86,6 +86,16 @@ std::string slug(std::string s) {
   return s;
 }
 
+// The files a sweep writes per axis, in --out: a configuration's image (value v,
+// series value sv) and the axis's plot.
+std::string image_name(const std::string& stem, const std::string& key, const std::string& v,
+                       const std::string& sv) {
+  return "images/" + slug(stem + "-" + key + "-" + v + (sv.empty() ? "" : "-" + sv)) + ".png";
+}
+std::string plot_name(const std::string& stem, const std::string& key) {
+  return slug(stem + "-" + key) + ".svg";
+}
+
 std::uint64_t fnv1a(const std::string& s) {
   std::uint64_t h = 0xcbf29ce484222325ull;
   for (unsigned char c : s) h = (h ^ c) * 0x100000001b3ull;
@@ -279,8 +289,7 @@ class Sweeper {
         const std::string& v = row.value;
         const std::string& sv = row.series_value;
         if (o_.images) {
-          row.image = "images/" +
-                      slug(stem + "-" + axis.key + "-" + v + (sv.empty() ? "" : "-" + sv)) + ".png";
+          row.image = image_name(stem, axis.key, v, sv);
           rt::OutputInfo info;
           info.scene_path = o_.scene;
           info.samples = j.scene.settings.samples;
@@ -453,7 +462,7 @@ std::string Sweeper::write_outputs(const std::string& stem) {
           s.points.push_back({r.seconds, r.rmse, first ? label(axis.key, r.value) : ""});
       plot.series.push_back(std::move(s));
     }
-    std::string svg_name = slug(stem + "-" + axis.key) + ".svg";
+    std::string svg_name = plot_name(stem, axis.key);
     if (std::string e = save(dir / svg_name, render_svg(plot)); !e.empty()) return e;
     md << "### " << stem << ": " << axis.key << (o_.series.key.empty() ? "" : " × " + o_.series.key)
        << "\n\n";
@@ -504,13 +513,10 @@ int run_sweep(const SweepOptions& options) {
     const std::vector<std::string>& series =
         options.series.key.empty() ? none : options.series.values;
     for (const SweepAxis& axis : options.vary) {
-      outputs.push_back((dir / (slug(stem + "-" + axis.key) + ".svg")).string());
+      outputs.push_back((dir / plot_name(stem, axis.key)).string());
       for (const std::string& sv : series)
         for (const std::string& v : axis.values)
-          outputs.push_back(
-              (dir / "images" /
-               (slug(stem + "-" + axis.key + "-" + v + (sv.empty() ? "" : "-" + sv)) + ".png"))
-                  .string());
+          outputs.push_back((dir / image_name(stem, axis.key, v, sv)).string());
     }
     if (int code = check_not_an_input(outputs, inputs); code >= 0) return code;
   }
