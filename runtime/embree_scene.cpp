@@ -465,17 +465,39 @@ void EmbreeScene::Impl::add_instance(const ir::Scene& sc, const ir::Shape& s, co
   };
   ir::Transform rel = ir::Transform::translate(-origin) * s.world_from_object();
   if (moving) {
-    // Embree interpolates the matrices linearly between steps: as many steps as a
-    // moving triangle shape whose vertices are the prototype's box corners.
+    // The prototype's box corners stand for it (its hull) in the step counts.
     std::vector<Vec3> corners;
     for (int i = 0; i < 8; ++i)
       corners.push_back(Vec3{i & 1 ? proto.box.hi[0] : proto.box.lo[0],
                              i & 2 ? proto.box.hi[1] : proto.box.lo[1],
                              i & 4 ? proto.box.hi[2] : proto.box.lo[2]});
-    unsigned segs = motion_segments(s, corners, origin, 1e-6);
+    const Vec3 centre = (Vec3(proto.box.lo[0], proto.box.lo[1], proto.box.lo[2]) +
+                         Vec3(proto.box.hi[0], proto.box.hi[1], proto.box.hi[2])) *
+                        0.5;
+    // Turns are followed along their arcs (a wheel spinning in place takes one
+    // segment); a placement with no rotation to speak of (a scale through 0) falls
+    // back to matrices, which Embree interpolates linearly, cutting arcs' chords.
+    std::vector<QuatPlacement> steps = quat_motion_steps(s, corners, centre, origin, 1e-6);
+    unsigned segs = unsigned(steps.size()) - 1;
+    if (steps.empty()) segs = motion_segments(s, corners, origin, 1e-6);
     rtcSetGeometryTimeStepCount(geom, segs + 1);
-    for (unsigned step = 0; step <= segs; ++step)
-      set_step(step, rel_at(s, origin, double(step) / segs).m);
+    for (unsigned step = 0; step <= segs; ++step) {
+      if (steps.empty()) {
+        set_step(step, rel_at(s, origin, double(step) / segs).m);
+        continue;
+      }
+      const QuatPlacement& p = steps[step];
+      RTCQuaternionDecomposition qd;
+      rtcInitQuaternionDecomposition(&qd);
+      rtcQuaternionDecompositionSetScale(&qd, float(p.u[0][0]), float(p.u[1][1]), float(p.u[2][2]));
+      rtcQuaternionDecompositionSetSkew(&qd, float(p.u[0][1]), float(p.u[0][2]), float(p.u[1][2]));
+      rtcQuaternionDecompositionSetShift(&qd, float(p.shift.x), float(p.shift.y), float(p.shift.z));
+      rtcQuaternionDecompositionSetQuaternion(&qd, float(p.q[0]), float(p.q[1]), float(p.q[2]),
+                                              float(p.q[3]));
+      rtcQuaternionDecompositionSetTranslation(&qd, float(p.translation.x), float(p.translation.y),
+                                               float(p.translation.z));
+      rtcSetGeometryTransformQuaternion(geom, step, &qd);
+    }
     ++moving_shapes;
     motion_steps += segs + 1;
   } else {
