@@ -186,8 +186,11 @@ class Driver {
     bool skipped_self = false;
     fs::path found = find_import(name, from, opts_, &dirs, &skipped_self);
     if (found.empty() && skipped_self) {
-      c_.diags.report(DiagKind::ImportCycle, span,
-                      "'" + name + "' is this file: a file cannot import itself");
+      // Only the importing file itself has that name (a file of another folder
+      // by its name would have been taken): the file, which the evaluator finds
+      // running, so the import does nothing (§9).
+      if (auto it = cache_.find(canonical(from)); it != cache_.end() && it->second.program)
+        return &it->second;
       return nullptr;
     }
     if (found.empty()) {

@@ -338,8 +338,12 @@ void Evaluator::exec_import(const Stmt& s, const std::shared_ptr<Env>& env) {
     for (std::size_t j = i; j < running_.size(); ++j)
       chain += sources_.file(running_[j]).path() + " -> ";
     chain += sources_.file(f->file).path();
-    error(DiagKind::ImportCycle, s.span, "import cycle: " + chain);
-    env->failed_import = true;
+    // §9: a second import of the same file does nothing, and a file still running
+    // has been imported. A warning, since a name it was meant to bind is then
+    // undefined here (and reported so).
+    error(DiagKind::ImportCycle, s.span,
+          "import cycle: " + chain + ": '" + sources_.file(f->file).path() +
+              "' is already running, so this import does nothing (§9)");
     return;
   }
   std::shared_ptr<Env> exported;
