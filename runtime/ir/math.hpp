@@ -169,7 +169,10 @@ inline void sincos_degrees(double deg, double& s, double& c) {
     c = 0;
     return;
   }
-  double r = deg * (3.14159265358979323846 / 180.0);
+  // Whole turns are taken off exactly first (fmod is exact; below 360 it returns
+  // deg itself, so those keep their bits): converting 1e15 + 7 degrees to radians
+  // lost the angle to the rounding of the product (cos 2.5e-5 off).
+  double r = std::fmod(deg, 360.0) * (3.14159265358979323846 / 180.0);
   s = std::sin(r);
   c = std::cos(r);
 }

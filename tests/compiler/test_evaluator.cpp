@@ -94,6 +94,10 @@ TEST_CASE("builtins: trigonometry in degrees, component-wise maths", "[compiler]
   CHECK(num("sin(180)") == 0);
   CHECK(num("atan2(1, 1)") == Approx(45));
   CHECK(num("asin(1)") == Approx(90));
+  // Whole turns come off exactly before the conversion to radians.
+  CHECK(num("cos(1e15 + 7)") == Approx(0.29237170472273677).margin(1e-13));  // cos 287°
+  CHECK(num("sin(1e10)") == Approx(-0.98480775301220802).margin(1e-13));     // sin 280°
+  CHECK(num("sin(-30)") == Approx(-0.5).epsilon(1e-15));
   CHECK(num("sqrt(16) + pow(2, 10) + abs(-3)") == 1031);
   CHECK(num("floor(-1.5) + ceil(1.2) + round(2.5)") == 3);  // -2 + 2 + 3
   CHECK(num("clamp(5, 0, 1) + min(3, 4) + max(3, 4)") == 8);
@@ -105,6 +109,34 @@ TEST_CASE("builtins: trigonometry in degrees, component-wise maths", "[compiler]
   CHECK(num("dot(<1, 2, 3>, <4, 5, 6>)") == 32);
   CHECK(num("length(<3, 4>)") == 5);
   CHECK(vec("normalize(<0, 0, 5>)") == ir::Vec3{0, 0, 1});
+}
+
+TEST_CASE("stdlib colours are the sRGB codes their comments give", "[compiler]") {
+  // Each `// sRGB #RRGGBB` line's value is the sRGB EOTF of the codes, to the 3
+  // decimals written (brown and ochre were off by up to 0.08).
+  std::ifstream in(std::string(SNELL_SOURCE_DIR) + "/stdlib/colors.scn");
+  std::string line;
+  int checked = 0;
+  auto eotf = [](int code) {
+    double c = code / 255.0;
+    return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
+  };
+  while (std::getline(in, line)) {
+    std::size_t hash = line.find("// sRGB #");
+    if (hash == std::string::npos) continue;
+    std::string hex = line.substr(hash + 9, 6);
+    std::size_t lt = line.find('<'), gt = line.find('>');
+    REQUIRE(lt < gt);
+    std::string comps = line.substr(lt + 1, gt - lt - 1);
+    double v[3];
+    REQUIRE(std::sscanf(comps.c_str(), "%lf , %lf , %lf", &v[0], &v[1], &v[2]) == 3);
+    for (int k = 0; k < 3; ++k) {
+      INFO(line);
+      CHECK(v[k] == Approx(eotf(std::stoi(hex.substr(2 * k, 2), nullptr, 16))).margin(0.0011));
+    }
+    ++checked;
+  }
+  CHECK(checked >= 10);
 }
 
 TEST_CASE("random(n) is pinned: the same value on every machine", "[compiler]") {
