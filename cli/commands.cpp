@@ -235,17 +235,27 @@ std::string image_diagnostic(const compile::Compilation& c, std::size_t image,
 }
 
 // §17: every image of the scene opened through the texture system, as the render
-// does before it starts: exit 3 with the diagnostic of the first that cannot be
-// read, or -1. Loads the image module, so only for scenes with images.
-int check_scene_images(const compile::Compilation& c, const std::string& ocio_config) {
-  std::size_t bad = SIZE_MAX;
-  std::string why;
-  std::string err = rt::check_images(c.scene, ocio_config, &bad, &why);
-  if (err.empty()) return -1;
-  if (std::string diag = image_diagnostic(c, bad, why); !diag.empty())
-    std::cerr << diag;
-  else
+// does before it starts: exit 3 with the diagnostic of each that cannot be read
+// (§10: all of them), or -1. Loads the image module, so only for scenes with
+// images.
+int check_scene_images(const compile::Compilation& c, const std::string& ocio_config,
+                       const std::string& scene_path) {
+  std::string err;
+  auto bad = rt::unreadable_images(c.scene, ocio_config, err);
+  if (!err.empty()) {
     std::cerr << "snell: error: " << err << "\n";
+    return kExitIo;
+  }
+  if (bad.empty()) return -1;
+  for (const auto& [image, why] : bad) {
+    if (std::string diag = image_diagnostic(c, image, why); !diag.empty())
+      std::cerr << diag;
+    else
+      std::cerr << "snell: error: cannot read image '" << c.scene.images[image].path << "': " << why
+                << "\n";
+  }
+  std::cerr << bad.size() << " error" << (bad.size() == 1 ? "" : "s") << " in " << scene_path
+            << "\n";
   return kExitIo;
 }
 
@@ -254,7 +264,7 @@ int check_scene_images(const compile::Compilation& c, const std::string& ocio_co
 int run_check(const CliArgs& o) {
   std::unique_ptr<compile::Compilation> c;
   if (int code = compile_scene(o, c); code >= 0) return code;
-  if (int code = check_scene_images(*c, o.ocio_config); code >= 0) return code;
+  if (int code = check_scene_images(*c, o.ocio_config, o.scene); code >= 0) return code;
   const ir::Scene& s = c->scene;
   std::cout << o.scene << ": ok: " << s.shapes.size() << " object(s), " << s.materials.size()
             << " material(s), " << s.point_lights.size() << " point light(s), "
@@ -383,7 +393,7 @@ int render_frame(FrameJob& job) {
   }
   // §17: every image opens through the texture system before the render (exit 3),
   // an image it cannot read reported at its `file` as the compiler's errors are.
-  if (int code = check_scene_images(*c, o.ocio_config); code >= 0) return code;
+  if (int code = check_scene_images(*c, o.ocio_config, o.scene); code >= 0) return code;
   // Memory the render would need beyond the scene, before any of it is taken.
   {
     std::uint64_t limit = rt::physical_memory() / 10 * 9;

@@ -34,6 +34,7 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <deque>
 #include <filesystem>
@@ -304,6 +305,28 @@ extern "C" __attribute__((visibility("default"))) void* snell_texture_open_v2(
       if (error.empty()) error = "not an image the texture system can read";
       return nullptr;
     }
+    // A file decoded to linear above was read whole; one the texture system reads
+    // itself (a float EXR) is read once here, through its cache in bands of rows,
+    // so a damaged one is refused now (§17: exit 3 at its `file`) rather than
+    // rendering black where its lookups fail.
+    if (file == path) {
+      const int channels = spec.nchannels > 0 ? spec.nchannels : 1;
+      const std::size_t row = std::size_t(std::max(res[0], 1)) * std::size_t(channels);
+      const int rows = int(std::clamp<std::size_t>((std::size_t(4) << 20) / row, 1, 4096));
+      std::vector<float> band(row * std::size_t(rows));
+      OIIO::TextureOpt all;
+      for (int y = 0; y < res[1]; y += rows) {
+        if (!ts->get_texels(h, nullptr, all, 0, 0, res[0], y, std::min(y + rows, res[1]), 0, 1, 0,
+                            channels, OIIO::TypeDesc::FLOAT, band.data())) {
+          // The cache says it once per tile it could not read: the first will do.
+          error = ts->geterror();
+          if (std::size_t again = error.find("Failed", 1); again != std::string::npos)
+            error.resize(again);
+          if (error.empty()) error = "its pixels cannot be read";
+          return nullptr;
+        }
+      }
+    }
     Opened o;
     o.handle = h;
     if (const OIIO::ImageSpec* tx = ts->imagespec(h, nullptr)) {
@@ -324,14 +347,16 @@ extern "C" __attribute__((visibility("default"))) void* snell_texture_open_v2(
 }
 
 // A filtered lookup at (s, t) (OIIO's: t = 0 is the top row) with the footprint's
-// derivatives; black outside [0, 1]² unless `repeat`.
-extern "C" __attribute__((visibility("default"))) void snell_texture_lookup_v1(
-    void* tp, void* handle, int repeat, const float* st_derivs, float* rgb) {
+// derivatives; `wrap` bit 0: s is periodic, bit 1: t is, else the filter clamps at
+// that edge (the caller gives black outside [0, 1]² where it should).
+extern "C" __attribute__((visibility("default"))) void snell_texture_lookup_v2(
+    void* tp, void* handle, int wrap, const float* st_derivs, float* rgb) {
   OIIO::TextureSystem* ts = static_cast<Textures*>(tp)->ts;
   const Opened& o = *static_cast<const Opened*>(handle);
   OIIO::TextureOpt opt;
   opt.firstchannel = o.first;
-  opt.swrap = opt.twrap = repeat ? OIIO::TextureOpt::WrapPeriodic : OIIO::TextureOpt::WrapBlack;
+  opt.swrap = wrap & 1 ? OIIO::TextureOpt::WrapPeriodic : OIIO::TextureOpt::WrapClamp;
+  opt.twrap = wrap & 2 ? OIIO::TextureOpt::WrapPeriodic : OIIO::TextureOpt::WrapClamp;
   // Bilinear within a MIP level: exact at texel centres (OIIO's default bicubic
   // is a B-spline, which blurs a texel into its neighbours when magnifying).
   opt.interpmode = OIIO::TextureOpt::InterpBilinear;

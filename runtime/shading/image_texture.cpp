@@ -20,7 +20,7 @@ const ImageTextures::Api& api() {
     sym(r.create, "snell_texture_create_v1");
     sym(r.destroy, "snell_texture_destroy_v1");
     sym(r.open, "snell_texture_open_v2");
-    sym(r.lookup, "snell_texture_lookup_v1");
+    sym(r.lookup, "snell_texture_lookup_v2");
     sym(r.stats, "snell_texture_stats_v1");
     return r;
   }();
@@ -72,6 +72,25 @@ std::string check_images(const ir::Scene& scene, const std::string& ocio_config,
   std::string error;
   ImageTextures::open(scene, ocio_config, error, failed, why);
   return error;
+}
+
+std::vector<std::pair<std::size_t, std::string>> unreadable_images(const ir::Scene& scene,
+                                                                   const std::string& ocio_config,
+                                                                   std::string& error) {
+  std::vector<std::pair<std::size_t, std::string>> bad;
+  if (scene.images.empty()) return bad;
+  const ImageTextures::Api& a = api();
+  if (!a.error.empty()) {
+    error = "cannot read images: " + a.error;
+    return bad;
+  }
+  void* ts = a.create(kTextureCacheMB);
+  for (std::size_t i = 0; i < scene.images.size(); ++i) {
+    std::string why;
+    if (!a.open(ts, scene.images[i].path, ocio_config, why)) bad.emplace_back(i, why);
+  }
+  a.destroy(ts);
+  return bad;
 }
 
 }  // namespace snell::rt

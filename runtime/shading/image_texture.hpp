@@ -70,17 +70,27 @@ class ImageTextures {
   // (u, v) extents along two directions are (du_a, dv_a) and (du_b, dv_b);
   // zero extents are a point (bilinear) lookup. Inline: textures.hpp is used by
   // the compiler's tests too, which do not link the runtime.
+  //
+  // Edges: `repeat` tiles; without it the image is black outside [0, 1]² and its
+  // edge texels are not blended with that black (the filter clamps). Whatever
+  // `repeat` says, u wraps around the seam of the mappings that go round (§17's
+  // u is an angle there), and v stops at the poles of `spherical` and `latlong`
+  // (the top row is the zenith, not a neighbour of the bottom one).
   Color lookup(std::uint32_t image, double u, double v, float du_a, float dv_a, float du_b,
-               float dv_b, bool repeat) const {
+               float dv_b, bool repeat, ir::ImageMapping mapping) const {
     if (image >= handles_.size()) return Color(0.0f);
-    // OIIO's t runs down from the top row. With repeat the coordinates are
-    // reduced to [0, 1) in double first, so a point far from the origin keeps
-    // its texel.
-    double s = repeat ? u - std::floor(u) : u;
-    double t = repeat ? (1 - v) - std::floor(1 - v) : 1 - v;
+    if (!repeat && !(u >= 0 && u <= 1 && v >= 0 && v <= 1)) return Color(0.0f);
+    const bool poles =
+        mapping == ir::ImageMapping::Spherical || mapping == ir::ImageMapping::Latlong;
+    const bool s_periodic = repeat || poles || mapping == ir::ImageMapping::Cylindrical;
+    const bool t_periodic = repeat && !poles;
+    // OIIO's t runs down from the top row. Periodic coordinates are reduced to
+    // [0, 1) in double first, so a point far from the origin keeps its texel.
+    double s = s_periodic ? u - std::floor(u) : u;
+    double t = t_periodic ? (1 - v) - std::floor(1 - v) : 1 - v;
     const float st[6] = {float(s), float(t), du_a, -dv_a, du_b, -dv_b};
     float rgb[3];
-    api_->lookup(ts_, handles_[image], repeat ? 1 : 0, st, rgb);
+    api_->lookup(ts_, handles_[image], (s_periodic ? 1 : 0) | (t_periodic ? 2 : 0), st, rgb);
     return {rgb[0], rgb[1], rgb[2]};
   }
   // OIIO's statistics of this render's lookups and cache (--stats).

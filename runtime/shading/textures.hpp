@@ -197,7 +197,7 @@ inline double kind_value(const ir::ImageTexture& im, const ir::Texture& t, ir::V
   else  // q back to the world: "uv" takes the pattern's transforms in (u, v)
     uv = surface_coords(t, *tp.surface,
                         frame.identity ? q : frame.space_from_world.inverse().point(q));
-  Color c = tp.images->lookup(im.image, uv.u, uv.v, 0, 0, 0, 0, im.repeat);
+  Color c = tp.images->lookup(im.image, uv.u, uv.v, 0, 0, 0, 0, im.repeat, im.mapping);
   return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
 }
 // A value pattern whose arithmetic overflows at a point (its own coordinates past
@@ -267,7 +267,7 @@ inline Color pattern_color(const ir::ImageTexture& im, const ir::Texture& t,
       d[2 * k + 1] = float(uv2.v - uv.v);
     }
   }
-  return tp.images->lookup(im.image, uv.u, uv.v, d[0], d[1], d[2], d[3], im.repeat);
+  return tp.images->lookup(im.image, uv.u, uv.v, d[0], d[1], d[2], d[3], im.repeat, im.mapping);
 }
 
 inline Color texture_color(const ir::Texture& t, const TexturePoint& tp) {

@@ -163,6 +163,32 @@ TEST_CASE("repeat false is black outside [0, 1]", "[images]") {
   }
 }
 
+TEST_CASE("edges: repeat false clamps its filter, and the poles do not wrap", "[images]") {
+  // Between the last texel centre and the edge a bilinear lookup is the edge texel
+  // itself: without repeat it was blended with the black outside (0.6 of the
+  // texel at u = 0.95 of a 2-texel image); at a pole of the spherical mappings
+  // the top row was blended with the bottom one (red and blue made purple).
+  Images im;
+  ir::Scene s = scene_with(im);
+  std::string err;
+  auto tex = rt::ImageTextures::open(s, "", err);
+  REQUIRE(tex);
+  const double in = 0.2 / kW;  // past the edge texels' centres, inside the image
+  ir::Texture planar = image_texture(1, ir::ImageMapping::Planar, false);
+  check_texel(at(*tex, planar, {1 - in, v_of(1), 0}), 1, kW - 1, 1);
+  check_texel(at(*tex, planar, {in, v_of(0), 0}), 1, 0, 0);
+  check_texel(at(*tex, planar, {u_of(2), 1 - in / 2, 0}), 1, 2, 0);   // top row
+  check_texel(at(*tex, planar, {u_of(1), in / 2, 0}), 1, 1, kH - 1);  // bottom row
+  for (bool repeat : {true, false})
+    for (ir::ImageMapping m : {ir::ImageMapping::Spherical, ir::ImageMapping::Latlong}) {
+      INFO("repeat " << repeat << " mapping " << int(m));
+      ir::Texture t = image_texture(1, m, repeat);
+      check_texel(at(*tex, t, direction(u_of(1), 1 - 1e-4)), 1, 1, 0);   // the zenith
+      check_texel(at(*tex, t, direction(u_of(3), 1e-4)), 1, 3, kH - 1);  // the nadir
+      check_texel(at(*tex, t, direction(u_of(0), v_of(0))), 1, 0, 0);    // u still wraps
+    }
+}
+
 TEST_CASE("a latlong background is the image at the escaping ray's direction", "[images]") {
   Images im;
   ir::Scene s = scene_with(im);
@@ -406,6 +432,40 @@ TEST_CASE("an unreadable image is an error naming it", "[images]") {
   INFO(err);
   CHECK(err.find("bomb.png") != std::string::npos);
   CHECK(err.find("60000x60000") != std::string::npos);
+}
+
+TEST_CASE("a damaged float EXR is refused before the render, and every bad image is named",
+          "[images]") {
+  // The texture system reads a float EXR itself, tile by tile as lookups need
+  // them: a file cut short had a readable header, and its failed lookups were
+  // black, exit 0.
+  Images im;
+  std::string cut = (im.dir / "cut.exr").string();
+  {
+    std::vector<float> f(64 * 64 * 3, 0.5f);
+    auto out = OIIO::ImageOutput::create(cut);
+    REQUIRE(out);
+    OIIO::ImageSpec spec(64, 64, 3, OIIO::TypeDesc::FLOAT);
+    spec.attribute("compression", "none");
+    REQUIRE(out->open(cut, spec));
+    REQUIRE(out->write_image(OIIO::TypeDesc::FLOAT, f.data()));
+    REQUIRE(out->close());
+  }
+  fs::resize_file(cut, fs::file_size(cut) * 6 / 10);
+  std::string text = (im.dir / "text.png").string();
+  { std::ofstream(text) << "this is text\n"; }
+  ir::Scene s = scene_with(im);  // images 0 and 1 are good
+  s.images.push_back({cut, {}});
+  s.images.push_back({text, {}});
+  std::string err = rt::check_images(s);
+  INFO(err);
+  CHECK(err.find("cut.exr") != std::string::npos);
+  err.clear();
+  auto bad = rt::unreadable_images(s, "", err);
+  CHECK(err.empty());
+  REQUIRE(bad.size() == 2);
+  CHECK(bad[0].first == 2);
+  CHECK(bad[1].first == 3);
 }
 
 namespace {
