@@ -24,6 +24,25 @@ std::optional<std::string> MessageReader::next(std::string* error) {
       skip_ -= n;
       if (skip_ > 0) return std::nullopt;
     }
+    // Out of step (a client's Content-Length a byte off left part of a body, or
+    // took part of the next header): skip to the next Content-Length header, so
+    // a message or two are lost and not every later one.
+    if (!buffer_.empty() && !iequals_prefix(buffer_, "content-")) {
+      const std::size_t keep = std::min(buffer_.size(), std::size_t(14));
+      if (iequals_prefix(std::string_view(buffer_).substr(0, keep),
+                         std::string_view("content-length:").substr(0, keep)))
+        return std::nullopt;  // the start of one, still arriving
+      std::string lower(buffer_.size(), ' ');
+      for (std::size_t i = 0; i < buffer_.size(); ++i)
+        lower[i] = char(std::tolower(static_cast<unsigned char>(buffer_[i])));
+      std::size_t at = lower.find("content-length:");
+      if (error) *error = "bytes outside any message, skipped to the next header";
+      if (at == std::string::npos) {
+        buffer_.erase(0, buffer_.size() > 14 ? buffer_.size() - 14 : 0);
+        return std::nullopt;
+      }
+      buffer_.erase(0, at);
+    }
     std::size_t end = buffer_.find("\r\n\r\n");
     if (end == std::string::npos) {
       // A client that sends endless header bytes without a blank line: keep only

@@ -118,7 +118,9 @@ json Server::dispatch(const std::string& method, const json& params, bool& handl
     if (method == "textDocument/definition") return definition(at, offset);
     return completion(at, d.text, offset, analysis_options());
   }
-  handled = method.rfind("$/", 0) == 0;  // $/cancelRequest, $/setTrace: ignored
+  // $/cancelRequest and $/setTrace are notifications, ignored above; LSP 3.17: a
+  // request whose method starts with $/ is MethodNotFound like any other unknown.
+  handled = false;
   return nullptr;
 }
 

@@ -19,8 +19,11 @@ std::uint32_t seq_len(unsigned char c) {
 
 LineIndex::LineIndex(std::string_view text) : text_(text) {
   starts_.push_back(0);
+  // LSP's line ends are \n, \r\n and a lone \r (an old Mac file, or one an
+  // editor mixed): the client counts lines by all three.
   for (std::uint32_t i = 0; i < text.size(); ++i)
-    if (text[i] == '\n') starts_.push_back(i + 1);
+    if (text[i] == '\n' || (text[i] == '\r' && (i + 1 == text.size() || text[i + 1] != '\n')))
+      starts_.push_back(i + 1);
 }
 
 Position LineIndex::position(std::uint32_t offset, Encoding enc) const {

@@ -43,6 +43,39 @@ TEST_CASE("framing: headers in any case, extra headers, bad headers skipped", "[
   CHECK_FALSE(error.empty());
 }
 
+TEST_CASE("framing: a Content-Length a byte off loses a message, not every later one", "[lsp]") {
+  // The rest of a body (or a byte taken from the next header) used to be glued to
+  // the next header, whose Content-Length was then never found again.
+  for (int off : {-1, 1}) {
+    INFO("off by " << off);
+    MessageReader r;
+    std::string body = json{{"id", 1}}.dump();
+    std::string bad =
+        "Content-Length: " + std::to_string(int(body.size()) + off) + "\r\n\r\n" + body;
+    r.feed(bad + frame({{"id", 2}}) + frame({{"id", 3}}));
+    std::vector<int> ids;
+    std::string error;
+    while (auto m = r.next(&error)) {
+      json j = json::parse(*m, nullptr, false);
+      if (!j.is_discarded() && j.is_object() && j.contains("id")) ids.push_back(j["id"]);
+    }
+    REQUIRE_FALSE(ids.empty());
+    CHECK(ids.back() == 3);
+    CHECK_FALSE(error.empty());
+  }
+  // A header arriving a few bytes at a time is waited for, not skipped.
+  MessageReader r;
+  std::string whole = frame({{"id", 4}});
+  for (char c : whole.substr(0, whole.size() - 1)) {
+    r.feed(std::string(1, c));
+    CHECK_FALSE(r.next());
+  }
+  r.feed(whole.substr(whole.size() - 1));
+  auto m = r.next();
+  REQUIRE(m);
+  CHECK(json::parse(*m)["id"] == 4);
+}
+
 TEST_CASE("framing: a body larger than the limit is dropped", "[lsp]") {
   MessageReader r;
   std::string error;
@@ -64,6 +97,18 @@ TEST_CASE("positions: UTF-16 and UTF-8 columns", "[lsp]") {
   CHECK(idx.offset(p, Encoding::Utf16) == two);
   CHECK(idx.offset({1, 999}, Encoding::Utf16) == text.size() - 1);  // clamped to the line
   CHECK(idx.offset({99, 0}, Encoding::Utf16) == text.size());
+}
+
+TEST_CASE("positions: a lone \\r ends a line, as LSP counts lines", "[lsp]") {
+  std::string text = "let a = 1;\rlet b = 2;\r\n\rlet c = 3;\n";
+  LineIndex idx(text);
+  Position b = idx.position(std::uint32_t(text.find('b')), Encoding::Utf16);
+  CHECK(b.line == 1);
+  CHECK(b.character == 4);
+  Position c = idx.position(std::uint32_t(text.find('c')), Encoding::Utf16);
+  CHECK(c.line == 3);  // \r\n is one end, the \r after it another
+  CHECK(c.character == 4);
+  CHECK(idx.offset({3, 4}, Encoding::Utf16) == text.find('c'));
 }
 
 TEST_CASE("uris", "[lsp]") {
@@ -223,4 +268,10 @@ TEST_CASE("server: random edits and bytes never crash it", "[lsp]") {
   c.server.handle(json::array());
   c.server.handle("text");
   CHECK(c.request("no/such", json::object())["error"]["code"] == kMethodNotFound);
+  // LSP 3.17: a request starting with $/ is MethodNotFound (it had a null result);
+  // such notifications are ignored.
+  CHECK(c.request("$/foo", json::object())["error"]["code"] == kMethodNotFound);
+  std::size_t before = c.out.size();
+  c.notify("$/setTrace", {{"value", "off"}});
+  CHECK(c.out.size() == before);
 }
