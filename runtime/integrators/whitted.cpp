@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "runtime/geometry/point_inside.hpp"
 #include "runtime/integrators/whitted_light.hpp"
 #include "runtime/ir/bounds.hpp"
 #include "runtime/shading/bump.hpp"
@@ -38,7 +39,8 @@ std::string fmt_color(Color c) {
 // Set field by field in place: a node made on the frame and copied whole stalled
 // on store forwarding (2 % of the glass bench).
 template <class N>
-[[gnu::always_inline]] inline void set_root_node(N& node, const Ray& camera_ray) {
+[[gnu::always_inline]] inline void set_root_node(N& node, const Ray& camera_ray,
+                                                 const ir::Vec3* medium) {
   node.ray = camera_ray;
   node.start = camera_ray.org;
   node.weight = Color(1, 1, 1);
@@ -46,7 +48,7 @@ template <class N>
   node.kind = RayKind::Camera;
   node.mis_pdf = 0;
   node.key = kRootKey;
-  node.medium = nullptr;
+  node.medium = medium;
   node.interior = {};
 }
 
@@ -160,6 +162,19 @@ WhittedIntegrator::WhittedIntegrator(const ir::Scene& scene, const EmbreeScene& 
     pd.albedo = to_color(std::get<ir::Constant>(dm->color.pattern).color);
     pd.highlight = {float(dm->specular), float(dm->shininess)};
   }
+  // §8: a camera inside an absorbing dielectric without priority (a diver in a
+  // sea that is one plain box): its rays travel in it from the start, to whatever
+  // they meet. Tested at the shutter-open placement; among several, the last in
+  // the file (nested plain dielectrics are not modelled); a part of an instance
+  // is not looked into.
+  for (const ir::Shape& s : scene.shapes) {
+    if (s.material >= scene.materials.size() || s.as<ir::Instance>()) continue;
+    const ir::Dielectric* d = scene.materials[s.material].as<ir::Dielectric>();
+    if (!d || d->priority > 0 || (d->absorb.x == 0 && d->absorb.y == 0 && d->absorb.z == 0))
+      continue;
+    if (geom::point_inside(scene, s, scene.camera.location, geom::InsideRule::Medium))
+      camera_medium_ = &d->absorb;
+  }
   max_depth_ = scene.settings.max_depth;
   min_weight_ = float(scene.settings.min_weight);
   fresnel_ = scene.settings.fresnel;
@@ -187,6 +202,7 @@ template <class K>
                                                                  bool found, RenderStats& stats,
                                                                  LitNode& dl, Color& out,
                                                                  bool& lit) const {
+  if (camera_medium_) return false;  // its rays start in an absorbing medium
   if (!found) {
     if (background_pattern_) return false;
     ++stats.camera_rays;
@@ -201,7 +217,7 @@ template <class K>
   const Vec3f d = ray.dir, ng = hit.ng;
   const Vec3f nf = dot(d, ng) < 0 ? ng : -ng;
   dl.q.p = hit.p, dl.q.o = spawn_origin(hit, nf, offset_scale_), dl.q.n = nf;
-  dl.q.time = ray.time, dl.q.key = kRootKey;
+  dl.q.time = ray.time, dl.q.key = kRootKey, dl.q.medium = nullptr;
   if constexpr (K::finish) dl.q.highlight = m.highlight, dl.q.wo = -d;
   dl.lobe.albedo = m.albedo, dl.lobe.scale = DiffuseLobe::kInvPi;
   dl.w = Color(1, 1, 1);
@@ -263,7 +279,7 @@ void WhittedIntegrator::radiance_lanes(std::uint32_t n, std::uint32_t todo, cons
             active &= ~(1u << i);  // no children
             continue;
           }
-          set_root_node(t.kids[0][0], rays[i]);
+          set_root_node(t.kids[0][0], rays[i], camera_medium_);
           t.node = &t.kids[0][0], t.gen = 0, t.on_stack = false;
         }
         // The node's children go to the pair the node is not in.
@@ -502,8 +518,11 @@ template <class K, class P>
     // sea): §8's light travelling d inside.
     const ir::Vec3* a = K::absorption && !entering ? medium_absorb(mat) : nullptr;
     bool crossed = false;  // a prioritised surface that counts: its near medium
+    // A prioritised surface met from air as far as interiors go may be met inside
+    // a plain dielectric (absorbing glass holding clear water): its Beer then.
     if constexpr (K::interiors && K::absorption)
-      if (prioritised) a = interiors_.absorb(crossing.from), crossed = true;
+      if (prioritised)
+        a = interiors_.absorb(crossing.from), crossed = crossing.from != Interior::kAir;
     if (!a && !crossed) a = travel_medium();
     if (a) {
       // Beer over the path inside this object (nested media are not modelled),
@@ -552,7 +571,14 @@ template <class K, class P>
           o_light = spawn_origin(lifted, nf, offset_scale_);
         }
         dl.q.p = p, dl.q.o = o_light, dl.q.n = frame.nl;
-        dl.q.time = node.ray.time, dl.q.key = node.key;
+        dl.q.time = node.ray.time, dl.q.key = node.key, dl.q.medium = nullptr;
+        // A plain medium's Beer on the way to a light inside it; a prioritised
+        // one's is the shadow ray's (shadow_blocked).
+        if constexpr (K::absorption) {
+          dl.q.medium = node.medium;
+          if constexpr (K::interiors)
+            if (interiors_.absorb(node.interior.medium())) dl.q.medium = nullptr;
+        }
         if constexpr (K::finish) dl.q.highlight = s.highlight, dl.q.wo = -d;
         // Field by field: a 16-byte copy of the lobe stalled on store forwarding.
         dl.lobe.albedo = s.lit->albedo, dl.lobe.scale = s.lit->scale;
@@ -622,7 +648,7 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
   // traced next without a round trip through the stack; only its siblings wait
   // there (most trees are a single chain, and a diffuse hit has no child).
   N node;
-  set_root_node(node, camera_ray);
+  set_root_node(node, camera_ray, camera_medium_);
   // The next node's direction, read from where the node is copied from: loaded
   // back from the fresh copy it straddled two of the copy's 16-byte stores, and
   // the failed store forwarding was a quarter of this function's time.

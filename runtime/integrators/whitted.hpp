@@ -83,6 +83,9 @@ class WhittedIntegrator final : public Integrator {
     std::uint64_t key = 0;
     Highlight highlight;
     Vec3f wo;
+    // The plain absorbing dielectric the point lies in (§8: a light inside it is
+    // reached through it), or null; set by kernels with absorption only.
+    const ir::Vec3* medium = nullptr;
   };
   // A lit node's light, gathered once its children are known: its query, the lobe
   // that reflects it and the node's weight (lit_radiance).
@@ -234,7 +237,8 @@ class WhittedIntegrator final : public Integrator {
   Color background_;                                 // a constant background
   const ir::Texture* background_pattern_ = nullptr;  // or a pattern one
   const ImageTextures* images_;                      // §17; null without images
-  bool maps_uv_ = false;   // some surface's image maps "uv": hits find their SurfaceFrame
+  bool maps_uv_ = false;  // some surface's image maps "uv": hits find their SurfaceFrame
+  const ir::Vec3* camera_medium_ = nullptr;  // the plain absorbing dielectric around the camera
   float pixel_angle_ = 0;  // radians per pixel: the footprint's width at distance 1
   std::uint32_t max_depth_;
   float min_weight_;

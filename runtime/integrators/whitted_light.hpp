@@ -102,22 +102,27 @@ void WhittedIntegrator::direct_lanes(std::uint32_t lanes_in, const DirectQuery* 
   // One unblocked light sample of lane i (its value, geometry factor and `to`): its
   // share of E, and with highlights its f_spec · value · g (the same G as the
   // Lambertian sum: f · L_i · cosθ_i).
-  auto add_sample = [&](std::uint32_t i, Color value, float g, Vec3f to, Color tr)
-                        [[gnu::always_inline]] {
-                          (void)tr, (void)to;
-                          if constexpr (K::interiors)
-                            e[i] += value * g * tr;
-                          else
-                            e[i] += value * g;
-                          if constexpr (K::finish) {
-                            if (q(i).highlight.on()) {
-                              float f = q(i).highlight.eval(q(i).wo, q(i).n, normalize(to));
-                              Color c = value * (g * f);
-                              if constexpr (K::interiors) c = c * tr;
-                              spec[i] += c;
-                            }
-                          }
-                        };
+  auto add_sample = [&](std::uint32_t i, Color value, float g, Vec3f to,
+                        Color tr) [[gnu::always_inline]] {
+    (void)tr, (void)to;
+    if constexpr (K::absorption)
+      if (const ir::Vec3* a = q(i).medium) {
+        const double dist = double(length(to));
+        value = value * to_float(beer(a->x, dist), beer(a->y, dist), beer(a->z, dist));
+      }
+    if constexpr (K::interiors)
+      e[i] += value * g * tr;
+    else
+      e[i] += value * g;
+    if constexpr (K::finish) {
+      if (q(i).highlight.on()) {
+        float f = q(i).highlight.eval(q(i).wo, q(i).n, normalize(to));
+        Color c = value * (g * f);
+        if constexpr (K::interiors) c = c * tr;
+        spec[i] += c;
+      }
+    }
+  };
   auto add = [&](std::uint32_t i, Color tr)
                  [[gnu::always_inline]] { add_sample(i, ls[i].value, ls[i].g, ls[i].to, tr); };
   // The lanes' samples of one light (lit[i]: lane i has one) traced and added.

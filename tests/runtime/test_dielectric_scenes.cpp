@@ -224,3 +224,44 @@ TEST_CASE("Beer absorbs along every stretch inside a dielectric, to whatever it 
   CHECK(below.image.at(0, 0)[1] == Approx(R).epsilon(1e-5));
   CHECK(below.image.at(0, 0)[2] == Approx(1).epsilon(1e-5));
 }
+
+TEST_CASE(
+    "Beer inside a plain dielectric: from a camera inside it, to a light inside it, "
+    "up to a prioritised solid inside it",
+    "[scene][beer]") {
+  const ir::Vec3 sigma{0.5, 0.1, 0};
+  // A camera and a point light (I = π d², so a facing wall of albedo 1 is 1 without
+  // absorption) inside one absorbing box without priority, a wall 2 ahead: the
+  // light goes 2 to the wall and 2 back, e^{-4σ}. Rays from the camera took no
+  // Beer to the wall, nor did the light to it (the picture was untinted).
+  ir::Scene s = base_scene(1, 1, 1);
+  look(s, {0, 0, 0}, {0, 0, 1}, 1e-3);
+  s.shapes.push_back(box({-10, -10, -10}, {10, 10, 10}, add_material(s, dielectric(1.33, sigma))));
+  s.shapes.push_back(box({-5, -5, 2}, {5, 5, 3}, add_material(s, diffuse({1, 1, 1}))));
+  s.point_lights.push_back(ir::PointLight{{0, 0, 0}, ir::Vec3(3.14159265358979323846 * 4), {}});
+  rt::RenderResult r = rt::render(s, {});
+  for (int c = 0; c < 3; ++c)
+    CHECK(r.image.at(0, 0)[c] == Approx(std::exp(-4 * sigma[c])).epsilon(1e-4));
+
+  // An absorbing slab without priority (z 0..5) holding a clear prioritised one
+  // (z 2..3), in front of a light of radiance 1: four air–glass interfaces as
+  // far as priorities know (the plain slab is not tracked) and 4 inside the
+  // absorbing one. The stretch from its face to the prioritised one (z 0..2)
+  // took no Beer (T⁴ e^{-2σ} was rendered).
+  ir::Scene n = base_scene(1, 1, 1);
+  n.background = ir::Vec3{0, 0, 0};
+  n.settings.min_weight = 0;
+  n.settings.max_depth = 4;
+  look(n, {0, 0, -10}, {0, 0, 0}, 1e-3);
+  n.shapes.push_back(box({-20, -20, 0}, {20, 20, 5}, add_material(n, dielectric(1.5, sigma))));
+  ir::Material clear = dielectric(1.5);
+  std::get<ir::Dielectric>(clear.model).priority = 1;
+  n.shapes.push_back(box({-20, -20, 2}, {20, 20, 3}, add_material(n, clear)));
+  n.area_lights.push_back(area_light({-50, -50, 10}, {0, 100, 0}, {100, 0, 0}, {1, 1, 1}));
+  const double T = 1 - rt::fresnel_exact(rt::make_interface(1, 1.5));
+  rt::RenderResult rn = rt::render(n, {});
+  // The inner reflections that reach the light within max_depth add ~T⁴R² ≈ 1e-3
+  // of it; they are absorbed too, so 1e-3 relative bounds them.
+  for (int c = 0; c < 3; ++c)
+    CHECK(rn.image.at(0, 0)[c] == Approx(std::pow(T, 4) * std::exp(-4 * sigma[c])).epsilon(2e-3));
+}
