@@ -158,6 +158,11 @@ SVal ShadingCompiler::vector(const Expr& e, Scope* s) {
   if (all_const)
     return SVal::constant(c.size() == 2 ? Value::vec2(c[0].k.n, c[1].k.n)
                                         : Value::vec3({c[0].k.n, c[1].k.n, c[2].k.n}));
+  // A bool component is 1 or 0, as in the evaluator (§3's `<(a > b), 1, 2>`): a
+  // number node, so the component read back (`.x`) is a number too.
+  const SVal one = SVal::constant(Value::number(1)), zero = SVal::constant(Value::number(0));
+  for (SVal& v : c)
+    if (v.type == Type::Bool) v = apply(Op::SelS, Type::Number, v, &one, &zero);
   // A 2-vector's z slot is don't-care: its y goes there.
   Type t = c.size() == 2 ? Type::Vec2 : Type::Vec3;
   return apply(Op::MakeV, t, c[0], &c[1], &c[c.size() - 1]);
@@ -195,22 +200,13 @@ SVal ShadingCompiler::fold_binary(const Expr& e, const Value& a, const Value& b)
   TokenKind op = e.op;
   if (is_arith(op)) {
     if (a.type == Type::Number && b.type == Type::Number) {
-      Value r = Value::number(arith(op, a.n, b.n));
-      if (!r.finite()) {
-        error(DiagKind::NonFiniteValue, e.span,
-              "this expression evaluates to " + to_string(r) + " (not a finite number)");
-        return SVal::error();
-      }
-      return SVal::constant(r);
+      // A non-finite constant is kept, not refused (§15: a non-finite result at
+      // a hit gives 0 there); it may sit on a path few points take.
+      return SVal::constant(Value::number(arith(op, a.n, b.n)));
     }
     Value r = a.is_vector() ? a : b;
     bool an = a.type == Type::Number, bn = b.type == Type::Number;
     for (int i = 0; i < r.dims(); ++i) r.v[i] = arith(op, an ? a.n : a.v[i], bn ? b.n : b.v[i]);
-    if (!r.finite()) {
-      error(DiagKind::NonFiniteValue, e.span,
-            "this expression evaluates to " + to_string(r) + " (not a finite number)");
-      return SVal::error();
-    }
     return SVal::constant(r);
   }
   switch (op) {
@@ -461,12 +457,7 @@ SVal ShadingCompiler::call_builtin_fn(int id, const Expr& e, std::vector<SVal>& 
     BuiltinError err;
     Value r = call_builtin(id, v.data(), err);
     if (r.is_error()) return fail(err.arg, err.message, err.kind);
-    if (!r.finite()) {
-      error(DiagKind::NonFiniteValue, e.span,
-            "this expression evaluates to " + to_string(r) + " (not a finite number)");
-      return SVal::error();
-    }
-    return SVal::constant(r);
+    return SVal::constant(r);  // non-finite kept, as fold_binary keeps it
   }
   const BuiltinRow* row = builtin_row(id);
   if (!row) return unsupported(e.span, "'" + std::string(info.name) + "' has no native op");

@@ -544,6 +544,35 @@ fn oct(p) = fbm(p, p.x);
   CHECK(finite);
 }
 
+TEST_CASE("shading: a folded non-finite constant is kept for the points that reach it",
+          "[shading]") {
+  // §15: a non-finite result at a hit gives 0 there. A `1 / 0` folded on a branch
+  // only some points take was refused as NonFiniteValue, rejecting the scene.
+  Harness h(R"(
+fn f(p) { if p.x < 0 { return 1 / 0; } return 0.5; }
+fn g(p) { if p.x < 0 { return sqrt(-1) + <1, 2, 3>.x; } return 0.25; }
+)");
+  INFO(h.report());
+  ir::Program p;
+  bool finite = false;
+  REQUIRE(h.compile("f", p));
+  CHECK(h.diags.diagnostics().empty());
+  CHECK(pattern::run_program(p, {1, 0, 0}, {}, finite) == 0.5);
+  CHECK(finite);
+  pattern::run_program(p, {-1, 0, 0}, {}, finite);
+  CHECK(!finite);
+  REQUIRE(h.compile("g", p));
+  CHECK(pattern::run_program(p, {1, 0, 0}, {}, finite) == 0.25);
+  pattern::run_program(p, {-1, 0, 0}, {}, finite);
+  CHECK(!finite);
+}
+
+TEST_CASE("shading: a comparison in a vector is 1 or 0, and its component a number", "[shading]") {
+  // §3's `<(a > b), 1, 2>`: the evaluator makes it <1, 1, 2>; the shading compiler
+  // kept the component a bool, so `.x * 0.5` was a TypeMismatch.
+  same_as_evaluator("fn f(p) = <(p.x > 0), 1, 2>.x * 0.5 + <p.y, (p.z <= 1)>.y;", "f", false);
+}
+
 TEST_CASE("shading: the op registry, the compiler, the interpreter and the dump agree",
           "[shading][registry]") {
   // Every op has a distinct enumerator, a spelling and a destination, and the dump
