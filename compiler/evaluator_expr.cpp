@@ -486,7 +486,16 @@ Value Evaluator::eval_constructor(const Expr& e, const std::shared_ptr<Env>& env
         }
       }
   }
-  if (!ok) return Value::error();
+  if (!ok) {
+    // A colour map's own errors are independent of the other properties' (§10).
+    if (block->pattern_kind >= 0)
+      for (const EvaluatedProp& p : props)
+        if (p.info->name == "color_map") {
+          std::vector<ir::ColorStop> map;
+          color_map_of(p, diags_, map, false);
+        }
+    return Value::error();
+  }
   // A mirror or glossy surface that reflects more than it receives is legal, but
   // two of them facing each other multiply without bound (to inf, then dropped
   // samples): say so once per place.

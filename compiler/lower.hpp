@@ -31,6 +31,13 @@ struct EvaluatedProp {
 // (lower_kinds.cpp: the block's kind struct, filled field by field).
 // Problems only the whole block shows (a colour map's stops out of order) are
 // reported to `diags` and give an error value.
+// §15 `color_map { stop <at, color> … }` into `map`: false, with the errors
+// reported, when its stops are out of order or (`need_stops`) it has none.
+// Checked also when another property of the pattern is wrong (§10: independent
+// errors), then for order alone: a map whose stops were all wrong has none left.
+bool color_map_of(const EvaluatedProp& p, lang::DiagnosticEngine& diags,
+                  std::vector<ir::ColorStop>& map, bool need_stops = true);
+
 Value make_constructor_value(const BlockInfo& block, const std::vector<EvaluatedProp>& props,
                              lang::DiagnosticEngine& diags);
 

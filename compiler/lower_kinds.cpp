@@ -163,6 +163,36 @@ Value make_material(const std::vector<EvaluatedProp>& props, lang::DiagnosticEng
   return Value::of_material(m);
 }
 
+}  // namespace
+
+bool color_map_of(const EvaluatedProp& p, lang::DiagnosticEngine& diags,
+                  std::vector<ir::ColorStop>& map, bool need_stops) {
+  bool ok = true;
+  const EvaluatedProp* prev = nullptr;
+  for (const EvaluatedProp& stop : p.nested) {
+    if (stop.nested.size() != 2) continue;  // its error is reported
+    ir::ColorStop s{stop.nested[0].value.n, stop.nested[1].value.v};
+    if (!map.empty() && s.at < map.back().at) {
+      diags
+          .report(DiagKind::InvalidValue, stop.nested[0].value_span,
+                  "a colour map's stops must be in non-decreasing order: " + ir::num(s.at) +
+                      " comes after " + ir::num(map.back().at))
+          .note(prev->nested[0].value_span, "the stop before it");
+      ok = false;
+    }
+    map.push_back(s);
+    prev = &stop;
+  }
+  if (need_stops && p.nested.empty()) {
+    diags.report(DiagKind::InvalidValue, p.value_span,
+                 "a colour map needs at least one 'stop <at, color>'");
+    ok = false;
+  }
+  return ok;
+}
+
+namespace {
+
 // §15's properties common to every pattern (properties.def SNELL_PATTERN_PROPS),
 // found by name: each pattern block has its own rows of them.
 bool common_pattern_props(ir::Texture& t, const std::vector<EvaluatedProp>& props,
@@ -178,26 +208,7 @@ bool common_pattern_props(ir::Texture& t, const std::vector<EvaluatedProp>& prop
     } else if (name == "space") {
       ir::parse_enum(p.value.str(), t.space);
     } else if (name == "color_map") {
-      const EvaluatedProp* prev = nullptr;
-      for (const EvaluatedProp& stop : p.nested) {
-        if (stop.nested.size() != 2) continue;  // its error is reported
-        ir::ColorStop s{stop.nested[0].value.n, stop.nested[1].value.v};
-        if (!t.color_map.empty() && s.at < t.color_map.back().at) {
-          diags
-              .report(DiagKind::InvalidValue, stop.nested[0].value_span,
-                      "a colour map's stops must be in non-decreasing order: " + ir::num(s.at) +
-                          " comes after " + ir::num(t.color_map.back().at))
-              .note(prev->nested[0].value_span, "the stop before it");
-          ok = false;
-        }
-        t.color_map.push_back(s);
-        prev = &stop;
-      }
-      if (p.nested.empty()) {
-        diags.report(DiagKind::InvalidValue, p.value_span,
-                     "a colour map needs at least one 'stop <at, color>'");
-        ok = false;
-      }
+      ok &= color_map_of(p, diags, t.color_map);
     }
   }
   return ok;
