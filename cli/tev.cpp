@@ -86,6 +86,10 @@ bool TevStream::parse_address(const std::string& address, std::string& host, std
   if (host.size() > 2 && host.front() == '[' && host.back() == ']')  // [::1]:14158
     host = host.substr(1, host.size() - 2);
   port = address.substr(k + 1);
+  if (port.size() > 5 || std::stoul(port) < 1 || std::stoul(port) > 65535) {
+    error = "--display-server's port must be in 1..65535, got '" + port + "'";
+    return false;
+  }
   return true;
 }
 

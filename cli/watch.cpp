@@ -103,6 +103,7 @@ class Watcher {
       } catch (const std::exception& e) {
         fail(std::string("snell: error: internal error: ") + e.what() + "\n");
       }
+      if (!usage_.empty()) return usage_error(usage_);
       if (g_stop) break;
       // Nothing left to do until a file changes.
       if (!changed)
@@ -138,6 +139,12 @@ class Watcher {
       // way the watch goes on and says so.
       try {
         c = compile::compile_file(o_.scene, copts);
+        // Options no edit of the scene can fix (`--set foo=1`, `--res 0x0`): exit
+        // 2 as render does, rather than wait for a change.
+        if (c->status == compile::CompileStatus::UsageError) {
+          usage_ = c->message;
+          return false;
+        }
         std::ostringstream text;
         c->diags.print(text, false);
         diagnostics = text.str();
@@ -348,6 +355,7 @@ class Watcher {
   TempFolder temp_;
   std::chrono::steady_clock::time_point changed_at_ = std::chrono::steady_clock::now();
   bool first_pass_pending_ = true;
+  std::string usage_;  // a usage error in the options: the watch ends with exit 2
 };
 
 }  // namespace

@@ -175,6 +175,11 @@ RenderResult render(const ir::Scene& scene, const RenderOptions& options) {
       ~FlushDenormals() { _mm_setcsr(saved); }
     } flush;
     run(ctx, tile, workers.local());
+    // Cancelled while it ran: the tile may have stopped part way.
+    if (options.cancel && options.cancel->load(std::memory_order_relaxed)) {
+      skipped.store(true, std::memory_order_relaxed);
+      return;
+    }
     std::uint32_t n = ++done;
     if (options.progress) options.progress(double(n) / ntiles);
   };

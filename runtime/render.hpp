@@ -63,7 +63,7 @@ struct RenderOptions {
   std::optional<Window> crop;
   std::optional<std::pair<std::uint32_t, std::uint32_t>> sample_range;
   // snell watch: set (from any thread) to abandon the render; tiles not yet begun
-  // are skipped, so a stale render ends within one tile per thread. The result's
+  // are skipped and running ones stop within 16 samples per pixel block. The result's
   // image is then incomplete (RenderResult::cancelled); a render never cancelled
   // is unchanged by the check.
   const std::atomic<bool>* cancel = nullptr;

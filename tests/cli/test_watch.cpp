@@ -10,6 +10,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <thread>
 
 #include "cli/file_watch.hpp"
 #include "cli/tev.hpp"
@@ -90,6 +91,26 @@ TEST_CASE("a render's cancel flag skips its tiles, and unset changes nothing", "
   CHECK(cancelled.stats.camera_rays == 0);
 }
 
+TEST_CASE("a cancel gives way inside a tile, not only between tiles", "[cli][watch]") {
+  // One 16x16 tile at 2^20 spp (a minute's work): the flag, set 100 ms in, used to
+  // wait for the whole tile (seconds at such counts in snell watch).
+  ir::Scene s = scene_of(kScene);
+  s.settings.width = s.settings.height = 16;
+  s.settings.samples = 1u << 20;
+  std::atomic<bool> cancel{false};
+  rt::RenderOptions o;
+  o.cancel = &cancel;
+  o.threads = 1;
+  std::thread setter([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    cancel = true;
+  });
+  rt::RenderResult r = rt::render(s, o);
+  setter.join();
+  CHECK(r.cancelled);
+  CHECK(r.stats.camera_rays < (std::uint64_t(256) << 20) / 8);
+}
+
 TEST_CASE("tev packets: length, type and payload as tev reads them", "[cli][watch]") {
   auto c = cli::tev_create_image("img", 300, 2);
   REQUIRE(c.size() == 4 + 1 + 1 + 4 + 12 + 3 * 2);
@@ -133,6 +154,10 @@ TEST_CASE("tev addresses are HOST:PORT", "[cli][watch]") {
   CHECK_FALSE(cli::TevStream::parse_address(":14158", h, p, e));
   CHECK_FALSE(cli::TevStream::parse_address("host:", h, p, e));
   CHECK_FALSE(cli::TevStream::parse_address("host:12x", h, p, e));
+  CHECK_FALSE(cli::TevStream::parse_address("127.0.0.1:99999", h, p, e));
+  CHECK_FALSE(cli::TevStream::parse_address("127.0.0.1:0", h, p, e));
+  CHECK_FALSE(cli::TevStream::parse_address("127.0.0.1:0000014158", h, p, e));
+  CHECK(cli::TevStream::parse_address("127.0.0.1:65535", h, p, e));
 }
 
 TEST_CASE("the folder watch sees a rename-save and not other files", "[cli][watch]") {

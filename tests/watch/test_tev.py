@@ -197,6 +197,12 @@ def main():
                                 capture_output=True, text=True, timeout=20)
         assert second.returncode == 3, (second.returncode, second.stderr)
         assert "cannot listen on 127.0.0.1:" + port in second.stderr, second.stderr
+        # Options no edit of the scene can fix end the watch with exit 2, as render's
+        # do (it waited for a change instead).
+        for bad in (["--res", "0x0"], ["--set", "foo=1"], ["--display-server", "127.0.0.1:99999"]):
+            r = subprocess.run([snell, "watch", scene, "--port", "0", "-q", "--threads", "1", *bad],
+                               capture_output=True, text=True, timeout=20)
+            assert r.returncode == 2, (bad, r.returncode, r.stderr)
         print(f"tev stream: {tev.updates} UpdateImage packets, image {name!r} {W}x{H}")
     finally:
         if watch:
