@@ -36,6 +36,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <deque>
 #include <filesystem>
 #include <functional>
@@ -150,10 +151,25 @@ std::string linear_texture(const std::string& path, const SourceColour& colour,
   std::error_code ec;
   auto size = fs::file_size(path, ec);
   auto time = fs::last_write_time(path, ec).time_since_epoch().count();
+  // The bytes themselves are in the key too: a file replaced by another of the same
+  // size and time (cp -p, rsync -t, a fixed-size PPM) kept the old decoding. A
+  // hash reads the file once, far cheaper than decoding it.
+  std::uint64_t content = 1469598103934665603ull;  // FNV-1a 64
+  {
+    std::FILE* f = std::fopen(path.c_str(), "rb");
+    if (!f) {
+      error = "cannot open it";
+      return {};
+    }
+    std::vector<unsigned char> buf(1 << 16);
+    for (std::size_t n; (n = std::fread(buf.data(), 1, buf.size(), f)) > 0;)
+      for (std::size_t i = 0; i < n; ++i) content = (content ^ buf[i]) * 1099511628211ull;
+    std::fclose(f);
+  }
   // "straight": the texels' colours are read without alpha's premultiplication
   // (.tx files made before are not reused).
-  std::size_t key =
-      std::hash<std::string>{}(fmt::format("{}|{}|{}|{}|straight", path, size, time, colour.key));
+  std::size_t key = std::hash<std::string>{}(
+      fmt::format("{}|{}|{}|{}|{:016x}|straight", path, size, time, colour.key, content));
   fs::path dir = fs::temp_directory_path(ec) / fmt::format("snell-textures-{}", ::getuid());
   fs::create_directories(dir, ec);
   fs::path out = dir / fmt::format("{:016x}.tx", key);

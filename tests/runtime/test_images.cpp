@@ -562,3 +562,32 @@ TEST_CASE("uv mapping: each kind's parameters at known points", "[images]") {
   sp.set_world_from_object(ir::Transform::translate({5, 0, 0}) * ir::Transform::rotate_y(90));
   near(uv(sp, {5, 0, 1} /* object -x */), 0.25, 0.5);
 }
+
+TEST_CASE("a file replaced by one of the same size and time is decoded again", "[images]") {
+  // 8-bit files are decoded to linear once and the decoding kept in a cache file;
+  // its key had only the path, size and time, so a same-size file copied in with
+  // its time kept (cp -p, rsync -t) rendered the old picture.
+  Images im;
+  std::string ppm = (im.dir / "swap.ppm").string();
+  auto write = [&](unsigned char r, unsigned char b) {
+    std::ofstream out(ppm, std::ios::binary);
+    out << "P6\n1 1\n255\n" << char(r) << char(0) << char(b);
+  };
+  write(255, 0);
+  const auto when = fs::last_write_time(ppm);
+  ir::Scene s = base_scene(1, 1, 1);
+  s.images.push_back({ppm, {}});
+  std::string err;
+  auto first = rt::ImageTextures::open(s, "", err);
+  REQUIRE(first);
+  Color red = at(*first, image_texture(0, ir::ImageMapping::Planar), {0.5, 0.5, 0});
+  CHECK(red.x == Approx(1).margin(1e-3));
+  CHECK(red.z == Approx(0).margin(1e-3));
+  write(0, 255);
+  fs::last_write_time(ppm, when);
+  auto second = rt::ImageTextures::open(s, "", err);
+  REQUIRE(second);
+  Color blue = at(*second, image_texture(0, ir::ImageMapping::Planar), {0.5, 0.5, 0});
+  CHECK(blue.x == Approx(0).margin(1e-3));
+  CHECK(blue.z == Approx(1).margin(1e-3));
+}
