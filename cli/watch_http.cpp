@@ -2,6 +2,8 @@
 
 #include <httplib.h>
 
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <mutex>
 #include <nlohmann/json.hpp>
@@ -13,6 +15,7 @@ struct WatchPage::Impl {
   std::string scene;
   httplib::Server server;
   std::thread thread;
+  std::atomic<bool> listen_returned{false};
   int port = 0;
 
   std::mutex mutex;
@@ -174,7 +177,10 @@ bool WatchPage::start(int port, std::string& error) {
             " (in use? --port picks another; --port 0 any free one)";
     return false;
   }
-  m.thread = std::thread([&m] { m.server.listen_after_bind(); });
+  m.thread = std::thread([&m] {
+    m.server.listen_after_bind();
+    m.listen_returned = true;
+  });
   return true;
 }
 
@@ -184,6 +190,10 @@ int WatchPage::port() const {
 
 void WatchPage::stop() {
   if (!impl_->thread.joinable()) return;
+  // httplib's stop() does nothing until listen has begun: a watch that ended at
+  // once (a usage error in its options) hung in the join now and then.
+  while (!impl_->server.is_running() && !impl_->listen_returned)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
   impl_->server.stop();
   impl_->thread.join();
 }

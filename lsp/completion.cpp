@@ -108,12 +108,23 @@ void add_names(const Analysis& a, std::uint32_t offset, json& out) {
 
 void add_values(const Analysis& a, std::uint32_t offset, json& out) {
   add_names(a, offset, out);
+  // noise, fbm and cells are builtins and pattern constructors both: one item each,
+  // which says so (editors showed every such name twice).
   for (int i = 0; i < compile::builtin_count(); ++i) {
     const compile::BuiltinInfo& b = compile::builtin_info(i);
-    out.push_back(item(std::string(b.name), kFunction, std::string(b.signature)));
+    const bool also = std::find(std::begin(kConstructors), std::end(kConstructors), b.name) !=
+                      std::end(kConstructors);
+    out.push_back(item(std::string(b.name), kFunction,
+                       std::string(b.signature) + (also ? "; or a pattern constructor" : ""),
+                       also ? describe_block(b.name) : ""));
   }
-  for (std::string_view c : kConstructors)
-    out.push_back(item(std::string(c), kConstructor, "constructor", describe_block(c)));
+  for (std::string_view c : kConstructors) {
+    bool builtin = false;
+    for (int i = 0; i < compile::builtin_count() && !builtin; ++i)
+      builtin = compile::builtin_info(i).name == c;
+    if (!builtin)
+      out.push_back(item(std::string(c), kConstructor, "constructor", describe_block(c)));
+  }
   for (std::string_view b : compile::block_names(compile::BlockKind::Item)) {
     const compile::BlockInfo* info = compile::find_block(b);
     if (info && info->is_object)

@@ -4,6 +4,7 @@
 // `snell lsp` process with a real client (pytest-lsp).
 #include <catch2/catch.hpp>
 #include <chrono>
+#include <map>
 #include <random>
 
 #include "lsp/jsonrpc.hpp"
@@ -99,7 +100,7 @@ TEST_CASE("positions: UTF-16 and UTF-8 columns", "[lsp]") {
   CHECK(idx.offset({99, 0}, Encoding::Utf16) == text.size());
 }
 
-TEST_CASE("positions: a lone \\r ends a line, as LSP counts lines", "[lsp]") {
+TEST_CASE("positions: a lone CR ends a line, as LSP counts lines", "[lsp]") {
   std::string text = "let a = 1;\rlet b = 2;\r\n\rlet c = 3;\n";
   LineIndex idx(text);
   Position b = idx.position(std::uint32_t(text.find('b')), Encoding::Utf16);
@@ -196,6 +197,14 @@ TEST_CASE("server: the predeclared clock and frame hover and complete (§18)", "
   for (const json& i : items) clock |= i["label"] == "clock", frame |= i["label"] == "frame";
   CHECK(clock);
   CHECK(frame);
+  // A name that is a builtin and a pattern constructor (noise, fbm, cells) is one
+  // item, not two; a constructor alone (marble) is still there.
+  std::map<std::string, int> count;
+  for (const json& i : items) ++count[i["label"].get<std::string>()];
+  for (const char* name : {"noise", "fbm", "cells", "marble", "sin"}) {
+    INFO(name);
+    CHECK(count[name] == 1);
+  }
 }
 
 TEST_CASE("server: a 1000-line scene is analysed well under 100 ms", "[lsp]") {
