@@ -523,6 +523,12 @@ void Evaluator::eval_props(const BlockInfo& block, const lang::Block& body, Span
       ok = false;
       continue;
     }
+    // A property whose value the parser could not read is reported there, and is
+    // no second `radius` either (`sphere { radius 1 radius }`).
+    if (p.value && p.value->kind == lang::ExprKind::Error) {
+      ok = false;
+      continue;
+    }
     if (!info->repeats() && given.test(static_cast<std::size_t>(info->id))) {
       for (std::size_t k = first; k < out.size(); ++k)
         if (const EvaluatedProp& q = out[k]; q.info == info) {
