@@ -45,7 +45,10 @@ std::int32_t Evaluator::intern(const std::string& name) {
 // and a language server analysing it spent 0.6 s on each keystroke.
 lang::DiagBuilder Evaluator::error(DiagKind kind, Span span, std::string message) {
   steps_ += kErrorSteps + message.size() / kStringBytesPerStep;
-  return diags_.report(kind, span, std::move(message));
+  lang::DiagBuilder d = diags_.report(kind, span, std::move(message));
+  if (depth_ > 0 && outer_call_.end > outer_call_.begin)
+    d.note(outer_call_, "in the call from here");
+  return d;
 }
 
 bool Evaluator::step_exhausted(Span at) {

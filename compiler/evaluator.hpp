@@ -257,6 +257,9 @@ class Evaluator {
   DefineObserver on_define_;
   std::uint64_t steps_ = 0;
   int depth_ = 0;
+  // The outermost call running (depth_ > 0): an error inside a function body says
+  // which call of the scene reached it (`object { f(0) }`), once per place.
+  lang::Span outer_call_{};
   bool aborted_ = false;  // recursion limit or step budget: stop everything
   // Below this the thread's stack has 4 MB left (stack_guard.hpp): a call stops
   // the evaluation there, as the call-depth limit does.

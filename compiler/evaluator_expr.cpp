@@ -408,6 +408,7 @@ Value Evaluator::call_user(const Closure& fn, std::vector<Value>& args, const Ex
       on_define_(def.param_spans[i], args[i]);
     scope->vars.push_back({fn.params[i], std::move(args[i]), def.param_spans[i], false});
   }
+  if (depth_ == 0) outer_call_ = call.span;
   ++depth_;
   Value result;
   if (!def.exprs.empty()) {

@@ -510,3 +510,24 @@ TEST_CASE("a string literal is held to the string length limit too", "[compiler]
   CHECK(diag_kinds(*run("let s = \"" + at_limit + "\";\n")).empty());
   CHECK(diag_kinds(*run("let s = \"" + past + "\";\n")) == "StringTooLong ");
 }
+
+TEST_CASE("an error inside a function names the scene's call that reached it", "[compiler]") {
+  // Reported at the function's body once ("and 1 more time"), it named neither call.
+  auto c = run("fn f(x) = sphere { radius x };\nobject { f(0) }\nobject { f(-1) }\n");
+  const auto& d = c->diags.diagnostics();
+  REQUIRE(d.size() == 1);
+  CHECK(d[0].kind == lang::DiagKind::InvalidValue);
+  REQUIRE(d[0].notes.size() == 1);
+  REQUIRE(d[0].notes[0].span);
+  CHECK(c->sources.file(d[0].notes[0].span->file).line_col(d[0].notes[0].span->begin).line == 2);
+  // Through nested calls it is still the outermost, the scene's own.
+  c = run("fn g(x) = sphere { radius x };\nfn f(x) = g(x - 1);\nlet s = f(1);\n");
+  REQUIRE(c->diags.diagnostics().size() == 1);
+  const auto& n = c->diags.diagnostics()[0].notes;
+  REQUIRE(n.size() == 1);
+  CHECK(c->sources.file(n[0].span->file).line_col(n[0].span->begin).line == 3);
+  // An error outside any call has no such note.
+  c = run("sphere { radius -1 }\n");
+  REQUIRE(c->diags.diagnostics().size() == 1);
+  CHECK(c->diags.diagnostics()[0].notes.empty());
+}
