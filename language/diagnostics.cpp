@@ -1,8 +1,11 @@
 #include "language/diagnostics.hpp"
 
 #include <algorithm>
+#include <cstdint>
 #include <limits>
 #include <ostream>
+#include <utility>
+#include <vector>
 
 namespace snell::lang {
 namespace {
@@ -221,7 +224,27 @@ std::string DiagnosticEngine::format(const Diagnostic& d, bool color) const {
 }
 
 void DiagnosticEngine::print(std::ostream& out, bool color) const {
-  for (const Diagnostic& d : diags_) out << format(d, color);
+  // In source order: the parser's errors are found before the evaluator's, and
+  // printed as found a file read "3:1" before "1:9". Diagnostics without a place
+  // (the command line's) first; files in the order they first appear.
+  std::vector<std::size_t> order(diags_.size());
+  std::vector<std::size_t> file_rank;
+  for (std::size_t i = 0; i < diags_.size(); ++i) {
+    order[i] = i;
+    const Span& sp = diags_[i].span;
+    if (sp.file < sources_.size()) {
+      if (file_rank.size() <= sp.file) file_rank.resize(sp.file + 1, SIZE_MAX);
+      if (file_rank[sp.file] == SIZE_MAX) file_rank[sp.file] = i;
+    }
+  }
+  auto key = [&](std::size_t i) {
+    const Span& sp = diags_[i].span;
+    if (sp.file >= sources_.size()) return std::pair<std::size_t, std::size_t>{0, 0};
+    return std::pair<std::size_t, std::size_t>{file_rank[sp.file] + 1, sp.begin};
+  };
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return key(a) < key(b); });
+  for (std::size_t i : order) out << format(diags_[i], color);
   if (stopped_)
     out << "error: too many errors: reading stopped at the limit, after " << errors_
         << (dropped_ > 0 ? " (" + std::to_string(dropped_) + " not shown)" : std::string())

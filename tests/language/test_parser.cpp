@@ -427,3 +427,27 @@ TEST_CASE("POV-Ray's rgb <…> in a block names itself in a note", "[parser]") {
   parse(sm, f, diags);
   CHECK(diags.diagnostics().empty());
 }
+
+TEST_CASE("diagnostics print in source order, files as they first appear", "[parser]") {
+  // The parser's errors are found before the evaluator's: printed as found, a
+  // file read 3:1 before 1:9.
+  SourceManager sm;
+  FileId a = sm.add("a.scn", "let x = 1;\nlet y = 2;\nlet z = 3;\n");
+  FileId b = sm.add("b.scn", "let w = 4;\n");
+  DiagnosticEngine diags(sm);
+  diags.report(DiagKind::UndefinedName, Span{a, 22, 25}, "third line");
+  diags.report(DiagKind::UndefinedName, Span{b, 4, 5}, "other file");
+  diags.report(DiagKind::UndefinedName, Span{a, 4, 5}, "first line");
+  diags.report(DiagKind::UndefinedName, Span{FileId(99), 0, 0}, "no place");
+  std::ostringstream out;
+  diags.print(out);
+  const std::string s = out.str();
+  const std::size_t none = s.find("no place"), first = s.find("first line"),
+                    third = s.find("third line"), other = s.find("other file");
+  REQUIRE(none != std::string::npos);
+  CHECK(none < first);
+  CHECK(first < third);
+  CHECK(third < other);
+  // The list itself keeps the order of discovery (the language server reads it).
+  CHECK(diags.diagnostics()[0].message == "third line");
+}
