@@ -174,9 +174,14 @@ class Watcher {
     if (!ok) {
       std::size_t n = c ? c->diags.error_count() : 1;
       if (n == 0) n = 1;
+      // The closing line as `snell check` prints it ("at least" when the parse
+      // stopped at --max-errors).
+      diagnostics += fmt::format("{}{} error{} in {}\n",
+                                 c && c->diags.counts_are_lower_bounds() ? "at least " : "", n,
+                                 n == 1 ? "" : "s", o_.scene);
       page_.set_diagnostics(diagnostics, true);
       page_.set_status(fmt::format("{} error{}: waiting for a change", n, n == 1 ? "" : "s"));
-      if (!o_.quiet) std::cerr << diagnostics << n << " error(s) in " << o_.scene << "\n";
+      if (!o_.quiet) std::cerr << diagnostics;
       return false;
     }
     page_.set_diagnostics(diagnostics, false);

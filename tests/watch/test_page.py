@@ -53,6 +53,8 @@ def main():
         diag = browser.eval(f"{state}.diagnostics")
         assert re.search(r"scene\.scn:3:\d+: error", diag), diag
         assert "nosuch" in diag, diag
+        # As `snell check` prints them, closing line included.
+        assert re.search(r"1 error in .*scene\.scn", diag), diag
         assert browser.eval(f"{state}.stale") is True
         assert "error" in browser.eval(f"{state}.status")
         assert watch.proc.poll() is None, "snell watch ended on a scene error"
