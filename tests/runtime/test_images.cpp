@@ -86,6 +86,15 @@ ir::Texture image_texture(std::uint32_t image, ir::ImageMapping m, bool repeat =
   return t;
 }
 
+// The scene's images opened, as the render opens them.
+std::unique_ptr<ImageTextures> opened(const ir::Scene& s) {
+  std::string err;
+  auto tex = rt::ImageTextures::open(s, "", err);
+  INFO(err);
+  REQUIRE(tex);
+  return tex;
+}
+
 // The colour at point q (a point lookup: no footprint, no normal, no inward move).
 Color at(const ImageTextures& tex, const ir::Texture& t, ir::Vec3 q) {
   rt::TexturePoint tp;
@@ -124,9 +133,7 @@ void check_texel(Color got, int image, int i, int row) {
 TEST_CASE("image lookups at texel centres through each mapping", "[images]") {
   Images im;
   ir::Scene s = scene_with(im);
-  std::string err;
-  auto tex = rt::ImageTextures::open(s, "", err);
-  REQUIRE(tex);
+  auto tex = opened(s);
   for (std::uint32_t image = 0; image < 2; ++image)
     for (int row = 0; row < kH; ++row)
       for (int i = 0; i < kW; ++i) {
@@ -148,9 +155,7 @@ TEST_CASE("image lookups at texel centres through each mapping", "[images]") {
 TEST_CASE("repeat false is black outside [0, 1]", "[images]") {
   Images im;
   ir::Scene s = scene_with(im);
-  std::string err;
-  auto tex = rt::ImageTextures::open(s, "", err);
-  REQUIRE(tex);
+  auto tex = opened(s);
   ir::Texture t = image_texture(1, ir::ImageMapping::Planar, false);
   check_texel(at(*tex, t, {u_of(2), v_of(0), 0}), 1, 2, 0);  // inside: the texel
   for (ir::Vec3 q : {ir::Vec3{1.3, 0.5, 0}, ir::Vec3{-0.2, 0.5, 0}, ir::Vec3{0.5, 1.4, 0},
@@ -170,9 +175,7 @@ TEST_CASE("edges: repeat false clamps its filter, and the poles do not wrap", "[
   // the top row was blended with the bottom one (red and blue made purple).
   Images im;
   ir::Scene s = scene_with(im);
-  std::string err;
-  auto tex = rt::ImageTextures::open(s, "", err);
-  REQUIRE(tex);
+  auto tex = opened(s);
   const double in = 0.2 / kW;  // past the edge texels' centres, inside the image
   ir::Texture planar = image_texture(1, ir::ImageMapping::Planar, false);
   check_texel(at(*tex, planar, {1 - in, v_of(1), 0}), 1, kW - 1, 1);
@@ -322,10 +325,7 @@ TEST_CASE("grey images give grey, with or without alpha, and alpha is never a co
     REQUIRE(out->close());
     s.images.push_back({path, {}});
   }
-  std::string err;
-  auto tex = rt::ImageTextures::open(s, "", err);
-  INFO(err);
-  REQUIRE(tex);
+  auto tex = opened(s);
   for (int row = 0; row < kH; ++row)
     for (int i = 0; i < kW; ++i) {
       ir::Vec3 q{u_of(i), v_of(row), 0};
@@ -373,10 +373,7 @@ TEST_CASE("an EXR's chromaticities convert its primaries to Rec.709", "[images]"
   ir::Scene s = base_scene(1, 1, 1);
   s.images.push_back({write("acescg.exr", ap1), {}});
   s.images.push_back({write("rec709.exr", rec709), {}});
-  std::string err;
-  auto tex = rt::ImageTextures::open(s, "", err);
-  INFO(err);
-  REQUIRE(tex);
+  auto tex = opened(s);
   const float m[9] = {1.7051f,  -0.6218f, -0.0833f, -0.1303f, 1.1408f,
                       -0.0105f, -0.0240f, -0.1290f, 1.1530f};
   for (int row = 0; row < kH; ++row)
@@ -577,16 +574,13 @@ TEST_CASE("a file replaced by one of the same size and time is decoded again", "
   const auto when = fs::last_write_time(ppm);
   ir::Scene s = base_scene(1, 1, 1);
   s.images.push_back({ppm, {}});
-  std::string err;
-  auto first = rt::ImageTextures::open(s, "", err);
-  REQUIRE(first);
+  auto first = opened(s);
   Color red = at(*first, image_texture(0, ir::ImageMapping::Planar), {0.5, 0.5, 0});
   CHECK(red.x == Approx(1).margin(1e-3));
   CHECK(red.z == Approx(0).margin(1e-3));
   write(0, 255);
   fs::last_write_time(ppm, when);
-  auto second = rt::ImageTextures::open(s, "", err);
-  REQUIRE(second);
+  auto second = opened(s);
   Color blue = at(*second, image_texture(0, ir::ImageMapping::Planar), {0.5, 0.5, 0});
   CHECK(blue.x == Approx(0).margin(1e-3));
   CHECK(blue.z == Approx(1).margin(1e-3));
