@@ -4,7 +4,9 @@
 #include <cmath>
 #include <cstdlib>
 #include <optional>
+#include <string>
 #include <type_traits>
+#include <vector>
 
 namespace snell::cli {
 namespace {
@@ -13,6 +15,28 @@ template <class T>
 struct Real : std::is_floating_point<T> {};
 template <class T>
 struct Real<std::optional<T>> : std::is_floating_point<T> {};
+template <class T>
+struct Integral : std::is_integral<T> {};
+template <class T>
+struct Integral<std::optional<T>> : std::is_integral<T> {};
+template <class T>
+struct Repeatable : std::false_type {};
+template <class T>
+struct Repeatable<std::vector<T>> : std::true_type {};
+
+// An integer option is decimal, as every number of §2 is: CLI11 reads "010" as
+// octal 8 and "0x10" as 16, so `--frame 0042` rendered frame 34 and `--seed 010`
+// differed from `--set seed=010`. Leading zeros are taken off before CLI11 reads it.
+const CLI::Validator kDecimal(
+    [](std::string& s) -> std::string {
+      std::size_t i = s.empty() || (s[0] != '-' && s[0] != '+') ? 0 : 1;
+      if (i == s.size() || s.find_first_not_of("0123456789", i) != std::string::npos)
+        return "needs a whole number in decimal, not " + s;
+      std::size_t z = s.find_first_not_of('0', i);
+      s.erase(i, (z == std::string::npos ? s.size() - 1 : z) - i);
+      return "";
+    },
+    "");
 
 // A number option takes finite values only: CLI11 reads "nan", "inf" and 1e400
 // as doubles, and a NaN clock reached the scene as its own expression's error.
@@ -49,6 +73,11 @@ void bind(CLI::App& app, const OptionRow& row, Command cmd, T& field) {
   } else {
     opt = app.add_option(names, field, help);
     opt->check(kNonEmpty);
+    if constexpr (Integral<T>::value) opt->transform(kDecimal);
+    // `-o a.png scene.scn --spp 4`: one value per occurrence, so a repeatable
+    // option does not take the scene (or a second output) as its own.
+    if constexpr (Repeatable<T>::value)
+      if (names[0] == '-') opt->allow_extra_args(false);
   }
   if (r.ranged) opt->check(CLI::Range(r.lo, r.hi));
   if constexpr (Real<T>::value) opt->check(kFinite);

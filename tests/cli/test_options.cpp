@@ -326,3 +326,36 @@ TEST_CASE("an empty option value is a usage error, not the option left out", "[c
   }
   CHECK(tried > 40);
 }
+
+TEST_CASE("integer options are decimal, leading zeros and all", "[cli][options]") {
+  // CLI11 read "010" as octal 8 and "0x10" as 16: --frame 0042 rendered frame 34.
+  Line line;
+  line.parse("render a.scn --spp 010 --seed 0042 --threads 0002 --max-errors 010");
+  CHECK(line.args.spp == 10u);
+  CHECK(line.args.seed == 42u);
+  CHECK(line.args.threads == 2);
+  CHECK(line.args.max_errors == 10u);
+  Line zero;
+  zero.parse("render a.scn --seed 000");
+  CHECK(zero.args.seed == 0u);
+  for (const char* bad : {"render a.scn --spp 0x10", "render a.scn --seed 1e3",
+                          "render a.scn --spp 4.0", "render a.scn --seed 0b11"}) {
+    Line l;
+    INFO(bad);
+    CHECK_THROWS_AS(l.parse(bad), CLI::ParseError);
+  }
+}
+
+TEST_CASE("a repeatable option takes one value each time, never the scene", "[cli][options]") {
+  // -o, -I and --set took every word up to the next option: `-o out.png a.scn
+  // --spp 4` made a.scn a second output and said the scene was missing.
+  Line line;
+  line.parse("render -o out.png a.scn --spp 4 -I inc --set seed=3 -o b.exr");
+  CHECK(line.args.scene == "a.scn");
+  CHECK(line.args.outputs == std::vector<std::string>{"out.png", "b.exr"});
+  CHECK(line.args.include_dirs == std::vector<std::string>{"inc"});
+  CHECK(line.args.sets == std::vector<std::string>{"seed=3"});
+  Line l2;
+  l2.parse("check -I inc c.scn --max-errors 5");
+  CHECK(l2.args.scene == "c.scn");
+}
