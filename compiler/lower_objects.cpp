@@ -299,14 +299,21 @@ void SceneBuilder::place_instance(const std::shared_ptr<const ObjectNode>& value
     s.material = at.material == ir::kInheritMaterial ? default_material() : at.material;
     s.set_world_from_object(at.world_from_parent);
     s.set_motion(at.motion);
-    set_object_space(s, at.object.get());
+    // §15 space "object": the value's top object placed with its own transforms
+    // too (a box's translate, a union's), as the same objects written out have it
+    // (§13: the instance's transforms come after the value's own). It was the
+    // instance's frame alone, so a value `box { ... translate <0.5, 0, 0> }` put
+    // its object-space gradient half a unit off, and a zero motion on a leaf
+    // (which copies the value in) moved it back.
+    const ir::ObjectSpace own{at.world_from_parent * object_transforms(value->props), at.motion};
+    set_object_space(s, at.object ? at.object.get() : &own);
     s.src = ref(keyword);
   }
   // The value's own instances are placed beside it, in its space (§15).
   std::shared_ptr<const ir::ObjectSpace> object = at.object;
   if (!object && !e.nested.empty())
-    object =
-        std::make_shared<const ir::ObjectSpace>(ir::ObjectSpace{at.world_from_parent, at.motion});
+    object = std::make_shared<const ir::ObjectSpace>(
+        ir::ObjectSpace{at.world_from_parent * object_transforms(value->props), at.motion});
   for (const NestedInstance& k : e.nested)
     place_instance(k.value, k.site->keyword,
                    Placement{at.world_from_parent * k.proto_from_object,

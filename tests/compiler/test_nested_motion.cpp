@@ -310,3 +310,33 @@ TEST_CASE("a spinning instance of a symmetric CSG value renders as the still one
     n += std::fabs(moved.image.rgb[i] - pivot.image.rgb[i]) > 0.01;
   CHECK(n == 0);
 }
+
+TEST_CASE("an instance's space \"object\" holds the value's own transforms", "[compiler]") {
+  // §13: the instance's transforms come after the value's own, so `object { v }`
+  // is v's objects written out; its object-space gradient was in the instance's
+  // frame alone (0.97 of the ramp where the written-out box gives 0.47).
+  const std::string head =
+      "settings { resolution <32, 24> samples 1 }\n"
+      "camera { location <0, 0, -5> look_at <0, 0, 0> fov 50 }\n"
+      "background 1\n"
+      "point_light { position <0, 0, -5> intensity 25 }\n"
+      "let m = diffuse gradient { direction <1, 0, 0> space \"object\" };\n";
+  auto same = [](const rt::RenderResult& a, const rt::RenderResult& b) {
+    REQUIRE(a.image.rgb.size() == b.image.rgb.size());
+    float worst = 0;
+    for (std::size_t i = 0; i < a.image.rgb.size(); ++i)
+      worst = std::max(worst, std::fabs(a.image.rgb[i] - b.image.rgb[i]));
+    return worst;
+  };
+  const std::string box = "box { min -1 max 1 material m translate <0.5, 0, 0> rotate <0, 20, 0> }";
+  CHECK(same(rendered(head + "let v = " + box + ";\nobject { v translate <0.2, 0, 0> }\n"),
+             rendered(head + box.substr(0, box.size() - 1) + " translate <0.2, 0, 0> }\n")) < 1e-5);
+  // A union value: its own transforms are the object's space, placed twice.
+  const std::string u =
+      "union { box { min -1 max 1 material m } sphere { radius 0.5 center <0, 1.5, 0> "
+      "material m } translate <0.4, -0.5, 0> }";
+  CHECK(
+      same(rendered(head + "let v = " + u + ";\nobject { v }\nobject { v translate <0, 0, 4> }\n"),
+           rendered(head + u + "\n" + u.substr(0, u.size() - 1) + " translate <0, 0, 4> }\n")) <
+      1e-5);
+}
