@@ -146,7 +146,9 @@ inline Color pattern_color(const ir::Checker& c, const ir::Texture& t, const Tex
 inline double function_value(const ir::FunctionPattern& f, const PatternFrame& frame, ir::Vec3 q,
                              const TexturePoint& tp) {
   ir::Vec3 n{tp.n_out.x, tp.n_out.y, tp.n_out.z};
-  if (f.program.reads_normal && !frame.identity) {
+  // A background has no normal: n is 0 there, and stays 0 through the pattern's
+  // transforms (normalised, it was NaN: a rotated sky of f(p, n) went black).
+  if (f.program.reads_normal && !frame.identity && (n.x != 0 || n.y != 0 || n.z != 0)) {
     const ir::Mat4& m = frame.space_from_world.inv;  // world_from_space: transposed for normals
     n = ir::normalize(ir::Vec3{m(0, 0) * n.x + m(1, 0) * n.y + m(2, 0) * n.z,
                                m(0, 1) * n.x + m(1, 1) * n.y + m(2, 1) * n.z,

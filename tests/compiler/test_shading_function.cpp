@@ -15,6 +15,7 @@
 #include "language/parser.hpp"
 #include "runtime/pattern/noise.hpp"
 #include "runtime/pattern/program_eval.hpp"
+#include "runtime/shading/textures.hpp"
 
 using namespace snell;
 
@@ -644,4 +645,28 @@ TEST_CASE("shading: the op registry, the compiler, the interpreter and the dump 
   bad.loops[0].next = {3, 4, 5};
   bad.code[0].b = 254;  // its three inputs from 254..256
   CHECK(!ir::check(bad).empty());
+}
+
+TEST_CASE("shading: a background's zero normal stays zero through the pattern's transforms",
+          "[shading]") {
+  // A sky has no surface: f(p, n) gets n = 0 there. A `rotate` on the pattern took
+  // it through the normal transform and normalised it: NaN, a black sky.
+  Harness h("fn f(p, n) = 0.5 + 0.5 * n.y + 0 * p.x;");
+  ir::FunctionPattern fp;
+  REQUIRE(h.compile("f", fp.program));
+  rt::PatternFrame frame;
+  frame.space_from_world = ir::Transform::rotate_z(90).inverse();
+  frame.identity = false;
+  rt::TexturePoint sky;  // n_out = 0
+  std::uint64_t nonfinite = 0;
+  sky.nonfinite = &nonfinite;
+  CHECK(rt::function_value(fp, frame, {0, 1, 0}, sky) == 0.5);
+  CHECK(nonfinite == 0);
+  // On a surface the normal is taken into the pattern's space: the pattern turned
+  // 90° about z sees the world's +x as its own -y.
+  rt::TexturePoint hit = sky;
+  hit.n_out = rt::Vec3f(1, 0, 0);
+  CHECK(rt::function_value(fp, frame, {0, 1, 0}, hit) == Approx(0.0).margin(1e-12));
+  hit.n_out = rt::Vec3f(-1, 0, 0);
+  CHECK(rt::function_value(fp, frame, {0, 1, 0}, hit) == Approx(1.0));
 }
