@@ -59,10 +59,15 @@ std::vector<std::string> scene_warnings(const ir::Scene& scene) {
   for (const ir::Shape& s : scene.shapes)
     if (geom::point_inside(scene, s, scene.camera.location, geom::InsideRule::Object)) {
       const ir::Vec3 c = scene.camera.location;
-      out.push_back(fmt::format(
-          "the camera at <{}, {}, {}> is inside the {} at {}: it will see only that object's "
-          "inside",
-          c.x, c.y, c.z, written_kind(scene, s), ir::to_string(s.src, scene)));
+      // A dielectric is a medium the camera looks out of (water around a diver),
+      // not a wall it sees the inside of.
+      const bool medium =
+          s.material < scene.materials.size() && scene.materials[s.material].as<ir::Dielectric>();
+      out.push_back(
+          fmt::format("the camera at <{}, {}, {}> is inside the {} at {}: {}", c.x, c.y, c.z,
+                      written_kind(scene, s), ir::to_string(s.src, scene),
+                      medium ? "its rays start in that dielectric and see out through its surface"
+                             : "it will see only that object's inside"));
     }
   return out;
 }

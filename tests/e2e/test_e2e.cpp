@@ -681,6 +681,15 @@ TEST_CASE("warnings: no object, no light for a diffuse surface, the camera insid
   CHECK(out.find("inside the box at " + (tmp / "w.scn") + ":3:1") != std::string::npos);
   CHECK(out.find("inside the cylinder at " + (tmp / "w.scn") + ":4:1") != std::string::npos);
   CHECK(out.find(":5:1") == std::string::npos);
+  CHECK(out.find("it will see only that object's inside") != std::string::npos);
+  // A dielectric around the camera is a medium it looks out of, and says so.
+  out = check_out(
+      "camera { location <0, 0, -5> look_at <0, 0, 0> } point_light { position <0, 5, -5> "
+      "intensity 10 }\n"
+      "sphere { radius 10 material dielectric { ior 1.33 } }\n");
+  CHECK(out.find("inside the sphere") != std::string::npos);
+  CHECK(out.find("its rays start in that dielectric") != std::string::npos);
+  CHECK(out.find("see only") == std::string::npos);
   // Composites: inside a CSG result (not inside its hole), inside an instance's
   // value (not inside another instance of it), inside a closed mesh (not beside
   // it), and a plane a half-space only as a CSG leaf.
