@@ -5,6 +5,7 @@
 #include "compiler/arith.hpp"
 #include "compiler/builtins.hpp"
 #include "compiler/shading_compiler.hpp"
+#include "compiler/stack_guard.hpp"
 
 namespace snell::compile {
 
@@ -408,16 +409,28 @@ SVal ShadingCompiler::inline_call(const Stmt& def, Scope* body,
                                       fname +
                                       "(...)' directly in its body; a tail recursion on run-time "
                                       "values runs as a loop, and this call cannot");
-  if (static_cast<int>(calls_.size()) >= kMaxInlineDepth) {
+  // A call on constants alone folds to a constant (it adds no instructions), so
+  // it may nest as deep as the evaluator's calls (§4: 10 000), the stack
+  // permitting: a `fn s(n)` summing 1..300 was refused at 256.
+  bool all_const = true;
+  for (const SVal& a : args) all_const = all_const && a.is_const();
+  const int limit = all_const ? kMaxCallDepth : kMaxInlineDepth;
+  const bool deep = static_cast<int>(calls_.size()) >= kMaxInlineDepth;
+  if (deep && all_const && static_cast<int>(calls_.size()) < limit &&
+      stack_low(stack_floor(std::size_t(4) << 20))) {
+    return unsupported(call.span, "calls on constants are nested " + std::to_string(calls_.size()) +
+                                      " deep here: more than the compiler's stack holds");
+  }
+  if (static_cast<int>(calls_.size()) >= limit) {
     bool recursive = false;
     for (const Call& c : calls_) recursive = recursive || c.def == &def;
     if (recursive)
-      return unsupported(
-          call.span, "'" + fname + "' calls itself more than " + std::to_string(kMaxInlineDepth) +
-                         " deep here; a shading function's recursion is unrolled when it is "
-                         "compiled, so it must end on constants within that many calls (a "
-                         "counter such as 'i + 1' up to a limit)");
-    return unsupported(call.span, "calls are nested more than " + std::to_string(kMaxInlineDepth) +
+      return unsupported(call.span,
+                         "'" + fname + "' calls itself more than " + std::to_string(limit) +
+                             " deep here; a shading function's recursion is unrolled when it is "
+                             "compiled, so it must end on constants within that many calls (a "
+                             "counter such as 'i + 1' up to a limit)");
+    return unsupported(call.span, "calls are nested more than " + std::to_string(limit) +
                                       " deep here in a shading function");
   }
   for (std::size_t i = 0; i < args.size(); ++i) body->vars.push_back({params[i], args[i]});
