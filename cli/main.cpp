@@ -80,6 +80,11 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     int code = app.exit(e);
+    if (code != 0)
+      if (std::string hint =
+              cli::did_you_mean(app, std::vector<std::string>(argv + 1, argv + argc));
+          !hint.empty())
+        std::cerr << "snell: note: " << hint << "\n";
     return code == 0 ? kExitOk : kExitUsage;
   }
   // Last line of defence: nothing a user types may end in an abort. Memory the

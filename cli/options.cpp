@@ -8,6 +8,8 @@
 #include <type_traits>
 #include <vector>
 
+#include "language/diagnostics.hpp"
+
 namespace snell::cli {
 namespace {
 
@@ -105,6 +107,42 @@ unsigned parsed_command(CLI::App& app) {
   for (const CommandInfo& c : kCommands)
     if (app.get_subcommand(std::string(c.name))->parsed()) return c.id;
   return 0;
+}
+
+}  // namespace snell::cli
+
+namespace snell::cli {
+
+std::string did_you_mean(CLI::App& app, const std::vector<std::string>& args) {
+  CLI::App* sub = nullptr;
+  std::vector<std::string> subcommands;
+  for (const CommandInfo& c : kCommands) subcommands.emplace_back(c.name);
+  for (const std::string& a : args) {
+    if (a == "--") break;
+    if (!sub) {
+      if (a.empty() || a[0] == '-') continue;
+      for (const CommandInfo& c : kCommands)
+        if (a == c.name) sub = app.get_subcommand(std::string(c.name));
+      if (sub) continue;
+      std::vector<std::string_view> names(subcommands.begin(), subcommands.end());
+      std::string guess = lang::closest_match(a, names);
+      return guess.empty() ? "" : "did you mean 'snell " + guess + "'?";
+    }
+    if (a.size() < 2 || a[0] != '-') continue;
+    const std::string word = a.substr(0, a.find('='));
+    std::vector<std::string> spelt;
+    bool known = false;
+    for (const CLI::Option* opt : sub->get_options()) {
+      for (const std::string& l : opt->get_lnames()) spelt.push_back("--" + l);
+      for (const std::string& n : opt->get_snames()) spelt.push_back("-" + n);
+    }
+    for (const std::string& n : spelt) known = known || n == word;
+    if (known) continue;
+    std::vector<std::string_view> names(spelt.begin(), spelt.end());
+    std::string guess = lang::closest_match(word, names);
+    if (!guess.empty()) return "did you mean '" + guess + "'?";
+  }
+  return "";
 }
 
 }  // namespace snell::cli

@@ -173,5 +173,9 @@ struct CliArgs {
 void add_commands(CLI::App& app, CliArgs& args);
 // The subcommand `app` parsed (after app.parse), or 0 for none.
 unsigned parsed_command(CLI::App& app);
+// After a parse error: "did you mean '--output'?" for the first word of `args`
+// that is no option of its subcommand (or no subcommand) but close to one; empty
+// when there is none.
+std::string did_you_mean(CLI::App& app, const std::vector<std::string>& args);
 
 }  // namespace snell::cli

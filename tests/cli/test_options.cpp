@@ -359,3 +359,17 @@ TEST_CASE("a repeatable option takes one value each time, never the scene", "[cl
   l2.parse("check -I inc c.scn --max-errors 5");
   CHECK(l2.args.scene == "c.scn");
 }
+
+TEST_CASE("a misspelt option or subcommand gets a did-you-mean note", "[cli][options]") {
+  Line line;
+  CHECK_THROWS_AS(line.parse("render w.scn --outptu x.png"), CLI::ParseError);
+  CHECK(cli::did_you_mean(line.app, {"render", "w.scn", "--outptu", "x.png"}) ==
+        "did you mean '--output'?");
+  CHECK(cli::did_you_mean(line.app, {"render", "w.scn", "--stat"}) == "did you mean '--stats'?");
+  CHECK(cli::did_you_mean(line.app, {"render", "w.scn", "--spp=4", "--sed", "3"}) ==
+        "did you mean '--seed'?");
+  CHECK(cli::did_you_mean(line.app, {"rendr", "w.scn"}) == "did you mean 'snell render'?");
+  // Known options and words nothing is close to: no note.
+  CHECK(cli::did_you_mean(line.app, {"render", "w.scn", "--spp", "4"}).empty());
+  CHECK(cli::did_you_mean(line.app, {"render", "w.scn", "--xyzzyplugh"}).empty());
+}
