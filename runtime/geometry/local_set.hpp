@@ -94,6 +94,17 @@ class LocalSet {
     }
     hit.p = to_float(p.x, p.y, p.z);
     hit.offset = float(kSurfaceOffsetUlps * 0x1p-24 * double(max_abs(hit.p)));
+    // The projection itself is good to ulps of the local point, in double: only a
+    // surface whose local coordinates dwarf the hit's distance from the camera
+    // (a torus of major radius 1e11 seen from its tube) needs more than the above,
+    // and it shadowed itself in speckles without it.
+    const Vec3 q = xform_point(pr.local_from_rel, p);
+    const double local = std::fmax(std::fabs(q.x), std::fmax(std::fabs(q.y), std::fabs(q.z)));
+    double stretch = 0;  // the largest a local unit becomes
+    for (int c = 0; c < 3; ++c)
+      stretch = std::fmax(stretch, ir::length(Vec3(pr.rel_from_local(0, c), pr.rel_from_local(1, c),
+                                                   pr.rel_from_local(2, c))));
+    hit.offset = std::fmax(hit.offset, float(kSurfaceOffsetUlps * 0x1p-52 * local * stretch));
   }
 
  private:
