@@ -115,8 +115,6 @@ namespace snell::cli {
 
 std::string did_you_mean(CLI::App& app, const std::vector<std::string>& args) {
   CLI::App* sub = nullptr;
-  std::vector<std::string> subcommands;
-  for (const CommandInfo& c : kCommands) subcommands.emplace_back(c.name);
   for (const std::string& a : args) {
     if (a == "--") break;
     if (!sub) {
@@ -124,7 +122,8 @@ std::string did_you_mean(CLI::App& app, const std::vector<std::string>& args) {
       for (const CommandInfo& c : kCommands)
         if (a == c.name) sub = app.get_subcommand(std::string(c.name));
       if (sub) continue;
-      std::vector<std::string_view> names(subcommands.begin(), subcommands.end());
+      std::vector<std::string_view> names;
+      for (const CommandInfo& c : kCommands) names.emplace_back(c.name);
       std::string guess = lang::closest_match(a, names);
       return guess.empty() ? "" : "did you mean 'snell " + guess + "'?";
     }

@@ -86,7 +86,8 @@ bool TevStream::parse_address(const std::string& address, std::string& host, std
   if (host.size() > 2 && host.front() == '[' && host.back() == ']')  // [::1]:14158
     host = host.substr(1, host.size() - 2);
   port = address.substr(k + 1);
-  if (port.size() > 5 || std::stoul(port) < 1 || std::stoul(port) > 65535) {
+  const unsigned long number = port.size() > 5 ? 0 : std::stoul(port);  // digits only
+  if (number < 1 || number > 65535) {
     error = "--display-server's port must be in 1..65535, got '" + port + "'";
     return false;
   }

@@ -118,13 +118,9 @@ void add_values(const Analysis& a, std::uint32_t offset, json& out) {
                        std::string(b.signature) + (also ? "; or a pattern constructor" : ""),
                        also ? describe_block(b.name) : ""));
   }
-  for (std::string_view c : kConstructors) {
-    bool builtin = false;
-    for (int i = 0; i < compile::builtin_count() && !builtin; ++i)
-      builtin = compile::builtin_info(i).name == c;
-    if (!builtin)
+  for (std::string_view c : kConstructors)
+    if (compile::find_builtin(c) < 0)
       out.push_back(item(std::string(c), kConstructor, "constructor", describe_block(c)));
-  }
   for (std::string_view b : compile::block_names(compile::BlockKind::Item)) {
     const compile::BlockInfo* info = compile::find_block(b);
     if (info && info->is_object)

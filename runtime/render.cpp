@@ -157,7 +157,7 @@ RenderResult render(const ir::Scene& scene, const RenderOptions& options) {
 
   std::atomic<bool> skipped{false};
   auto render_one = [&](std::uint32_t tile) {
-    if (options.cancel && options.cancel->load(std::memory_order_relaxed)) {
+    if (cancelled(ctx)) {
       skipped.store(true, std::memory_order_relaxed);
       return;
     }
@@ -176,7 +176,7 @@ RenderResult render(const ir::Scene& scene, const RenderOptions& options) {
     } flush;
     run(ctx, tile, workers.local());
     // Cancelled while it ran: the tile may have stopped part way.
-    if (options.cancel && options.cancel->load(std::memory_order_relaxed)) {
+    if (cancelled(ctx)) {
       skipped.store(true, std::memory_order_relaxed);
       return;
     }

@@ -65,7 +65,10 @@ class LocalSet {
     L l(g);
     ir::Transform rel =
         ir::Transform::translate(-origin) * s.world_from_object() * l.object_from_local;
-    prims_.push_back({l, rel.inv, rel.m, index});
+    double stretch = 0;  // the largest a local unit becomes
+    for (int c = 0; c < 3; ++c)
+      stretch = std::fmax(stretch, ir::length(Vec3(rel.m(0, c), rel.m(1, c), rel.m(2, c))));
+    prims_.push_back({l, rel.inv, rel.m, index, stretch});
   }
   std::size_t size() const { return prims_.size(); }
   std::uint32_t shape(unsigned prim) const { return prims_[prim].shape; }
@@ -87,7 +90,8 @@ class LocalSet {
     const Prim& pr = prims_[prim];
     Vec3 p0(double(r.org.x) + double(r.dir.x) * t, double(r.org.y) + double(r.dir.y) * t,
             double(r.org.z) + double(r.dir.z) * t);
-    Vec3 p = xform_point(pr.rel_from_local, pr.surface.project(xform_point(pr.local_from_rel, p0)));
+    const Vec3 q = pr.surface.project(xform_point(pr.local_from_rel, p0));
+    Vec3 p = xform_point(pr.rel_from_local, q);
     if (!ir::is_finite(p)) {
       hit.p = r.org + r.dir * t, hit.offset = 0;
       return;
@@ -98,13 +102,8 @@ class LocalSet {
     // surface whose local coordinates dwarf the hit's distance from the camera
     // (a torus of major radius 1e11 seen from its tube) needs more than the above,
     // and it shadowed itself in speckles without it.
-    const Vec3 q = xform_point(pr.local_from_rel, p);
     const double local = std::fmax(std::fabs(q.x), std::fmax(std::fabs(q.y), std::fabs(q.z)));
-    double stretch = 0;  // the largest a local unit becomes
-    for (int c = 0; c < 3; ++c)
-      stretch = std::fmax(stretch, ir::length(Vec3(pr.rel_from_local(0, c), pr.rel_from_local(1, c),
-                                                   pr.rel_from_local(2, c))));
-    hit.offset = std::fmax(hit.offset, float(kSurfaceOffsetUlps * 0x1p-52 * local * stretch));
+    hit.offset = std::fmax(hit.offset, float(kSurfaceOffsetUlps * 0x1p-52 * local * pr.stretch));
   }
 
  private:
@@ -112,6 +111,7 @@ class LocalSet {
     L surface;
     ir::Mat4 local_from_rel, rel_from_local;
     std::uint32_t shape = 0;
+    double stretch = 1;  // rel_from_local's largest column length
   };
   std::vector<Prim> prims_;
 };

@@ -36,6 +36,17 @@ double turn_degrees(const ir::Motion& m) {
   return deg;
 }
 
+// `tolerance` × the size of `verts` where s stands at shutter open (× 1 for a point).
+double size_tolerance(const ir::Shape& s, const std::vector<Vec3>& verts, Vec3 origin,
+                      double tolerance) {
+  ir::Transform t0 = rel_at(s, origin, 0);
+  Box3 box;
+  for (const Vec3& v : verts) box.grow(t0.point(v));
+  double size =
+      ir::length(Vec3(box.hi[0] - box.lo[0], box.hi[1] - box.lo[1], box.hi[2] - box.lo[2]));
+  return tolerance * (size > 0 ? size : 1);
+}
+
 }  // namespace
 
 unsigned first_segments(const ir::Motion& m) {
@@ -51,12 +62,7 @@ unsigned motion_segments(const ir::Shape& s, const std::vector<Vec3>& verts, Vec
   std::vector<Vec3> probe;
   std::size_t stride = std::max<std::size_t>(1, verts.size() / 64);
   for (std::size_t i = 0; i < verts.size(); i += stride) probe.push_back(verts[i]);
-  ir::Transform t0 = rel_at(s, origin, 0);
-  Box3 box;
-  for (const Vec3& v : verts) box.grow(t0.point(v));
-  double size =
-      ir::length(Vec3(box.hi[0] - box.lo[0], box.hi[1] - box.lo[1], box.hi[2] - box.lo[2]));
-  double tol = tolerance * (size > 0 ? size : 1);
+  const double tol = size_tolerance(s, verts, origin, tolerance);
   unsigned segs = first_segments(s.motion());
   for (; segs < 128; segs *= 2) {
     double err = 0;
@@ -163,12 +169,7 @@ QuatPlacement quat_between(const QuatPlacement& a, const QuatPlacement& b, doubl
 
 std::vector<QuatPlacement> quat_motion_steps(const ir::Shape& s, const std::vector<Vec3>& corners,
                                              Vec3 centre, Vec3 origin, double tolerance) {
-  ir::Transform t0 = rel_at(s, origin, 0);
-  Box3 box;
-  for (const Vec3& v : corners) box.grow(t0.point(v));
-  double size =
-      ir::length(Vec3(box.hi[0] - box.lo[0], box.hi[1] - box.lo[1], box.hi[2] - box.lo[2]));
-  const double tol = tolerance * (size > 0 ? size : 1);
+  const double tol = size_tolerance(s, corners, origin, tolerance);
   std::vector<QuatPlacement> steps;
   for (unsigned segs = first_segments(s.motion());; segs *= 2) {
     steps.clear();

@@ -97,8 +97,6 @@ struct CameraKeys {
         time(dim_key1(spec, pixel, kDimTime)) {}
 };
 
-// A deterministic 1-in-kCostStride choice of camera samples to time; it never
-// changes the picture.
 // RenderOptions::cancel, asked every 16 samples inside a tile as well as between
 // tiles: a 16×16 tile at 2^20 spp took seconds to give way to an edit or a ^C.
 // A tile left this way is incomplete, and so is the render (RenderResult::cancelled).
@@ -106,6 +104,8 @@ inline bool cancelled(const TileContext& c) {
   return c.options->cancel && c.options->cancel->load(std::memory_order_relaxed);
 }
 
+// A deterministic 1-in-kCostStride choice of camera samples to time; it never
+// changes the picture.
 inline bool timed_sample(std::uint32_t x, std::uint32_t y, std::uint32_t s) {
   std::uint32_t h = (x * 0x9e3779b1u) ^ (y * 0x85ebca77u) ^ (s * 0xc2b2ae3du);
   h ^= h >> 15;

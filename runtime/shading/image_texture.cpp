@@ -27,6 +27,13 @@ const ImageTextures::Api& api() {
   return a;
 }
 
+// "FILE:LINE:COL: cannot read image 'PATH': WHY" for scene.images[image].
+std::string image_error(const ir::Scene& scene, std::size_t image, const std::string& why) {
+  const ir::ImageFile& f = scene.images[image];
+  std::string where = f.src.line > 0 ? ir::to_string(f.src, scene) + ": " : "";
+  return fmt::format("{}cannot read image '{}': {}", where, f.path, why);
+}
+
 }  // namespace
 
 std::unique_ptr<ImageTextures> ImageTextures::open(const ir::Scene& scene,
@@ -45,8 +52,7 @@ std::unique_ptr<ImageTextures> ImageTextures::open(const ir::Scene& scene,
     std::string why;
     void* h = a.open(t->ts_, f.path, ocio_config, why);
     if (!h) {
-      std::string where = f.src.line > 0 ? ir::to_string(f.src, scene) + ": " : "";
-      error = fmt::format("{}cannot read image '{}': {}", where, f.path, why);
+      error = image_error(scene, std::size_t(&f - scene.images.data()), why);
       if (failed) *failed = std::size_t(&f - scene.images.data());
       if (reason) *reason = why;
       return nullptr;
@@ -68,10 +74,12 @@ std::string ImageTextures::stats() const {
 
 std::string check_images(const ir::Scene& scene, const std::string& ocio_config,
                          std::size_t* failed, std::string* why) {
-  if (scene.images.empty()) return {};
   std::string error;
-  ImageTextures::open(scene, ocio_config, error, failed, why);
-  return error;
+  const auto bad = unreadable_images(scene, ocio_config, error);
+  if (!error.empty() || bad.empty()) return error;
+  if (failed) *failed = bad[0].first;
+  if (why) *why = bad[0].second;
+  return image_error(scene, bad[0].first, bad[0].second);
 }
 
 std::vector<std::pair<std::size_t, std::string>> unreadable_images(const ir::Scene& scene,
