@@ -384,8 +384,13 @@ void Evaluator::exec_item(const Stmt& s, const std::shared_ptr<Env>& env) {
     return;
   }
   if (block && block->kind == BlockKind::Item && !block->is_object &&
-      inside_group_error(block->name, s.name_span))
+      inside_group_error(block->name, s.name_span)) {
+    // Its own errors are independent of where it stands (§10): checked, not placed.
+    bool ok = true;
+    PropsLease props(*this);
+    eval_props(*block, *s.block, s.name_span, env, props.list(), ok);
     return;
+  }
   if (!block || block->kind != BlockKind::Item) {
     auto names = block_names(BlockKind::Item);
     names.push_back("background");
@@ -505,6 +510,7 @@ void Evaluator::eval_props(const BlockInfo& block, const lang::Block& body, Span
     error(DiagKind::PositionalValues, body.positional[0]->span, hint.message).note(hint.note);
     ok = false;
   }
+  std::vector<std::string> guessed;  // what misspelt properties were taken for
   for (const lang::Property& p : body.properties) {
     // A Block is always checked against the same table (its keyword's), so the
     // property it names can be remembered on the node.
@@ -517,6 +523,7 @@ void Evaluator::eval_props(const BlockInfo& block, const lang::Block& body, Span
       std::string guess = lang::closest_match(p.name, names);
       if (!guess.empty()) {
         d.note("did you mean '" + guess + "'?");
+        guessed.push_back(std::move(guess));
       } else if (!names.empty()) {
         // §5: the error says what the block accepts.
         std::string list;
@@ -587,8 +594,10 @@ void Evaluator::eval_props(const BlockInfo& block, const lang::Block& body, Span
       if (given.test(static_cast<std::size_t>(info->id))) continue;
       if (info->required()) {
         // A property that failed its own check counts as given: no second error.
+        // So does a misspelling of it: its "did you mean" says all there is to say.
         bool attempted = false;
         for (const lang::Property& p : body.properties) attempted |= p.name == info->name;
+        for (const std::string& g : guessed) attempted |= g == info->name;
         if (!attempted && body.positional.empty())
           error(DiagKind::MissingProperty, keyword_span,
                 "'" + std::string(block.name) + "' needs '" + std::string(info->name) + "' (" +

@@ -53,8 +53,14 @@ Value Evaluator::eval_object_expr(const Expr& e, const std::shared_ptr<Env>& env
     for (std::string_view n : block_names(BlockKind::Item))
       if (const BlockInfo* b = find_block(n); b && b->is_object) names.push_back(n);
     names.push_back("object");
+    // An unknown word before `{` may be a misspelt material or pattern too
+    // (`material dielectrc { ... }`): those are candidates, and the message does
+    // not claim an object was meant.
+    if (!block)
+      for (std::string_view n : block_names(BlockKind::Constructor)) names.push_back(n);
     auto d = error(DiagKind::UnknownBlock, e.span,
-                   "'" + e.text + "' is not an object block, so it is not a value");
+                   block ? "'" + e.text + "' is not an object block, so it is not a value"
+                         : "there is no block '" + e.text + "' (no object, material or pattern)");
     std::string guess = lang::closest_match(e.text, names);
     if (!guess.empty())
       d.note("did you mean '" + guess + "'?");

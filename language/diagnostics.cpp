@@ -257,9 +257,12 @@ void DiagnosticEngine::print(std::ostream& out, bool color) const {
 std::string closest_match(std::string_view word, const std::vector<std::string_view>& candidates) {
   std::string best;
   std::size_t best_d = std::numeric_limits<std::size_t>::max();
-  std::vector<std::size_t> prev, cur;
+  std::vector<std::size_t> prev2, prev, cur;
   for (std::string_view c : candidates) {
-    // Plain Levenshtein distance; candidate lists are short (property tables).
+    // Levenshtein distance with a swap of two neighbouring letters as one edit (the
+    // optimal string alignment distance): `bmup` is one slip from `bump`, not two.
+    // Candidate lists are short (property tables).
+    prev2.assign(c.size() + 1, 0);
     prev.resize(c.size() + 1);
     cur.resize(c.size() + 1);
     for (std::size_t j = 0; j <= c.size(); ++j) prev[j] = j;
@@ -268,7 +271,10 @@ std::string closest_match(std::string_view word, const std::vector<std::string_v
       for (std::size_t j = 1; j <= c.size(); ++j) {
         std::size_t sub = prev[j - 1] + (word[i - 1] == c[j - 1] ? 0 : 1);
         cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, sub});
+        if (i > 1 && j > 1 && word[i - 1] == c[j - 2] && word[i - 2] == c[j - 1])
+          cur[j] = std::min(cur[j], prev2[j - 2] + 1);
       }
+      std::swap(prev2, prev);
       std::swap(prev, cur);
     }
     std::size_t dist = prev[c.size()];

@@ -466,6 +466,52 @@ TEST_CASE("a misspelt constructor gets a near miss, as a name and before its arg
   CHECK(e[0].notes[0].message == "'mirorr' is no constructor; did you mean 'mirror'?");
 }
 
+TEST_CASE("a misspelt block before its braces gets a near miss among every block", "[compiler]") {
+  // `material dielectrc { ... }` is no object either: the message does not say one
+  // was meant, and the near miss may be a material or a pattern.
+  for (auto [text, guess] : {std::pair{"sphere { material dielectrc { ior 1.5 } }\n", "dielectric"},
+                             std::pair{"sphere { material diffuse marbel { } }\n", "marble"},
+                             std::pair{"sphere { material diffuse imag { } }\n", "image"},
+                             std::pair{"let s = sphre { };\n", "sphere"}}) {
+    auto c = run(text);
+    const auto& d = c->diags.diagnostics();
+    REQUIRE(d.size() == 1);
+    CHECK(d[0].kind == lang::DiagKind::UnknownBlock);
+    CHECK(d[0].message.find("not an object block") == std::string::npos);
+    REQUIRE(d[0].notes.size() == 1);
+    CHECK(d[0].notes[0].message == "did you mean '" + std::string(guess) + "'?");
+  }
+}
+
+TEST_CASE("two swapped letters are one slip, and a misspelt required property is no second error",
+          "[compiler]") {
+  // `bmup` is `bump` with two letters swapped: one edit, as a deleted letter is.
+  CHECK(lang::closest_match("bmup", {"bump", "material"}) == "bump");
+  CHECK(lang::closest_match("pivto", {"pivot", "translate"}) == "pivot");
+  CHECK(lang::closest_match("fiel", {"file", "mapping"}) == "file");
+  CHECK(lang::closest_match("xyzw", {"file", "mapping"}).empty());
+  // The misspelt `raduis` is reported once; "needs 'radius'" would repeat it.
+  auto c = run("cylinder { base <0, 0, 0> cap <0, 1, 0> raduis 0.5 }\n");
+  const auto& d = c->diags.diagnostics();
+  REQUIRE(d.size() == 1);
+  CHECK(d[0].kind == lang::DiagKind::UnknownProperty);
+  REQUIRE(d[0].notes.size() == 1);
+  CHECK(d[0].notes[0].message == "did you mean 'radius'?");
+  // Without the misspelling the missing radius is still an error.
+  auto m = run("cylinder { base <0, 0, 0> cap <0, 1, 0> }\n");
+  REQUIRE(m->diags.diagnostics().size() == 1);
+  CHECK(m->diags.diagnostics()[0].kind == lang::DiagKind::MissingProperty);
+}
+
+TEST_CASE("a light refused inside CSG still has its own errors reported", "[compiler]") {
+  // §10: all independent errors; the light's misspelt property is one.
+  auto c = run("union { sphere { } point_light { positon <0, 3, 0> } }\n");
+  const auto& d = c->diags.diagnostics();
+  REQUIRE(d.size() == 2);
+  CHECK(d[0].kind == lang::DiagKind::NotInsideCsg);
+  CHECK(d[1].kind == lang::DiagKind::UnknownProperty);
+}
+
 TEST_CASE("a non-finite value says NaN or infinity and what makes one", "[compiler]") {
   auto c = run("let a = sqrt(-1);\nlet b = log(0);\n");
   const auto& d = c->diags.diagnostics();

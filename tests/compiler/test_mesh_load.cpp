@@ -18,10 +18,20 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path write_file(const std::string& name, const std::string& text) {
+// The folder of this process's files, removed when the process ends (ctest runs each
+// case in a process of its own, so a folder per case was left behind before).
+struct ScratchDir {
   fs::path dir = fs::temp_directory_path() / ("snell-mesh-load-" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  fs::path p = dir / name;
+  ~ScratchDir() {
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+  }
+};
+
+fs::path write_file(const std::string& name, const std::string& text) {
+  static ScratchDir scratch;
+  fs::create_directories(scratch.dir);
+  fs::path p = scratch.dir / name;
   std::ofstream(p) << text;
   return p;
 }
