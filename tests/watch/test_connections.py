@@ -5,6 +5,7 @@ request waited for them). The idle sockets are then closed by the server within 
 read timeout. Usage: test_connections.py SNELL"""
 
 import os
+import shutil
 import socket
 import sys
 import tempfile
@@ -67,6 +68,7 @@ def main():
             s.close()
         if watch:
             watch.stop()
+        shutil.rmtree(folder, ignore_errors=True)
 
 
 if __name__ == "__main__":
