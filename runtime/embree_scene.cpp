@@ -13,6 +13,7 @@
 #include <cstring>
 #include <limits>
 #include <stdexcept>
+#include <tuple>
 #include <type_traits>
 #include <unordered_map>
 #include <variant>
@@ -54,13 +55,22 @@ concept HasParts = requires(const Set& s, unsigned p, float f, Vec3f v, float& t
   s.refine(p, r, f, h, sub);
 };
 
+// The float after a positive finite one; the rest as they are.
+inline float float_up(float f) {
+  const std::uint32_t bits = std::bit_cast<std::uint32_t>(f);
+  return bits < 0x7f800000u ? std::bit_cast<float>(bits + 1) : f;
+}
+
+// Lane i against primitive `prim`; `ties`: up to one float past the lane's tfar, so a
+// hit at exactly tfar is found (user_intersect decides it).
 template <class Set>
 bool user_hit(const Set& set, unsigned prim, RTCRayN* ray, unsigned n, unsigned i, float& t,
-              Vec3f& ng, unsigned& sub) {
+              Vec3f& ng, unsigned& sub, bool ties = false) {
   float time = RTCRayN_time(ray, n, i);
   Vec3f o(RTCRayN_org_x(ray, n, i), RTCRayN_org_y(ray, n, i), RTCRayN_org_z(ray, n, i));
   Vec3f d(RTCRayN_dir_x(ray, n, i), RTCRayN_dir_y(ray, n, i), RTCRayN_dir_z(ray, n, i));
   float tnear = RTCRayN_tnear(ray, n, i), tfar = RTCRayN_tfar(ray, n, i);
+  if (ties) tfar = float_up(tfar);
   if constexpr (HasParts<Set>)
     return set.hit(prim, time, o, d, tnear, tfar, t, ng, sub);
   else
@@ -71,15 +81,24 @@ bool user_hit(const Set& set, unsigned prim, RTCRayN* ray, unsigned n, unsigned 
 // SIMD path (sphere_lanes.hpp; the same bits as user_hit): `hits` the lanes that
 // hit, with their t and normal in `out` (null for an occlusion query, which needs
 // neither); false when the lanes go one by one (no path, another packet width, a
-// non-similarity transform). Lanes in `undecided` still go one by one.
+// non-similarity transform). Lanes in `undecided` still go one by one. `ties`: as
+// user_hit's.
 const SphereLanesFn g_sphere_lanes = sphere_lanes();
 template <class Set>
 bool packet_hits(const Set& set, unsigned prim, RTCRayN* ray, unsigned n, const int* valid,
-                 HitLanes* out, std::uint32_t& hits, std::uint32_t& undecided) {
+                 HitLanes* out, std::uint32_t& hits, std::uint32_t& undecided, bool ties = false) {
   if constexpr (std::is_same_v<Set, SphereSet>) {
     Vec3 c;
     double r;
     if (n != 16 || !g_sphere_lanes || !set.similar(prim, c, r)) return false;
+    // The raised tfars in a copy of their own (one vector operation; the ray's are
+    // not touched).
+    using U16 = std::uint32_t __attribute__((vector_size(64)));
+    U16 bits;
+    std::memcpy(&bits, &RTCRayN_tfar(ray, n, 0), sizeof bits);
+    if (ties) bits += U16(bits < 0x7f800000u) & 1u;  // positive and finite; the rest kept
+    alignas(64) float tfar[16];
+    std::memcpy(tfar, &bits, sizeof tfar);
     RayLanes rays{&RTCRayN_org_x(ray, n, 0),
                   &RTCRayN_org_y(ray, n, 0),
                   &RTCRayN_org_z(ray, n, 0),
@@ -87,14 +106,15 @@ bool packet_hits(const Set& set, unsigned prim, RTCRayN* ray, unsigned n, const 
                   &RTCRayN_dir_y(ray, n, 0),
                   &RTCRayN_dir_z(ray, n, 0),
                   &RTCRayN_tnear(ray, n, 0),
-                  &RTCRayN_tfar(ray, n, 0),
+                  tfar,
                   valid,
                   n};
     undecided = 0;
     hits = g_sphere_lanes(c, r, rays, out, undecided);
     return true;
   }
-  (void)set, (void)prim, (void)ray, (void)n, (void)valid, (void)out, (void)hits, (void)undecided;
+  (void)set, (void)prim, (void)ray, (void)n, (void)valid, (void)out, (void)hits, (void)undecided,
+      (void)ties;
   return false;
 }
 
@@ -102,13 +122,13 @@ bool packet_hits(const Set& set, unsigned prim, RTCRayN* ray, unsigned n, const 
 template <class Set>
 bool lane_hit(const Set& set, unsigned prim, RTCRayN* ray, unsigned n, unsigned i, bool packet,
               const HitLanes& lanes, std::uint32_t hits, std::uint32_t undecided, float& t,
-              Vec3f& ng, unsigned& sub) {
+              Vec3f& ng, unsigned& sub, bool ties) {
   if (packet && !((undecided >> i) & 1)) {
     if (!((hits >> i) & 1)) return false;
     t = lanes.t[i], ng = Vec3f(lanes.nx[i], lanes.ny[i], lanes.nz[i]);
     return true;
   }
-  return user_hit(set, prim, ray, n, i, t, ng, sub);
+  return user_hit(set, prim, ray, n, i, t, ng, sub, ties);
 }
 
 template <class Set>
@@ -116,28 +136,55 @@ void user_intersect(const RTCIntersectFunctionNArguments* args) {
   const Set& set = *static_cast<const Set*>(args->geometryUserPtr);
   RTCRayN* ray = RTCRayHitN_RayN(args->rayhit, args->N);
   RTCHitN* hit = RTCRayHitN_HitN(args->rayhit, args->N);
+  // Equal distances (coincident surfaces: a sphere written twice, a union's children
+  // sharing a face) go to the lower (instance, geometry, primitive) ids, not to
+  // whichever the traversal meets first: that order depends on the packet a ray
+  // rides in, so a crop or a farm tile differed from the whole render there, and a
+  // union's shared face was striped by packet rows. So the lanes are tested against
+  // tfar one float up, and a hit at exactly tfar is a tie, taken only from a hit
+  // with higher ids. (Ties among Embree's own triangles stay Embree's.)
+  const unsigned n = args->N;  // at most 16
+  float* const tfar = &RTCRayN_tfar(ray, n, 0);
   HitLanes lanes;
   std::uint32_t hits = 0, undecided = 0;
   const bool packet =
-      packet_hits(set, args->primID, ray, args->N, args->valid, &lanes, hits, undecided);
+      packet_hits(set, args->primID, ray, n, args->valid, &lanes, hits, undecided, true);
   if (packet && hits == 0 && undecided == 0) return;
-  for (unsigned i = 0; i < args->N; ++i) {
-    if (!args->valid[i]) continue;
-    float t;
-    Vec3f n;
-    unsigned sub = 0;
-    if (!lane_hit(set, args->primID, ray, args->N, i, packet, lanes, hits, undecided, t, n, sub))
-      continue;
-    RTCRayN_tfar(ray, args->N, i) = t;
-    RTCHitN_Ng_x(hit, args->N, i) = n.x;
-    RTCHitN_Ng_y(hit, args->N, i) = n.y;
-    RTCHitN_Ng_z(hit, args->N, i) = n.z;
+  float t[16];
+  Vec3f ng[16];
+  unsigned sub[16];
+  // The lanes to look at: the packet test's hits and undecided ones (valid lanes
+  // only), else every valid lane.
+  std::uint32_t todo = hits | undecided, found = 0;
+  if (!packet)
+    for (unsigned i = 0; i < n; ++i) todo |= std::uint32_t(args->valid[i] != 0) << i;
+  for (std::uint32_t b = todo; b; b &= b - 1) {
+    const unsigned i = unsigned(std::countr_zero(b));
+    sub[i] = 0;
+    if (lane_hit(set, args->primID, ray, n, i, packet, lanes, hits, undecided, t[i], ng[i], sub[i],
+                 true))
+      found |= 1u << i;
+  }
+  const unsigned inst = args->context->instID[0];
+  for (std::uint32_t b = found; b; b &= b - 1) {
+    const unsigned i = unsigned(std::countr_zero(b));
+    if (!(t[i] < tfar[i])) {  // a tie: only with a hit of higher ids
+      const unsigned g = RTCHitN_geomID(hit, n, i);
+      if (g == RTC_INVALID_GEOMETRY_ID ||
+          !(std::tie(inst, args->geomID, args->primID) <
+            std::tie(RTCHitN_instID(hit, n, i, 0), g, RTCHitN_primID(hit, n, i))))
+        continue;
+    }
+    tfar[i] = t[i];
+    RTCHitN_Ng_x(hit, n, i) = ng[i].x;
+    RTCHitN_Ng_y(hit, n, i) = ng[i].y;
+    RTCHitN_Ng_z(hit, n, i) = ng[i].z;
     // The part rides in u (exact in a float below 2^24; CsgProgram's leaves).
-    RTCHitN_u(hit, args->N, i) = float(sub);
-    RTCHitN_v(hit, args->N, i) = 0;
-    RTCHitN_primID(hit, args->N, i) = args->primID;
-    RTCHitN_geomID(hit, args->N, i) = args->geomID;
-    RTCHitN_instID(hit, args->N, i, 0) = args->context->instID[0];
+    RTCHitN_u(hit, n, i) = float(sub[i]);
+    RTCHitN_v(hit, n, i) = 0;
+    RTCHitN_primID(hit, n, i) = args->primID;
+    RTCHitN_geomID(hit, n, i) = args->geomID;
+    RTCHitN_instID(hit, n, i, 0) = inst;
   }
 }
 
