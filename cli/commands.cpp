@@ -6,13 +6,16 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <iostream>
 #include <limits>
+#include <memory>
 #include <optional>
+#include <unordered_map>
 
 #include "cli/animation.hpp"
 #include "cli/progress.hpp"
@@ -94,8 +97,21 @@ bool build_compile_options(const CliArgs& o, compile::CompileOptions& c, std::st
 namespace {
 
 // Compiles and prints diagnostics; returns an exit code, or -1 to go on.
-int compile_scene(const CliArgs& o, const compile::CompileOptions& copts,
+// §17: every image opens through the texture system as part of the compilation
+// (exit 3 before the render), an image it cannot read reported at its `file` beside
+// the compiler's other errors (§10: all of them). Loads the image module, so only
+// for scenes with images; not for --dump-ir.
+int compile_scene(const CliArgs& o, const compile::CompileOptions& given,
                   std::unique_ptr<compile::Compilation>& out) {
+  compile::CompileOptions copts = given;
+  if (!o.dump_ir)
+    copts.unreadable_images = [&o](const std::vector<ir::ImageFile>& images) {
+      std::string err;
+      auto bad = rt::unreadable_images(images, o.ocio_config, err);
+      if (!err.empty())  // the image module itself: no image can be read
+        for (std::size_t i = 0; i < images.size(); ++i) bad.emplace_back(i, err);
+      return bad;
+    };
   out = compile::compile_file(o.scene, copts);
   out->diags.print(std::cerr, color_stderr());
   switch (out->status) {
@@ -204,67 +220,52 @@ int dump_ast(const std::string& path) {
   return code;
 }
 
-namespace {
+namespace {}  // namespace
 
-// An image the texture system could not read, as a diagnostic at its `file`
-// (FILE:LINE:COL: error: …, the source line and a caret); "" when the image has no
-// place in a scene file.
-std::string image_diagnostic(const compile::Compilation& c, std::size_t image,
-                             const std::string& why) {
-  if (image >= c.scene.images.size()) return {};
-  const ir::ImageFile& f = c.scene.images[image];
-  if (f.src.line == 0 || f.src.file >= c.sources.size()) return {};
-  const lang::SourceFile& file = c.sources.file(f.src.file);
-  std::uint32_t at = file.offset_of({f.src.line, f.src.col}), end = at + 1;
-  // The caret under the whole "name" when the place is the string.
-  std::string_view text = file.text();
-  if (at < text.size() && text[at] == '"')
-    if (std::size_t close = text.find('"', at + 1); close != std::string_view::npos)
-      end = std::uint32_t(close + 1);
-  lang::Diagnostic d;
-  d.kind = lang::DiagKind::FileUnreadable;
-  d.severity = lang::Severity::Error;
-  d.span = lang::Span{f.src.file, at, end};
-  // The reader's reason on one line (libpng's come as several).
-  std::string reason = why;
-  while (!reason.empty() && reason.back() == '\n') reason.pop_back();
-  for (std::size_t i = 0; (i = reason.find('\n', i)) != std::string::npos;)
-    reason.replace(i, 1, "; ");
-  d.message = "cannot read image '" + f.path + "': " + reason;
-  return c.diags.format(d, color_stderr());
+decltype(compile::CompileOptions::unreadable_images) cached_image_check(std::string ocio_config) {
+  struct Seen {
+    std::uintmax_t size = 0;
+    fs::file_time_type time;
+    std::string why;  // "" readable
+  };
+  auto seen = std::make_shared<std::unordered_map<std::string, Seen>>();
+  return [seen, ocio = std::move(ocio_config)](const std::vector<ir::ImageFile>& images) {
+    std::vector<std::pair<std::size_t, std::string>> bad;
+    std::vector<ir::ImageFile> fresh;
+    std::vector<std::size_t> fresh_index;
+    std::vector<Seen> fresh_seen;
+    for (std::size_t i = 0; i < images.size(); ++i) {
+      std::error_code ec;
+      Seen now{fs::file_size(images[i].path, ec), fs::last_write_time(images[i].path, ec), {}};
+      auto it = seen->find(images[i].path);
+      if (!ec && it != seen->end() && it->second.size == now.size && it->second.time == now.time) {
+        if (!it->second.why.empty()) bad.emplace_back(i, it->second.why);
+        continue;
+      }
+      fresh.push_back(images[i]);
+      fresh_index.push_back(i);
+      fresh_seen.push_back(now);
+    }
+    if (!fresh.empty()) {
+      std::string err;
+      auto found = rt::unreadable_images(fresh, ocio, err);
+      for (auto& [k, why] : found) fresh_seen[k].why = why;
+      if (!err.empty())  // the image module itself: nothing is remembered
+        for (std::size_t k = 0; k < fresh.size(); ++k) bad.emplace_back(fresh_index[k], err);
+      else
+        for (std::size_t k = 0; k < fresh.size(); ++k) {
+          if (!fresh_seen[k].why.empty()) bad.emplace_back(fresh_index[k], fresh_seen[k].why);
+          (*seen)[fresh[k].path] = fresh_seen[k];
+        }
+      std::sort(bad.begin(), bad.end());
+    }
+    return bad;
+  };
 }
-
-// §17: every image of the scene opened through the texture system, as the render
-// does before it starts: exit 3 with the diagnostic of each that cannot be read
-// (§10: all of them), or -1. Loads the image module, so only for scenes with
-// images.
-int check_scene_images(const compile::Compilation& c, const std::string& ocio_config,
-                       const std::string& scene_path) {
-  std::string err;
-  auto bad = rt::unreadable_images(c.scene, ocio_config, err);
-  if (!err.empty()) {
-    std::cerr << "snell: error: " << err << "\n";
-    return kExitIo;
-  }
-  if (bad.empty()) return -1;
-  for (const auto& [image, why] : bad) {
-    if (std::string diag = image_diagnostic(c, image, why); !diag.empty())
-      std::cerr << diag;
-    else
-      std::cerr << "snell: error: cannot read image '" << c.scene.images[image].path << "': " << why
-                << "\n";
-  }
-  std::cerr << bad.size() << " error" << (bad.size() == 1 ? "" : "s") << " in " << scene_path
-            << "\n";
-  return kExitIo;
-}
-
-}  // namespace
 
 int run_check(const CliArgs& o) {
   std::unique_ptr<compile::Compilation> c;
   if (int code = compile_scene(o, c); code >= 0) return code;
-  if (int code = check_scene_images(*c, o.ocio_config, o.scene); code >= 0) return code;
   const ir::Scene& s = c->scene;
   std::cout << o.scene << ": ok: " << s.shapes.size() << " object(s), " << s.materials.size()
             << " material(s), " << s.point_lights.size() << " point light(s), "
@@ -391,9 +392,6 @@ int render_frame(FrameJob& job) {
         }
     }
   }
-  // §17: every image opens through the texture system before the render (exit 3),
-  // an image it cannot read reported at its `file` as the compiler's errors are.
-  if (int code = check_scene_images(*c, o.ocio_config, o.scene); code >= 0) return code;
   // Memory the render would need beyond the scene, before any of it is taken.
   {
     std::uint64_t limit = rt::physical_memory() / 10 * 9;

@@ -30,6 +30,11 @@ int check_not_an_input(const std::vector<std::string>& outputs,
 // The files a compiled scene was made from.
 std::vector<std::string> scene_inputs(const ir::Scene& s);
 
+// §17 for editors (`snell lsp`, compile::CompileOptions::unreadable_images): each
+// image opened through the texture system once per version of its file (its size
+// and modification time), so an analysis per keystroke does not read them again.
+decltype(compile::CompileOptions::unreadable_images) cached_image_check(std::string ocio_config);
+
 int run_render(const CliArgs& o);
 int run_check(const CliArgs& o);
 int dump_ast(const std::string& path);

@@ -41,6 +41,7 @@ int dispatch(unsigned command, const cli::CliArgs& o) {
       // The render default is far too much work per keystroke: the server's own
       // budget applies unless --max-steps says otherwise.
       if (o.max_steps != compile::kDefaultStepBudget) so.step_budget = o.max_steps;
+      so.unreadable_images = cli::cached_image_check(o.ocio_config);
       return lsp::run_stdio(so);
     }
     case cli::Sweep: {

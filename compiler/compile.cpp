@@ -324,6 +324,32 @@ void report_runtime_limits(Compilation& c) {
     c.diags.report(lang::DiagKind::InvalidValue, span, p.what);
   }
 }
+// An image the texture system could not read, as an error at its `file` (the caret
+// under the whole "name" when the place is the string), the reader's reason on one
+// line (libpng's come as several).
+void report_unreadable_image(Compilation& c, const std::vector<ir::ImageFile>& images,
+                             std::size_t image, const std::string& why) {
+  if (image >= images.size()) return;
+  const ir::ImageFile& f = images[image];
+  std::string reason = why;
+  while (!reason.empty() && (reason.back() == '\n' || reason.back() == ' ')) reason.pop_back();
+  for (std::size_t i = 0; (i = reason.find('\n', i)) != std::string::npos;)
+    reason.replace(i, 1, "; ");
+  if (reason.empty()) reason = "the image reader gave no reason (a damaged or cut-short file?)";
+  lang::Span span{lang::FileId(-1), 0, 0};
+  if (f.src.line > 0 && f.src.file < c.sources.size()) {
+    const lang::SourceFile& file = c.sources.file(f.src.file);
+    std::uint32_t at = file.offset_of({f.src.line, f.src.col}), end = at + 1;
+    std::string_view text = file.text();
+    if (at < text.size() && text[at] == '"')
+      if (std::size_t close = text.find('"', at + 1); close != std::string_view::npos)
+        end = std::uint32_t(close + 1);
+    span = {f.src.file, at, end};
+  }
+  c.diags.report(lang::DiagKind::FileUnreadable, span,
+                 "cannot read image '" + f.path + "': " + reason);
+}
+
 }  // namespace
 
 std::unique_ptr<Compilation> compile_file(const std::string& path, const CompileOptions& options) {
@@ -361,6 +387,9 @@ std::unique_ptr<Compilation> compile_source(const std::string& path, std::string
     eval.predeclare(kPredeclared[2].name, Value::of_pattern(sky_gradient()));
     // The main file counts as imported: importing it again is a cycle.
     eval.run_file(*program);
+    if (options.unreadable_images && !builder.images().empty())
+      for (const auto& [image, why] : options.unreadable_images(builder.images()))
+        report_unreadable_image(*c, builder.images(), image, why);
     if (c->diags.has_errors()) return;
     if (!driver.apply_overrides(builder, eval)) return;
     c->scene = builder.finish();

@@ -37,6 +37,14 @@ struct CompileOptions {
   // §18: the predeclared names' values (--clock, --frames: one compilation a frame).
   double clock = 0;
   double frame = 0;
+  // §17: the images the texture system cannot read (each one's index in `images`
+  // and the reader's reason), asked of every image the scene names once it has
+  // been evaluated, beside its other errors (§10); each becomes a FileUnreadable
+  // error at the image's `file`. Null: images are only checked for existence and
+  // signature (the runtime opens them; the compiler does not load the image module).
+  std::function<std::vector<std::pair<std::size_t, std::string>>(
+      const std::vector<ir::ImageFile>& images)>
+      unreadable_images;
 };
 
 // The names every file sees above its top level (compile_source predeclares §18's

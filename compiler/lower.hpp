@@ -94,6 +94,8 @@ class SceneBuilder {
   void override_setting(const PropInfo& prop, const Value& value);
 
   std::size_t object_count() const { return scene_.shapes.size(); }
+  // §17: the image files named so far (known to exist), also when there were errors.
+  const std::vector<ir::ImageFile>& images() const { return scene_.images; }
 
   // A hint that about `n` more objects follow (a loop of n iterations that makes
   // an object each time): reserves room for them at once, so a million objects are

@@ -20,6 +20,7 @@ compile::CompileOptions compile_options(const AnalysisOptions& options) {
   c.step_budget = options.step_budget;
   c.max_errors = options.max_errors;
   c.overlay = options.overlay;
+  c.unreadable_images = options.unreadable_images;
   return c;
 }
 

@@ -18,6 +18,7 @@ AnalysisOptions Server::analysis_options() const {
   AnalysisOptions o;
   o.include_dirs = options_.include_dirs;
   o.step_budget = options_.step_budget;
+  o.unreadable_images = options_.unreadable_images;
   // Unsaved buffers win over the disk for imports.
   o.overlay = [this](const std::string& canonical) -> const std::string* {
     for (const auto& [uri, d] : docs_)

@@ -27,6 +27,9 @@ struct ServerOptions {
   std::vector<std::string> include_dirs;  // -I, as the CLI takes them
   std::uint64_t step_budget = 5'000'000;
   int debounce_ms = 150;
+  // §17: as AnalysisOptions' (`snell lsp` reads each image once per version of its
+  // file: see cli's cached_image_check).
+  decltype(AnalysisOptions::unreadable_images) unreadable_images;
 };
 
 class Server {

@@ -163,12 +163,11 @@ std::string check_display_transform(const DisplayView& display);
 std::string check_images(const ir::Scene& scene, const std::string& ocio_config = {},
                          std::size_t* failed = nullptr, std::string* why = nullptr);
 
-// §10's "all independent errors": every image of the scene that cannot be read,
-// as (index into scene.images, the reader's reason), in order; empty when all can.
-// `error` is set instead when the image module itself cannot load.
-std::vector<std::pair<std::size_t, std::string>> unreadable_images(const ir::Scene& scene,
-                                                                   const std::string& ocio_config,
-                                                                   std::string& error);
+// §10's "all independent errors": every image that cannot be read, as (index into
+// `images`, the reader's reason), in order; empty when all can. `error` is set
+// instead when the image module itself cannot load.
+std::vector<std::pair<std::size_t, std::string>> unreadable_images(
+    const std::vector<ir::ImageFile>& images, const std::string& ocio_config, std::string& error);
 
 // One-line descriptions for logs and test failures.
 std::string to_string(const Image& image);

@@ -1,6 +1,10 @@
 #include "runtime/shading/image_texture.hpp"
 
+#include <fcntl.h>
 #include <fmt/format.h>
+#include <unistd.h>
+
+#include <cstdio>
 
 #include "runtime/image_module.hpp"
 #include "runtime/render.hpp"
@@ -8,6 +12,32 @@
 namespace snell::rt {
 
 namespace {
+
+// Standard error pointed at /dev/null while readers run whose libraries print on
+// their own (libpng's default error handler writes "libpng error: ..." before
+// OIIO turns it into the reason): the reason is what the user is shown, at its
+// `file`. Only around the checks, which run before any render thread exists.
+class QuietStderr {
+ public:
+  QuietStderr() {
+    std::fflush(stderr);
+    saved_ = ::dup(2);
+    int null = ::open("/dev/null", O_WRONLY | O_CLOEXEC);
+    if (saved_ >= 0 && null >= 0) ::dup2(null, 2);
+    if (null >= 0) ::close(null);
+  }
+  ~QuietStderr() {
+    if (saved_ < 0) return;
+    std::fflush(stderr);
+    ::dup2(saved_, 2);
+    ::close(saved_);
+  }
+  QuietStderr(const QuietStderr&) = delete;
+  QuietStderr& operator=(const QuietStderr&) = delete;
+
+ private:
+  int saved_ = -1;
+};
 
 const ImageTextures::Api& api() {
   static const ImageTextures::Api a = [] {
@@ -75,27 +105,27 @@ std::string ImageTextures::stats() const {
 std::string check_images(const ir::Scene& scene, const std::string& ocio_config,
                          std::size_t* failed, std::string* why) {
   std::string error;
-  const auto bad = unreadable_images(scene, ocio_config, error);
+  const auto bad = unreadable_images(scene.images, ocio_config, error);
   if (!error.empty() || bad.empty()) return error;
   if (failed) *failed = bad[0].first;
   if (why) *why = bad[0].second;
   return image_error(scene, bad[0].first, bad[0].second);
 }
 
-std::vector<std::pair<std::size_t, std::string>> unreadable_images(const ir::Scene& scene,
-                                                                   const std::string& ocio_config,
-                                                                   std::string& error) {
+std::vector<std::pair<std::size_t, std::string>> unreadable_images(
+    const std::vector<ir::ImageFile>& images, const std::string& ocio_config, std::string& error) {
   std::vector<std::pair<std::size_t, std::string>> bad;
-  if (scene.images.empty()) return bad;
+  if (images.empty()) return bad;
   const ImageTextures::Api& a = api();
   if (!a.error.empty()) {
     error = "cannot read images: " + a.error;
     return bad;
   }
   void* ts = a.create(kTextureCacheMB);
-  for (std::size_t i = 0; i < scene.images.size(); ++i) {
+  QuietStderr quiet;
+  for (std::size_t i = 0; i < images.size(); ++i) {
     std::string why;
-    if (!a.open(ts, scene.images[i].path, ocio_config, why)) bad.emplace_back(i, why);
+    if (!a.open(ts, images[i].path, ocio_config, why)) bad.emplace_back(i, why);
   }
   a.destroy(ts);
   return bad;

@@ -458,7 +458,7 @@ TEST_CASE("a damaged float EXR is refused before the render, and every bad image
   INFO(err);
   CHECK(err.find("cut.exr") != std::string::npos);
   err.clear();
-  auto bad = rt::unreadable_images(s, "", err);
+  auto bad = rt::unreadable_images(s.images, "", err);
   CHECK(err.empty());
   REQUIRE(bad.size() == 2);
   CHECK(bad[0].first == 2);

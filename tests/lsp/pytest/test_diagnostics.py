@@ -93,3 +93,42 @@ async def test_an_import_changed_on_disk(client, tmp_path):
     )
     await client.wait_for_notification(types.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
     assert [d.code for d in client.diagnostics[uri]] == ["InvalidValue"]
+
+
+def png_bytes(w: int, h: int) -> bytes:
+    """A w×h grey 8-bit RGB PNG, written by hand (zlib and CRCs)."""
+    import struct
+    import zlib
+
+    def chunk(kind: bytes, data: bytes) -> bytes:
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
+
+    rows = b"".join(b"\0" + bytes([(x * 37 + y * 11) % 256 for x in range(w * 3)]) for y in range(h))
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 2, 0, 0, 0))
+            + chunk(b"IDAT", zlib.compress(rows)) + chunk(b"IEND", b""))
+
+
+async def test_an_unreadable_image_beside_other_errors(client, tmp_path):
+    # §17: an image cut short passes the compiler's checks (it exists, its first
+    # bytes are a PNG's) and fails only when read: shown as `check` shows it, at its
+    # `file`, beside the scene's other errors (§10); fixed on disk, it is gone.
+    good = png_bytes(32, 32)
+    (tmp_path / "cut.png").write_bytes(good[: len(good) // 2])
+    text = 'sphere { material diffuse image { file "cut.png" } }\ntorus { major 1 minor 3 }\n'
+    uri = await open_doc(client, tmp_path / "img.scn", text)
+    diags = client.diagnostics[uri]
+    codes = sorted(d.code for d in diags)
+    assert codes == ["FileUnreadable", "InvalidValue"], codes
+    d = next(d for d in diags if d.code == "FileUnreadable")
+    assert d.range.start == find(text, '"cut.png"')
+    assert d.range.end == find(text, '"cut.png"', delta=9)
+    assert "cannot read image" in d.message, d.message
+    (tmp_path / "cut.png").write_bytes(good)
+    client.text_document_did_change(
+        types.DidChangeTextDocumentParams(
+            text_document=types.VersionedTextDocumentIdentifier(uri=uri, version=2),
+            content_changes=[types.TextDocumentContentChangeWholeDocument(text=text.replace("3", "0.3"))],
+        )
+    )
+    await client.wait_for_notification(types.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
+    assert list(client.diagnostics[uri]) == []
