@@ -1,6 +1,7 @@
 #include "cli/options.hpp"
 
 #include <CLI/CLI.hpp>
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <optional>
@@ -128,6 +129,8 @@ std::string did_you_mean(CLI::App& app, const std::vector<std::string>& args) {
       return guess.empty() ? "" : "did you mean 'snell " + guess + "'?";
     }
     if (a.size() < 2 || a[0] != '-') continue;
+    // A negative number is a value (`--seed -1`), not a misspelt `-h`.
+    if (std::isdigit(static_cast<unsigned char>(a[1])) || a[1] == '.') continue;
     const std::string word = a.substr(0, a.find('='));
     std::vector<std::string> spelt;
     bool known = false;

@@ -441,27 +441,44 @@ bool Evaluator::eval_prop_value(const PropInfo& info, const Expr& expr,
 bool Evaluator::eval_pair(const PropInfo& info, const Expr& expr, const std::shared_ptr<Env>& env,
                           std::vector<EvaluatedProp>& parts) {
   const BlockInfo* block = find_block(info.name);
+  // A part's errors name the pair: "'pattern' takes a pattern" alone did not say
+  // that it was bump's first part.
+  const std::string parts_form =
+      "<" + std::string(block->props[0]->name) + ", " + std::string(block->props[1]->name) + ">";
+  const std::string form = "'" + std::string(info.name) + " " + parts_form + "'";
   auto take = [&](std::size_t i, const Expr& ex, const Value* given) {
     EvaluatedProp& q = parts.emplace_back();
     q.info = block->props[i];
     q.name_span = ex.span;
     q.value_span = ex.span;
-    bool ok;
     if (given) {
       q.value = *given;
-      std::string msg = check_value(*q.info, q.value);
-      if (!msg.empty()) error(DiagKind::InvalidValue, ex.span, msg);
-      ok = msg.empty();
     } else {
-      ok = eval_prop_value(*q.info, ex, env, q.value);
+      q.value = eval(ex, env);
+      if (q.value.is_error()) {
+        parts.pop_back();
+        return false;
+      }
     }
-    if (!ok) parts.pop_back();
-    return ok;
+    if (value_ok(*q.info, q.value)) return true;
+    bool integral = false;
+    std::string msg = check_value(*q.info, q.value, &integral);
+    if (msg.empty()) return true;
+    error(integral ? DiagKind::NotAnInteger : DiagKind::InvalidValue, ex.span,
+          "in " + form + ": " + msg);
+    parts.pop_back();
+    return false;
   };
   if (expr.kind == ExprKind::Vector && expr.args.size() == 2) {
     bool a = take(0, *expr.args[0], nullptr);
     bool b = take(1, *expr.args[1], nullptr);
     return a && b;
+  }
+  if (expr.kind == ExprKind::Vector) {
+    error(DiagKind::InvalidValue, expr.span,
+          "'" + std::string(info.name) + "' takes two parts, " + parts_form + ", not " +
+              std::to_string(expr.args.size()));
+    return false;
   }
   Value v = eval(expr, env);
   if (v.is_error()) return false;

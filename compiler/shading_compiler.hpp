@@ -165,14 +165,26 @@ class ShadingCompiler {
   }
 
  private:
-  SVal unsupported(Span at, const std::string& msg) {
-    error(DiagKind::UnsupportedInShadingFunction, at, msg)
-        .note("a shading function computes with numbers, bools and vectors only");
+  // `of_type`: the value's type is what is wrong (a string, a material, a pattern),
+  // so the note says which types there are; other limits (recursion, unrolling,
+  // mixed return types) are said by the message alone.
+  SVal unsupported(Span at, const std::string& msg, bool of_type = false) {
+    auto& d = error(DiagKind::UnsupportedInShadingFunction, at, msg);
+    if (of_type) d.note("a shading function computes with numbers, bools and vectors only");
     return SVal::error();
   }
   SVal impure(Span at, const std::string& what) {
     error(DiagKind::ImpureShadingFunction, at,
           "a shading function must not create scene items, and this " + what + " would");
+    return SVal::error();
+  }
+  // An object value creates nothing by itself (§13), but has no place in a
+  // function that computes numbers: said so, under the same kind.
+  SVal object_value(Span at, const std::string& what) {
+    error(DiagKind::ImpureShadingFunction, at,
+          what +
+              " is an object value; a shading function works on numbers, bools and "
+              "vectors and places no objects");
     return SVal::error();
   }
   bool work(Span at) {

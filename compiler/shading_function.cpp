@@ -72,7 +72,7 @@ SVal ShadingCompiler::expr(const Expr& e, Scope* s) {
     case ExprKind::Bool:
       return SVal::constant(Value::boolean(e.boolean));
     case ExprKind::String:
-      return unsupported(e.span, "a string cannot be used in a shading function");
+      return unsupported(e.span, "a string cannot be used in a shading function", true);
     case ExprKind::Name:
       return name(e, s);
     case ExprKind::Vector:
@@ -93,11 +93,13 @@ SVal ShadingCompiler::expr(const Expr& e, Scope* s) {
     case ExprKind::Component:
       return component(e, s);
     case ExprKind::Constructor:
-      return unsupported(e.span, "'" + e.text +
-                                     "' makes a material or a pattern, which a shading "
-                                     "function cannot compute");
+      return unsupported(e.span,
+                         "'" + e.text +
+                             "' makes a material or a pattern, which a shading "
+                             "function cannot compute",
+                         true);
     case ExprKind::Object:
-      return impure(e.span, "'" + e.text + "' object");
+      return object_value(e.span, "this '" + e.text + "'");
     case ExprKind::Error:
       return SVal::error();
   }
@@ -126,10 +128,12 @@ SVal ShadingCompiler::name(const Expr& e, Scope* s) {
     case Type::String:
     case Type::Material:
     case Type::Pattern:
-      return unsupported(e.span, "'" + e.text + "' is " + a_type(found->type) +
-                                     ", which a shading function cannot use");
+      return unsupported(
+          e.span,
+          "'" + e.text + "' is " + a_type(found->type) + ", which a shading function cannot use",
+          true);
     case Type::Object:
-      return impure(e.span, "object value '" + e.text + "'");
+      return object_value(e.span, "'" + e.text + "'");
     default:
       return SVal::constant(*found);
   }

@@ -503,6 +503,41 @@ TEST_CASE("two swapped letters are one slip, and a misspelt required property is
   CHECK(m->diags.diagnostics()[0].kind == lang::DiagKind::MissingProperty);
 }
 
+TEST_CASE("a bump's part that is wrong is named as the bump's", "[compiler]") {
+  // "'pattern' takes a pattern" alone did not say which pattern; three parts were
+  // "a vector's components must be numbers".
+  auto one = [](const char* text) {
+    auto c = run(text);
+    REQUIRE(c->diags.diagnostics().size() == 1);
+    return c->diags.diagnostics()[0].message;
+  };
+  CHECK(one("sphere { material diffuse { color 0.5 bump <0.5, 0.1> } }\n")
+            .starts_with("in 'bump <pattern, amount>': 'pattern' takes a pattern"));
+  CHECK(one("sphere { material diffuse { color 0.5 bump <noise { }, <1, 1, 1>> } }\n") ==
+        "in 'bump <pattern, amount>': 'amount' takes a number, not a 3-vector");
+  CHECK(one("sphere { material diffuse { bump <noise { }, 0.5, 1> } }\n") ==
+        "'bump' takes two parts, <pattern, amount>, not 3");
+}
+
+TEST_CASE("a shading function's limit that is not about types has no note about types",
+          "[compiler]") {
+  auto c =
+      run("fn f(p) { if p.x > 0 { return p; } return 0.5; }\n"
+          "sphere { material diffuse pattern { function f } }\n");
+  const auto& d = c->diags.diagnostics();
+  REQUIRE(d.size() == 1);
+  CHECK(d[0].kind == lang::DiagKind::UnsupportedInShadingFunction);
+  for (const auto& n : d[0].notes) CHECK(n.message.find("numbers, bools") == std::string::npos);
+  auto s =
+      run("fn f(p) { let t = \"a\"; return 0.5; }\n"
+          "sphere { material diffuse pattern { function f } }\n");
+  REQUIRE(s->diags.diagnostics().size() == 1);
+  bool typed = false;
+  for (const auto& n : s->diags.diagnostics()[0].notes)
+    typed |= n.message.find("numbers, bools and vectors") != std::string::npos;
+  CHECK(typed);
+}
+
 TEST_CASE("a light refused inside CSG still has its own errors reported", "[compiler]") {
   // §10: all independent errors; the light's misspelt property is one.
   auto c = run("union { sphere { } point_light { positon <0, 3, 0> } }\n");
