@@ -8,6 +8,8 @@
 //
 // Usage: bench_trace [width height spp [rounds [scene [snell]]]]   (default 640 480 4 5, all)
 // A sixth argument "snell" runs only Snell's 1-thread render (for profiling it).
+// BENCH_GLASS_DEPTH=N sets the glass scene's max_depth (0: camera and shadow rays
+// only, the "camera + shadow ray throughput" without the refraction tree).
 #include <embree3/rtcore.h>
 #include <fmt/format.h>
 #include <pmmintrin.h>
@@ -102,6 +104,7 @@ std::vector<BenchScene> scenes(std::uint32_t w, std::uint32_t h, std::uint32_t s
     l.radiance = {10, 10, 10};
     l.samples_u = l.samples_v = 2;
     s.area_lights.push_back(l);
+    if (const char* d = std::getenv("BENCH_GLASS_DEPTH")) s.settings.max_depth = std::atoi(d);
     out.push_back({"glass", s, false});
   }
   return out;
