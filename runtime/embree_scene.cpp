@@ -837,7 +837,10 @@ void EmbreeScene::occluded(std::span<const Ray> rays, std::span<std::uint8_t> bl
 std::uint32_t EmbreeScene::occluded(const ShadowLanes16& in, std::uint32_t live) const {
   const Impl& im = *impl_;
   auto ray_of = [&](unsigned k) {
-    return Ray{{in.ox[k], in.oy[k], in.oz[k]}, {in.dx[k], in.dy[k], in.dz[k]}, 1.0f, in.time[k]};
+    return Ray{{in.ox[k], in.oy[k], in.oz[k]},
+               {in.dx[k], in.dy[k], in.dz[k]},
+               kAreaShadowEnd,
+               in.time[k]};
   };
   std::uint32_t blocked = 0;
   if (im.any_unbounded)  // the planes first, in double, as the one-ray query does
@@ -863,7 +866,7 @@ std::uint32_t EmbreeScene::occluded(const ShadowLanes16& in, std::uint32_t live)
   std::memcpy(r.dir_z, in.dz, sizeof r.dir_z);
   std::memcpy(r.time, in.time, sizeof r.time);
   for (std::size_t k = 0; k < kPacket; ++k) {
-    r.tnear[k] = 0, r.tfar[k] = 1;
+    r.tnear[k] = 0, r.tfar[k] = kAreaShadowEnd;
     r.mask[k] = ~0u, r.id[k] = 0, r.flags[k] = 0;
     valid[k] = (live >> k) & 1 ? -1 : 0;
   }

@@ -21,6 +21,14 @@ struct Ray {
   float tnear = 0;
 };
 
+// Where an area light's shadow ray ends: short of its target (the light sample moved
+// off the light by offset_ray_origin) by 16 ulps of t. The target's offset is ulps
+// of the sample's coordinates, which near the camera (the origin of Embree's
+// space) are far finer than t's own rounding over a ray of length ~1: a light
+// 0.003 from the camera shadowed every ray to itself, and the image was black.
+// Occluders within 2e-6 of the ray's length of the light cast no shadow.
+inline constexpr float kAreaShadowEnd = 1.0f - 0x1p-20f * 16;
+
 struct Hit {
   float t = INFINITY;
   Vec3f ng;  // geometric normal, unit, outward for closed shapes (§8)

@@ -127,7 +127,7 @@ struct AreaLightF {
     if (!two_sided && !(cos_l > 0)) return false;
     Vec3f side = cos_l > 0 ? n : -n;  // the light's face towards p
     Vec3f target = offset_ray_origin(q, side, scale);
-    s.shadow = Ray{o, target - o, 1.0f, time};
+    s.shadow = Ray{o, target - o, kAreaShadowEnd, time};
     s.to = to;
     s.value = radiance;
     return true;

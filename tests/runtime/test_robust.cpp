@@ -140,3 +140,28 @@ TEST_CASE("a torus far larger than its tube does not shadow or reflect onto itse
   for (float v : r.image.rgb) lowest = std::min(lowest, v);
   CHECK(lowest == Approx(1).margin(1e-5));
 }
+
+TEST_CASE("a small area light just beside the camera lights the floor", "[robust]") {
+  // A light 0.02 across, 0.003 above the camera, over a floor 1 below: the light's
+  // coordinates in Embree's camera-relative space are tiny, so its shadow rays'
+  // ends (moved off the light by ulps of those coordinates) were closer to it than
+  // t's rounding over a ray of length 1 can tell, and every ray was shadowed by
+  // the light itself: a black image. Expected: ρ/π · L·A·cos/r² at the centre.
+  for (int n : {1, 2}) {
+    INFO("grid " << n << "x" << n);
+    ir::Scene s = base_scene(9, 9, 4);
+    look(s, {0, 1, 0}, {0, 0, 0}, 10);
+    s.camera.up = {0, 0, 1};
+    s.shapes.push_back(plane({0, 1, 0}, 0, add_material(s, diffuse({0.5, 0.5, 0.5}))));
+    s.area_lights.push_back(
+        area_light({-0.01, 1.003, -0.01}, {0.02, 0, 0}, {0, 0, 0.02}, {2500, 2500, 2500}, n));
+    for (bool packets : {true, false}) {
+      rt::RenderOptions o;
+      o.threads = 1;
+      if (!packets) o.general_kernel = true;
+      rt::RenderResult r = rt::render(s, o);
+      const float centre = r.image.at(4, 4)[0];
+      CHECK(centre == Approx(0.5 / M_PI * 2500 * 0.0004 / (1.003 * 1.003)).epsilon(0.01));
+    }
+  }
+}
