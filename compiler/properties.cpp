@@ -147,7 +147,8 @@ std::string check_range(Check c, double x) {
       return "must be > 0";
     case Check::NonNegative:
       return x < 0 ? "must be >= 0"
-                   : "must be at most 1e30 (the renderer computes in single precision)";
+                   : "must be at most 1e30 (the renderer's colours and weights are single "
+                     "precision)";
     case Check::AtLeast1:
     case Check::Pixels:
       return "must be >= 1";
