@@ -837,10 +837,8 @@ void EmbreeScene::occluded(std::span<const Ray> rays, std::span<std::uint8_t> bl
 std::uint32_t EmbreeScene::occluded(const ShadowLanes16& in, std::uint32_t live) const {
   const Impl& im = *impl_;
   auto ray_of = [&](unsigned k) {
-    return Ray{{in.ox[k], in.oy[k], in.oz[k]},
-               {in.dx[k], in.dy[k], in.dz[k]},
-               kAreaShadowEnd,
-               in.time[k]};
+    return Ray{
+        {in.ox[k], in.oy[k], in.oz[k]}, {in.dx[k], in.dy[k], in.dz[k]}, kAreaShadowEnd, in.time[k]};
   };
   std::uint32_t blocked = 0;
   if (im.any_unbounded)  // the planes first, in double, as the one-ray query does

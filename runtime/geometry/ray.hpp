@@ -27,7 +27,7 @@ struct Ray {
 // space) are far finer than t's own rounding over a ray of length ~1: a light
 // 0.003 from the camera shadowed every ray to itself, and the image was black.
 // Occluders within 2e-6 of the ray's length of the light cast no shadow.
-inline constexpr float kAreaShadowEnd = 1.0f - 0x1p-20f * 16;
+inline constexpr float kAreaShadowEnd = 1.0f - 0x1p-19f;  // 16 ulps of 1
 
 struct Hit {
   float t = INFINITY;

@@ -74,9 +74,9 @@ TEST_CASE("a packet's light samples are the one-lane samples, bit for bit",
           continue;
         }
         ++lit;
-        // The shadow ray leaves o (the caller's lanes) with tmax 1, tnear 0.
+        // The shadow ray leaves o (the caller's lanes) with tmax kAreaShadowEnd, tnear 0.
         REQUIRE(same_bits(s.shadow.org.x, pt.ox[i]));
-        REQUIRE(s.shadow.tmax == 1.0f);
+        REQUIRE(s.shadow.tmax == rt::kAreaShadowEnd);
         REQUIRE(s.shadow.tnear == 0.0f);
         REQUIRE(same_bits(s.shadow.time, pt.time[i]));
         REQUIRE(same_bits(s.shadow.dir.x, out.dx[i]));
