@@ -615,7 +615,7 @@ void Evaluator::eval_props(const BlockInfo& block, const lang::Block& body, Span
         bool attempted = false;
         for (const lang::Property& p : body.properties) attempted |= p.name == info->name;
         for (const std::string& g : guessed) attempted |= g == info->name;
-        if (!attempted && body.positional.empty())
+        if (!attempted && body.positional.empty() && !body.broken)
           error(DiagKind::MissingProperty, keyword_span,
                 "'" + std::string(block.name) + "' needs '" + std::string(info->name) + "' (" +
                     describe(*info) + ")");

@@ -56,6 +56,10 @@ struct Block {
   // (`cylinder { <0,0,0>, <0,1,0>, 0.5 }`): kept so the compiler can show the named
   // form with these values; the language has no positional blocks (§5).
   std::vector<ExprPtr> positional;
+  // A syntax error inside the body (a value where a property name belongs): the
+  // properties it made unreadable are not reported missing too (§10: independent
+  // errors only; `box { 3 }` is the parse error alone).
+  bool broken = false;
 };
 
 enum class ExprKind : std::uint8_t {

@@ -424,6 +424,7 @@ BlockPtr Parser::parse_block_rest(const Token& open, std::string_view owner) {
     } else {
       scratch_exprs_.resize(values);
       error(DiagKind::ExpectedProperty, first, "expected a property name or '}', found " + found);
+      block->broken = true;
     }
   }
   for (;;) {
@@ -440,6 +441,7 @@ BlockPtr Parser::parse_block_rest(const Token& open, std::string_view owner) {
       scratch_properties_.push_back(std::move(prop));
       continue;
     }
+    block->broken = true;
     auto d = error_here(DiagKind::ExpectedProperty,
                         "expected a property name or '}', found " + describe(cur_));
     // `material difuse 0.5`: the name was meant as a constructor, and its argument

@@ -538,6 +538,20 @@ TEST_CASE("a shading function's limit that is not about types has no note about 
   CHECK(typed);
 }
 
+TEST_CASE("a block a syntax error broke reports no missing properties", "[compiler]") {
+  // docs/language.md: `box { 3 }` is the ExpectedProperty parse error alone; the
+  // properties the stray value hid are not also "needed".
+  for (const char* text : {"box { 3 }\n", "box { min 0 3 }\n", "triangle { <1, 2, 3> }\n",
+                           "point_light { 3 }\n"}) {
+    INFO(text);
+    auto c = run(text);
+    REQUIRE(c->diags.diagnostics().size() == 1);
+    CHECK(c->diags.diagnostics()[0].kind == lang::DiagKind::ExpectedProperty);
+  }
+  auto m = run("box { }\n");  // nothing broke: both are missing
+  CHECK(m->diags.diagnostics().size() == 2);
+}
+
 TEST_CASE("a light refused inside CSG still has its own errors reported", "[compiler]") {
   // §10: all independent errors; the light's misspelt property is one.
   auto c = run("union { sphere { } point_light { positon <0, 3, 0> } }\n");
