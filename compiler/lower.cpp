@@ -260,20 +260,22 @@ void SceneBuilder::add_item(const BlockInfo& block, Span kw,
     l.samples_v = static_cast<std::uint32_t>(s.y);
     l.two_sided = get(props, PropId::area_light_two_sided)->value.truth();
     l.src = ref(kw);
+    // Each fault is reported (§10: independent errors), then the light is left out.
+    bool ok = true;
     if (ir::length(ir::cross(l.edge1, l.edge2)) == 0) {
       diags_
           .report(DiagKind::InvalidValue, get(props, PropId::area_light_edge2)->value_span,
                   "'edge1' and 'edge2' of an area light must span a non-zero area")
           .note(get(props, PropId::area_light_edge1)->value_span,
                 "edge1 is " + ir::to_string(l.edge1));
-      return;
+      ok = false;
     }
     if (std::uint64_t(l.samples_u) * l.samples_v > 65536) {
       diags_.report(DiagKind::InvalidValue, get(props, PropId::area_light_samples)->value_span,
                     "an area light takes at most 65536 shadow samples per point");
-      return;
+      ok = false;
     }
-    scene_.area_lights.push_back(l);
+    if (ok) scene_.area_lights.push_back(l);
   }
 }
 
