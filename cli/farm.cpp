@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -159,6 +160,16 @@ std::string array_script(const FarmPlan& p) {
     s += fmt::format("  {}) set -- {} ;;\n", i, join_quoted(p.tasks[i].args));
   s += "  *) echo \"snell farm: no task $SLURM_ARRAY_TASK_ID\" >&2; exit 2 ;;\n";
   s += "esac\n";
+  // The folders its outputs go to, made here too: the script also runs outside
+  // Slurm unchanged (docs/distributed.md: a Kubernetes indexed job), where no
+  // submission made them.
+  std::vector<std::string> dirs;
+  for (const FarmTask& t : p.tasks)
+    for (const std::string& out : t.outputs) {
+      std::string d = fs::path(out).parent_path().string();
+      if (!d.empty() && std::find(dirs.begin(), dirs.end(), d) == dirs.end()) dirs.push_back(d);
+    }
+  if (!dirs.empty()) s += "mkdir -p " + join_quoted(dirs) + "\n";
   s += fmt::format("exec {} {} \"$@\"\n", shell_quote(p.snell), join_quoted(p.render_args));
   return s;
 }
@@ -262,9 +273,11 @@ int run_farm(const CliArgs& o) {
     std::cerr << "snell: error: cannot create " << plan.dir << ": " << ec.message() << "\n";
     return kExitIo;
   }
-  // A stale output of an earlier run would pass the merge job's check.
+  // A stale output of an earlier run would pass the merge job's check, and a stale
+  // final image would sit where a failed merge leaves none.
   for (const FarmTask& t : plan.tasks)
     for (const std::string& out : t.outputs) fs::remove(out, ec);
+  for (const std::string& out : plan.results) fs::remove(out, ec);
   for (const auto& [path, text] :
        {std::pair{plan.array_script_path(), array}, std::pair{plan.merge_script_path(), merge}}) {
     std::ofstream f(path);

@@ -142,6 +142,9 @@ TEST_CASE("farm --frames: one task a frame, each with the sequence's clock", "[e
 
 TEST_CASE("farm: a failed task fails the merge job, naming it, nothing is merged", "[e2e][farm]") {
   Scratch tmp;
+  // An earlier run's image is gone at submission, not left where this run's is due.
+  fs::create_directories(tmp / "shared");
+  std::ofstream(tmp / "shared/out.exr") << "stale";
   REQUIRE(tmp.farm(kShowcase + kOpts + " --tiles 3 --dir " + (tmp / "shared") + " -o out.exr",
                    "FAKE_FAIL_TASK=1") == 0);
   CHECK(slurp(tmp / "merge_exit") == "1\n");
@@ -185,6 +188,25 @@ TEST_CASE("farm: --dry-run prints and submits nothing, usage errors exit 2", "[e
         kShowcase + " --tiles 2", kShowcase + d + " --tiles 2 -o x.bmp"}) {
     INFO(bad);
     CHECK(tmp.farm(bad) == 2);
+  }
+  // The dry run's array script, saved at its path, runs outside Slurm as it is (the
+  // Kubernetes recipe of docs/distributed.md): it makes its pieces' folder.
+  {
+    const std::string dir = tmp / "k8s";
+    REQUIRE(tmp.farm(kShowcase + kOpts + " --tiles 2 --dry-run --dir " + dir) == 0);
+    std::string dry = slurp(tmp / "farm.out");
+    const std::string head = "# " + dir + "/";
+    std::size_t a = dry.find(head), b = dry.find(head, a + 1);
+    REQUIRE(a != std::string::npos);
+    REQUIRE(b != std::string::npos);
+    std::size_t body = dry.find('\n', a) + 1;
+    fs::create_directories(dir);
+    std::string script = dry.substr(a + 2, body - a - 3);
+    std::ofstream(script) << dry.substr(body, b - body);
+    CHECK(
+        std::system(("cd " + dir + " && SLURM_ARRAY_TASK_ID=1 bash " + script + " > /dev/null 2>&1")
+                        .c_str()) == 0);
+    CHECK(fs::exists(dir + "/pieces/piece_0001.exr"));
   }
   int status =
       std::system((kSnell + " farm pbs " + kShowcase + d + " --tiles 2 >/dev/null 2>&1").c_str());
