@@ -541,8 +541,8 @@ TEST_CASE("a shading function's limit that is not about types has no note about 
 TEST_CASE("a block a syntax error broke reports no missing properties", "[compiler]") {
   // docs/language.md: `box { 3 }` is the ExpectedProperty parse error alone; the
   // properties the stray value hid are not also "needed".
-  for (const char* text : {"box { 3 }\n", "box { min 0 3 }\n", "triangle { <1, 2, 3> }\n",
-                           "point_light { 3 }\n"}) {
+  for (const char* text :
+       {"box { 3 }\n", "box { min 0 3 }\n", "triangle { <1, 2, 3> }\n", "point_light { 3 }\n"}) {
     INFO(text);
     auto c = run(text);
     REQUIRE(c->diags.diagnostics().size() == 1);
