@@ -162,6 +162,14 @@ class SceneBuilder {
   std::int64_t csg_children(const ObjectNode& node, const ir::Transform& csg_from_node,
                             const ir::Motion& motion, std::uint32_t material,
                             const ObjectNode& csg);
+  // The renderer walks a CSG object's tree recursively (building, bounding, inside
+  // tests): merge, intersection and difference nested deeper than this are an
+  // error at the object (a crash from the stack at 14 000 levels before). The
+  // syntax's own limit; a `union` at the top places its children one by one and
+  // does not count.
+  static constexpr std::uint32_t kMaxCsgDepth = 1000;
+  std::uint32_t csg_depth_ = 0;
+  const ObjectNode* csg_too_deep_ = nullptr;  // the object already reported
   // §13: an `object { W }` reached through unions inside a value V that is made
   // a prototype is not copied into V's prototype: V's placements place W's own
   // prototype, so values of values of a mesh still hold one copy of the mesh.

@@ -220,6 +220,20 @@ void SceneBuilder::place(const ObjectNode& n, const Placement& at,
 std::int64_t SceneBuilder::csg_children(const ObjectNode& n, const ir::Transform& csg_from_node,
                                         const ir::Motion& motion, std::uint32_t material,
                                         const ObjectNode& csg) {
+  struct Level {
+    std::uint32_t& depth;
+    explicit Level(std::uint32_t& d) : depth(++d) {}
+    ~Level() { --depth; }
+  } level(csg_depth_);
+  if (csg_depth_ > kMaxCsgDepth) {
+    if (csg_too_deep_ != &csg)
+      diags_.report(DiagKind::NestingTooDeep, csg.keyword,
+                    "merge, intersection and difference nest more than " +
+                        std::to_string(kMaxCsgDepth) +
+                        " levels deep in this object (values placed with 'object' count)");
+    csg_too_deep_ = &csg;
+    return -1;
+  }
   ir::CsgNode node;
   node.op = op_of(n);
   bool ok = true;
