@@ -226,9 +226,40 @@ void check_ranges(const Scene& scene, Bad&& bad) {
     bad(scene.background_src, "background radiance must be at most 1e30");
   for (const Material& m : scene.materials)
     if (too_bright_colours(m, too_bright)) bad(m.src, "material colours must be at most 1e30");
+  double extent = 1;  // the finite scene's reach from the camera (below)
   for (const Shape& s : scene.shapes) {
     double r = object_reach(s, scene, o);
     if (!(r <= kFar)) bad(s.src, far_message("this " + to_string(s.kind()), r));
+    if (!unbounded(s) && r <= kFar) extent = std::fmax(extent, r);
+  }
+  // §13: a ray meeting an instance is taken into the instance's space by Embree,
+  // in float, which refuses coordinates past 1.8e18 (an assertion that ends the
+  // process): an instance scaled by 1e-30 did. Ray origins and directions are
+  // within the scene's reach, so the inverse's largest stretch times that reach
+  // must stay well inside (kInstanceReach); the shutter's placements count too.
+  constexpr double kInstanceReach = 1e17;
+  for (const Shape& s : scene.shapes) {
+    if (!s.as<Instance>()) continue;
+    double stretch = 0;
+    auto measure = [&](const Transform& t) {
+      for (int i = 0; i < 3; ++i)
+        stretch = std::fmax(
+            stretch, std::fabs(t.inv(i, 0)) + std::fabs(t.inv(i, 1)) + std::fabs(t.inv(i, 2)));
+    };
+    measure(s.world_from_object());
+    if (s.motion().moves())
+      for (double u : {0.0, 0.25, 0.5, 0.75, 1.0})
+        measure(s.motion().at(u) * s.world_from_object());
+    if (!(stretch * 4 * extent <= kInstanceReach)) {
+      char buf[320];
+      std::snprintf(buf, sizeof buf,
+                    "this instance's transform shrinks it by a factor of %.3g: rays taken into "
+                    "its space in single precision would reach %.3g there, past what the ray "
+                    "tracer takes (%.0e); make the value's own objects smaller, or scale the "
+                    "instance by at least %.3g",
+                    stretch, stretch * 4 * extent, kInstanceReach, 4 * extent / kInstanceReach);
+      bad(s.src, buf);
+    }
   }
   for (const PointLight& l : scene.point_lights) {
     if (!(reach(l.position, o) <= kFar))
