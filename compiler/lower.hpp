@@ -168,6 +168,12 @@ class SceneBuilder {
   // syntax's own limit; a `union` at the top places its children one by one and
   // does not count.
   static constexpr std::uint32_t kMaxCsgDepth = 1000;
+  // Moving objects inside moving objects' values: each level's motion holds every
+  // outer one (ir::Motion::nested), so N levels cost N²/2 blocks (2000 levels took
+  // 1.4 GB, 9000 would take 29) and each ray's placement N steps. Past this many
+  // the object is an error.
+  static constexpr std::size_t kMaxNestedMotions = 100;
+  bool too_many_motions(const ir::Motion& m, const ObjectNode& at);
   std::uint32_t csg_depth_ = 0;
   const ObjectNode* csg_too_deep_ = nullptr;  // the object already reported
   // §13: an `object { W }` reached through unions inside a value V that is made

@@ -166,6 +166,7 @@ void SceneBuilder::place(const ObjectNode& n, const Placement& at,
   Placement inner{at.world_from_parent * object_transforms(n.props),
                   material_of(n.props, at.material),
                   motion_in(at.motion, at.world_from_parent, n.props), at.object};
+  if (too_many_motions(inner.motion, n)) return;
   // In the scene (not a prototype) an object without a material has the default.
   auto settle = [&] {
     if (!proto && inner.material == ir::kInheritMaterial) inner.material = default_material();
@@ -217,6 +218,17 @@ void SceneBuilder::place(const ObjectNode& n, const Placement& at,
   if (lower_shape(*n.block, cx, geom)) add(std::move(geom));
 }
 
+bool SceneBuilder::too_many_motions(const ir::Motion& m, const ObjectNode& at) {
+  if (m.nested.size() <= kMaxNestedMotions) return false;
+  // Only the level that crosses the limit gets here: its callers stop there, so the
+  // deeper ones are never reached.
+  diags_.report(DiagKind::NestingTooDeep, at.keyword,
+                "moving objects nest more than " + std::to_string(kMaxNestedMotions) +
+                    " deep here (a 'motion' on an object inside a moving object's value "
+                    "adds a level)");
+  return true;
+}
+
 std::int64_t SceneBuilder::csg_children(const ObjectNode& n, const ir::Transform& csg_from_node,
                                         const ir::Motion& motion, std::uint32_t material,
                                         const ObjectNode& csg) {
@@ -256,6 +268,7 @@ std::int64_t SceneBuilder::csg_node(const ObjectNode& c, const ir::Transform& cs
   if (wrong(c)) return -1;  // check_value reported it
   ir::Transform xf = csg_from_parent * object_transforms(c.props);
   ir::Motion moves = motion_in(motion, csg_from_parent, c.props);
+  if (too_many_motions(moves, c)) return -1;
   std::uint32_t mat = material_of(c.props, material);
   if (c.instance()) return csg_node(*c.children[0], xf, moves, mat, csg);
   if (c.csg()) return csg_children(c, xf, moves, mat, csg);
