@@ -137,8 +137,10 @@ template <class Bad>
 void check_texture(const Texture& t, Bad&& bad) {
   if (const Checker* c = std::get_if<Checker>(&t.pattern); c && !(c->size > 0))
     bad("checker size must be > 0");
-  if (const Gradient* g = std::get_if<Gradient>(&t.pattern); g && !(length(g->direction) > 0))
-    bad("gradient direction must be non-zero");
+  // Components, not the length: the length of <1e-300, 0, 0> underflows to 0.
+  if (const Gradient* g = std::get_if<Gradient>(&t.pattern);
+      g && (g->direction == Vec3{} || !is_finite(g->direction)))
+    bad("gradient direction must be non-zero and finite");
   if (const Brick* b = std::get_if<Brick>(&t.pattern);
       b && !(b->size.x > 0 && b->size.y > 0 && b->size.z > 0 && b->mortar >= 0))
     bad("brick size must be > 0 and mortar >= 0");

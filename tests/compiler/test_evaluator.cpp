@@ -552,6 +552,14 @@ TEST_CASE("a block a syntax error broke reports no missing properties", "[compil
   CHECK(m->diags.diagnostics().size() == 2);
 }
 
+TEST_CASE("a gradient direction too short to have a length is still non-zero", "[compiler]") {
+  // Its length underflows to 0; the check was on the length ("must be non-zero").
+  CHECK(run("sphere { material diffuse gradient { direction <1e-300, 0, 0> } }\n")->status ==
+        compile::CompileStatus::Ok);
+  CHECK(run("sphere { material diffuse gradient { direction <0, 0, 0> } }\n")->status ==
+        compile::CompileStatus::SceneErrors);
+}
+
 TEST_CASE("a light refused inside CSG still has its own errors reported", "[compiler]") {
   // §10: all independent errors; the light's misspelt property is one.
   auto c = run("union { sphere { } point_light { positon <0, 3, 0> } }\n");
