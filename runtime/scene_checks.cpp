@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "runtime/geometry/motion.hpp"
 #include "runtime/geometry/point_inside.hpp"
 
 namespace snell::rt {
@@ -69,6 +70,22 @@ std::vector<std::string> scene_warnings(const ir::Scene& scene) {
                       medium ? "its rays start in that dielectric and see out through its surface"
                              : "it will see only that object's inside"));
     }
+  // Boxes, triangles, meshes and instances move in linear steps (at most 128, each
+  // turning at most 90°); spheres and the other shapes are placed exactly per ray.
+  for (const ir::Shape& s : scene.shapes) {
+    const ir::ShapeKind k = s.kind();
+    if (k != ir::ShapeKind::Box && k != ir::ShapeKind::Triangle && k != ir::ShapeKind::Mesh &&
+        k != ir::ShapeKind::Instance)
+      continue;
+    const double deg = geom::turn_degrees(s.motion());
+    if (deg > geom::kMaxFollowedTurn)
+      out.push_back(fmt::format(
+          "the {} at {} turns {:.6g}° during the shutter; a moving {} is traced in at most 128 "
+          "steps of 90°, {:g}° in all, so its blur will not follow the spin (a sphere or a CSG "
+          "object of it would)",
+          written_kind(scene, s), ir::to_string(s.src, scene), deg, written_kind(scene, s),
+          geom::kMaxFollowedTurn));
+  }
   return out;
 }
 

@@ -19,8 +19,6 @@ ir::Mat4 rel_from_object_inverse_at(const ir::Shape& s, Vec3 origin, double u) {
       .inv;
 }
 
-namespace {
-
 // The most a motion turns over the shutter, in degrees: the sum of its rotation
 // steps' angles (a composition of turns turns at most by their sum; frames and
 // pivots change no angle).
@@ -35,6 +33,8 @@ double turn_degrees(const ir::Motion& m) {
   for (const ir::MotionBlock& b : m.nested) add(b.ops);
   return deg;
 }
+
+namespace {
 
 // `tolerance` × the size of `verts` where s stands at shutter open (× 1 for a point).
 double size_tolerance(const ir::Shape& s, const std::vector<Vec3>& verts, Vec3 origin,

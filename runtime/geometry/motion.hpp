@@ -52,6 +52,12 @@ void swept_bounds(At&& rel_at_u, Corners&& corners, Box3& box) {
   for (int k = 0; k < 3; ++k) box.lo[k] -= pad, box.hi[k] += pad;
 }
 
+// The most a motion turns over the shutter, in degrees (the sum of its rotations).
+double turn_degrees(const ir::Motion& m);
+// The most turn the segments of moving triangles and instances follow: 128 segments
+// of 90° each. A faster spin is traced wrong (scene_warnings says so).
+inline constexpr double kMaxFollowedTurn = 128 * 90.0;
+
 // The fewest segments a motion's turns allow: a power of 2 (at most 128) with each
 // segment turning at most 90°. Sampled errors alone cannot see whole turns: a box
 // spinning 720° stands in the same place at the open, middle and close of the

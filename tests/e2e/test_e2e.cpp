@@ -729,6 +729,18 @@ TEST_CASE("warnings: no object, no light for a diffuse surface, the camera insid
   CHECK(out.find("inside the intersection at " + w + ":9:1") != std::string::npos);
   CHECK(out.find(w + ":10:1") == std::string::npos);
   CHECK(out.find(w + ":11:1") == std::string::npos);
+  // A box spinning faster than its 128 motion steps follow (128 × 90°) is traced
+  // wrong, and says so; a sphere spinning as fast is placed per ray, and one
+  // turning 3600° is followed.
+  out = check_out(
+      "camera { location <0, 1, -6> look_at <0, 1, 0> shutter <0, 1> } point_light { position "
+      "<0, 5, -5> intensity 10 }\n"
+      "box { min <-1, 0, -1> max <1, 2, 1> motion { rotate <0, 360000000, 0> } }\n"
+      "box { min <-1, 0, -1> max <1, 2, 1> motion { rotate <0, 3600, 0> } }\n"
+      "sphere { motion { rotate <0, 360000000, 0> } }\n");
+  CHECK(out.find("the box at " + w + ":2:1 turns 3.6e+08") != std::string::npos);
+  CHECK(out.find(w + ":3:1 turns") == std::string::npos);
+  CHECK(out.find(w + ":4:1 turns") == std::string::npos);
   // render prints them too, before the render.
   std::ofstream(tmp / "w.scn")
       << "settings { resolution <4, 4> samples 1 }\nsphere { center <0, 0, 5> }\n";
