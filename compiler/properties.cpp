@@ -87,11 +87,13 @@ struct Registry {
     static BlockInfo none{"", BlockKind::Nested, {}, false};  // a kind without a block:
     return none;                                              // the registry test reports it
   }
-  // Fills the default of `block`'s property `field` when its row says IR.
-  void ir_default(BlockInfo& b, std::string_view field, Value v) {
-    for (const PropInfo* p : b.props)
-      if (p->name == field && p->default_from_ir)
-        const_cast<PropInfo*>(p)->default_value = std::move(v);
+  // Fills the default of `block`'s property `field` when its row says IR. A Named
+  // property's default is only shown (hovers, docs): it is never added to a block
+  // that leaves it out, where the IR struct's own field already holds it.
+  void ir_default(BlockInfo& b, std::string_view field, const Value& v) {
+    for (const auto* list : {&b.props, &b.named})
+      for (const PropInfo* p : *list)
+        if (p->name == field && p->default_from_ir) const_cast<PropInfo*>(p)->default_value = v;
   }
   template <class T>
   void bind_kind(std::string_view name, int index, int BlockInfo::*slot) {

@@ -96,8 +96,16 @@ std::string describe_property(std::string_view block, std::string_view property)
                   "`\n\naccepts " + compile::describe(*p);
   if (p->required()) s += "\n\nrequired";
   if (p->repeats()) s += "\n\nmay repeat (applies in the order written)";
+  // Defaults computed from other properties, which the registry cannot hold.
+  static const std::pair<std::string_view, std::string_view> kComputed[] = {
+      {"camera.focal_distance", "|look_at - location| (look_at is in focus)"}};
+  std::string computed;
+  for (const auto& [name, text] : kComputed)
+    if (name == std::string(p->block) + "." + std::string(p->name)) computed = text;
   if (p->default_value.type != compile::Type::None)
     s += "\n\ndefault: `" + compile::to_string(p->default_value) + "`";
+  else if (!computed.empty())
+    s += "\n\ndefault: " + computed;
   else if (!p->required())
     s += "\n\nno default (optional)";
   return s;

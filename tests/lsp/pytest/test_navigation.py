@@ -36,6 +36,18 @@ async def test_hover_property_from_table(client, tmp_path):
     assert "required" in text
 
 
+async def test_hover_defaults_of_named_and_computed_properties(client, tmp_path):
+    # §16's highlight properties are named-only; their defaults are the IR's (0 and
+    # 50), and the focal distance's is computed: none is "no default".
+    text = ("camera { location <0, 1, -5> look_at <0, 1, 0> focal_distance 5 }\n"
+            "sphere { material diffuse { color 0.5 specular 0.3 shininess 20 } }\n")
+    uri = await open_doc(client, tmp_path / "named.scn", text)
+    assert "default: `0`" in await hover_text(client, uri, find(text, "specular", delta=2))
+    assert "default: `50`" in await hover_text(client, uri, find(text, "shininess", delta=2))
+    focal = await hover_text(client, uri, find(text, "focal_distance", delta=2))
+    assert "|look_at - location|" in focal, focal
+
+
 async def test_hover_block(client, tmp_path):
     uri = await setup(client, tmp_path)
     text = await hover_text(client, uri, find(SCENE, "sphere", delta=1))
