@@ -365,8 +365,9 @@ std::string Sweeper::reading(const SweepAxis& axis) const {
              ", RMSE × " + num(e) + ".\n";
     }
   }
-  // An equal-time comparison: the pair (first curve, other curve) whose times
-  // are closest, among the slowest configurations, shown side by side.
+  // A comparison at about equal time: the pair (first curve, other curve) whose
+  // times are closest, among the slowest configurations, shown side by side. The
+  // sweep's steps (sample counts doubling) leave them up to about 2x apart.
   if (o_.images && !o_.series.key.empty() && o_.series.values.size() >= 2) {
     const SweepRow *pa = nullptr, *pb = nullptr;
     double best = 1e300;
@@ -379,7 +380,7 @@ std::string Sweeper::reading(const SweepAxis& axis) const {
           if (score < best) best = score, pa = a, pb = b;
         }
     if (pa && pb && !pa->image.empty() && !pb->image.empty())
-      out += "- Equal time (" + num(pa->seconds) + " s and " + num(pb->seconds) + " s): left `" +
+      out += "- Nearest in time (" + num(pa->seconds) + " s and " + num(pb->seconds) + " s): left `" +
              o_.series.key + " " + pa->series_value + "`, `" + axis.key + " " + pa->value +
              "` (RMSE " + num(pa->rmse) + "); right `" + o_.series.key + " " + pb->series_value +
              "`, `" + axis.key + " " + pb->value + "` (RMSE " + num(pb->rmse) + ").\n\n  ![](" +
