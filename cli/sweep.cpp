@@ -380,11 +380,11 @@ std::string Sweeper::reading(const SweepAxis& axis) const {
           if (score < best) best = score, pa = a, pb = b;
         }
     if (pa && pb && !pa->image.empty() && !pb->image.empty())
-      out += "- Nearest in time (" + num(pa->seconds) + " s and " + num(pb->seconds) + " s): left `" +
-             o_.series.key + " " + pa->series_value + "`, `" + axis.key + " " + pa->value +
-             "` (RMSE " + num(pa->rmse) + "); right `" + o_.series.key + " " + pb->series_value +
-             "`, `" + axis.key + " " + pb->value + "` (RMSE " + num(pb->rmse) + ").\n\n  ![](" +
-             pa->image + ") ![](" + pb->image + ")\n";
+      out += "- Nearest in time (" + num(pa->seconds) + " s and " + num(pb->seconds) +
+             " s): left `" + o_.series.key + " " + pa->series_value + "`, `" + axis.key + " " +
+             pa->value + "` (RMSE " + num(pa->rmse) + "); right `" + o_.series.key + " " +
+             pb->series_value + "`, `" + axis.key + " " + pb->value + "` (RMSE " + num(pb->rmse) +
+             ").\n\n  ![](" + pa->image + ") ![](" + pb->image + ")\n";
   }
   // Slope of log error against log time along each curve.
   std::map<std::string, std::vector<const SweepRow*>> curves;
