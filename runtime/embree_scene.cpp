@@ -398,13 +398,13 @@ struct EmbreeScene::Impl {
     hit.prim = prim, hit.tri_layer = nullptr;
     hit.index = e.shape;
     hit.material = e.layer->material_of(hit.index);
-    hit.p = r.org + r.dir * t, hit.offset = 0;
+    hit.p = r.org + r.dir * t, hit.offset = unbounded_offset(r, hit.p);
   }
   static void resolve_light(const GeomEntry&, unsigned prim, float, float, const Ray& r, float t,
                             Hit& hit) {
     hit.kind = Hit::Kind::AreaLight;
     hit.index = prim / 2;
-    hit.p = r.org + r.dir * t, hit.offset = 0;
+    hit.p = r.org + r.dir * t, hit.offset = unbounded_offset(r, hit.p);
   }
   template <class Set>
   static void resolve_user(const GeomEntry& e, unsigned prim, float u, float, const Ray& r, float t,
@@ -662,7 +662,7 @@ void resolve_instance(const InstanceEntry& ie, const RTCRayHit& rh, const Ray& r
     hit.ps = to_float(ps.x, ps.y, ps.z);
   }
   if (ie.moving || !(hit.offset > 0)) {
-    hit.p = r.org + r.dir * hit.t, hit.offset = 0;
+    hit.p = r.org + r.dir * hit.t, hit.offset = unbounded_offset(r, hit.p);
     return;
   }
   Vec3 p = xform_point(rel_from_obj, Vec3(hit.p.x, hit.p.y, hit.p.z));

@@ -432,7 +432,7 @@ void CsgSetT<kMoving>::refine(unsigned prim, const Ray& r, float t, Hit& hit, un
   hit.part = p.program.part(sub);
   hit.prim = 0, hit.tri_layer = nullptr;  // a mesh leaf's triangle, when refined below
   if constexpr (kMoving) {
-    hit.p = r.org + r.dir * t, hit.offset = 0;
+    hit.p = r.org + r.dir * t, hit.offset = unbounded_offset(r, hit.p);
   } else {
     // The leaf's own crossing in double, near the float t: the point is then on
     // the leaf's surface to the rounding of p to float (LocalSet::refine's bound).
@@ -441,7 +441,7 @@ void CsgSetT<kMoving>::refine(unsigned prim, const Ray& r, float t, Hit& hit, un
     double tc = p.program.leaf_crossing(sub, o, d, double(t), &hit.prim);
     Vec3 q = xform_point(p.rel_from_csg, o + d * tc);
     if (!ir::is_finite(q) || std::fabs(tc - double(t)) > 1e-3 * std::fabs(double(t)) + 1e-30) {
-      hit.p = r.org + r.dir * t, hit.offset = 0;
+      hit.p = r.org + r.dir * t, hit.offset = unbounded_offset(r, hit.p);
       return;
     }
     hit.p = to_float(q.x, q.y, q.z);

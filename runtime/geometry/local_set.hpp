@@ -93,7 +93,7 @@ class LocalSet {
     const Vec3 q = pr.surface.project(xform_point(pr.local_from_rel, p0));
     Vec3 p = xform_point(pr.rel_from_local, q);
     if (!ir::is_finite(p)) {
-      hit.p = r.org + r.dir * t, hit.offset = 0;
+      hit.p = r.org + r.dir * t, hit.offset = unbounded_offset(r, hit.p);
       return;
     }
     hit.p = to_float(p.x, p.y, p.z);
@@ -148,7 +148,7 @@ class MovingLocalSet {
   }
   // o + t·d, offset 0 (the Wächter–Binder offset covers its error).
   void refine(unsigned, const Ray& r, float t, Hit& hit) const {
-    hit.p = r.org + r.dir * t, hit.offset = 0;
+    hit.p = r.org + r.dir * t, hit.offset = unbounded_offset(r, hit.p);
   }
 
  private:

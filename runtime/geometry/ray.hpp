@@ -37,8 +37,10 @@ struct Hit {
   // in double, so it lies on the surface to within a few ulps, and `offset` > 0 is
   // the distance along the normal that a ray leaving it must start at to clear the
   // surface (its error bound, and that of the test that re-tests the surface). On
-  // moving shapes it is o + t·d, and `offset` 0 asks for the Wächter–Binder offset
-  // (offset_ray_origin), which covers the larger error of o + t·d.
+  // moving shapes it is o + t·d, and `offset` <= 0 asks for the Wächter–Binder
+  // offset (offset_ray_origin), which covers the larger error of o + t·d: -offset
+  // is then the largest coordinate that error comes from (unbounded_offset), for
+  // near_scale; 0 takes the scene's scale.
   Vec3f p;
   float offset = 0;
   enum class Kind : std::uint8_t { Shape, AreaLight } kind = Kind::Shape;
@@ -69,11 +71,18 @@ struct Hit {
 // ulps of the triangle's vertices instead of 256 ulps of the point, so slabs
 // 1e-5 thick are still two surfaces.
 [[gnu::always_inline]] inline Vec3f spawn_origin(const Hit& h, Vec3f n, float scale) {
-  if (!(h.offset > 0)) return offset_ray_origin(h.p, n, scale);
+  if (!(h.offset > 0))
+    return offset_ray_origin(h.p, n, h.offset < 0 ? near_scale(scale, -h.offset) : scale);
   Vec3f o = h.p + n * h.offset;
   // Round away from the surface, so rounding never gives back part of the offset.
   auto away = [](float x, float dir) { return dir > 0 ? next_up(x) : dir < 0 ? next_down(x) : x; };
   return {away(o.x, n.x), away(o.y, n.y), away(o.z, n.z)};
+}
+
+// Hit::offset of a point o + t·d with no bound of its own: minus the largest
+// coordinate of the ray's origin and the point (|t·d| is at most their sum).
+[[gnu::always_inline]] inline float unbounded_offset(const Ray& r, Vec3f p) {
+  return -std::fmax(max_abs(r.org), max_abs(p));
 }
 
 std::string to_string(const Ray& r);

@@ -63,7 +63,7 @@ void SphereSet::refine(unsigned prim, const Ray& r, float t, Hit& hit) const {
     p = xform_point(g.rel_from_object, q);
   }
   if (!(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z))) {  // p0 at the centre
-    hit.p = r.org + r.dir * t, hit.offset = 0;
+    hit.p = r.org + r.dir * t, hit.offset = unbounded_offset(r, hit.p);
     return;
   }
   hit.p = to_float(p.x, p.y, p.z);

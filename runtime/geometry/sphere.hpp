@@ -184,7 +184,7 @@ class MovingSphereSet {
   }
   // o + t·d, offset 0 (the Wächter–Binder offset covers its error).
   void refine(unsigned, const Ray& r, float t, Hit& hit) const {
-    hit.p = r.org + r.dir * t, hit.offset = 0;
+    hit.p = r.org + r.dir * t, hit.offset = unbounded_offset(r, hit.p);
   }
   // hit() without its pre-test, and the pre-test alone (tests: the pre-test never
   // turns away a ray the exact test hits).

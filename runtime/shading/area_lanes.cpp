@@ -79,9 +79,10 @@ std::uint32_t area_lanes_avx512(const AreaCell& cell, const PointLanes& P, const
   const __m512 sx = _mm512_mask_blend_ps(front, splat(-l.n.x), splat(l.n.x));
   const __m512 sy = _mm512_mask_blend_ps(front, splat(-l.n.y), splat(l.n.y));
   const __m512 sz = _mm512_mask_blend_ps(front, splat(-l.n.z), splat(l.n.z));
-  _mm512_store_ps(out.dx, offset_coord(qx, sx, cell.scale) - ox);
-  _mm512_store_ps(out.dy, offset_coord(qy, sy, cell.scale) - oy);
-  _mm512_store_ps(out.dz, offset_coord(qz, sz, cell.scale) - oz);
+  const float scale = near_scale(cell.scale, l.reach);
+  _mm512_store_ps(out.dx, offset_coord(qx, sx, scale) - ox);
+  _mm512_store_ps(out.dy, offset_coord(qy, sy, scale) - oy);
+  _mm512_store_ps(out.dz, offset_coord(qz, sz, scale) - oz);
   const float inv_n = 1.0f / float(l.nu * l.nv);
   _mm512_store_ps(out.g,
                   ((cos_s * _mm512_abs_ps(cos_l)) / (d2 * d2)) * splat(l.area) * splat(inv_n));

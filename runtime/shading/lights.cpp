@@ -22,6 +22,8 @@ Lights::Lights(const ir::Scene& scene, ir::Vec3 o) {
     f.e1 = to_color(l.edge1);
     f.e2 = to_color(l.edge2);
     f.area = float(area);
+    for (Vec3f q : {f.corner, f.corner + f.e1, f.corner + f.e2, (f.corner + f.e1) + f.e2})
+      f.reach = std::fmax(f.reach, max_abs(q));
     ir::Vec3 nu = area > 0 ? n / area : ir::Vec3(0, 1, 0);
     f.n = to_color(nu);
     // A light of zero area emits nothing (robustness.md #9): radiance 0.

@@ -66,6 +66,10 @@ struct PointLightF {
 struct AreaLightF {
   Vec3f corner, e1, e2, n;  // n: unit cross(e1, e2)
   float area = 0;
+  // The largest coordinate of its corners (camera-relative): a sample's rounding
+  // comes from coordinates no larger, so its shadow-ray target's offset scale is
+  // near_scale(scale, reach) (vec.hpp).
+  float reach = 0;
   Color radiance;
   std::uint32_t nu = 1, nv = 1;
   bool two_sided = false;
@@ -126,7 +130,7 @@ struct AreaLightF {
     if (!(cos_s > 0) || !(d2 > 0) || !(dot(nf, q - o) > 0)) return false;  // as point lights
     if (!two_sided && !(cos_l > 0)) return false;
     Vec3f side = cos_l > 0 ? n : -n;  // the light's face towards p
-    Vec3f target = offset_ray_origin(q, side, scale);
+    Vec3f target = offset_ray_origin(q, side, near_scale(scale, reach));
     s.shadow = Ray{o, target - o, kAreaShadowEnd, time};
     s.to = to;
     s.value = radiance;

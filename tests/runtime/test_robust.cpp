@@ -4,6 +4,7 @@
 #include <cmath>
 #include <random>
 
+#include "effects_util.hpp"
 #include "runtime/embree_scene.hpp"
 #include "runtime/render.hpp"
 #include "scene_util.hpp"
@@ -164,4 +165,46 @@ TEST_CASE("a small area light just beside the camera lights the floor", "[robust
       CHECK(centre == Approx(0.5 / M_PI * 2500 * 0.0004 / (1.003 * 1.003)).epsilon(0.01));
     }
   }
+}
+
+TEST_CASE("a tiny subject near the camera renders the same beside a far object", "[robust]") {
+  // A scene 1e-6 across at the camera, lit by a small area light or a point light,
+  // with a moving sphere; and the same with a sphere 1000 away behind the camera,
+  // which makes the scene's size around the camera 1 and so the near-origin step of
+  // the ray offsets 2^-16, fifteen times the subject. The area-lit image was black
+  // and the moving sphere unlit; both must match the scene without the far sphere.
+  const double k = 1e-6;
+  auto scene = [&](bool far, bool area, bool moves) {
+    ir::Scene s = base_scene(32, 24, 1);
+    look(s, {0, 0, 0}, {0, -k, 4 * k}, 50);
+    s.shapes.push_back(plane({0, 1, 0}, -k, 0));
+    ir::Shape ball = sphere({0, -0.5 * k, 4 * k}, 0.5 * k, 0);
+    if (moves) {
+      s.camera.shutter_close = 1;
+      ball = moving(ball, ir::TransformOp::Kind::Translate, {0.3 * k, 0, 0});
+    }
+    s.shapes.push_back(ball);
+    if (area)
+      s.area_lights.push_back(
+          area_light({-0.5 * k, 2 * k, 3.5 * k}, {k, 0, 0}, {0, 0, k}, {8, 8, 8}, 2));
+    else
+      s.point_lights.push_back({{0, 3 * k, 4 * k}, {1e-11, 1e-11, 1e-11}, {}});
+    if (far) s.shapes.push_back(sphere({0, 0, -1000}, 1, 0));
+    return s;
+  };
+  for (bool area : {true, false})
+    for (bool moves : {false, true}) {
+      INFO((area ? "area light" : "point light") << (moves ? ", moving sphere" : ""));
+      rt::RenderResult alone = render_with(scene(false, area, moves));
+      rt::RenderResult beside = render_with(scene(true, area, moves));
+      double sum_alone = 0, sum_beside = 0, worst = 0;
+      for (std::size_t i = 0; i < alone.image.rgb.size(); ++i) {
+        sum_alone += alone.image.rgb[i];
+        sum_beside += beside.image.rgb[i];
+        worst = std::max(worst, double(std::fabs(alone.image.rgb[i] - beside.image.rgb[i])));
+      }
+      CHECK(sum_alone > 0);
+      CHECK(sum_beside == Approx(sum_alone).epsilon(0.01));
+      CHECK(worst < 0.05);
+    }
 }

@@ -365,7 +365,7 @@ TEST_CASE("moving cylinders, cones, discs and tori are placed at the ray time",
     rt::Hit h;
     REQUIRE(q.cast({-5, 1, 1}, {1, 0, 0}, h, 0.5f));
     CHECK(h.t == Approx(4.5).epsilon(1e-5));
-    CHECK(h.offset == 0);  // moving shapes leave by Wächter–Binder
+    CHECK(h.offset <= 0);  // moving shapes leave by Wächter–Binder (near_scale of -offset)
     CHECK_FALSE(q.cast({-5, 1, 1}, {1, 0, 0}, h, 0.f));
     REQUIRE(q.cast({-5, 1, 2}, {1, 0, 0}, h, 1.f));
     CHECK(h.ng.x == Approx(-1).margin(1e-6));
