@@ -61,9 +61,14 @@ std::vector<std::string> scene_warnings(const ir::Scene& scene) {
     if (geom::point_inside(scene, s, scene.camera.location, geom::InsideRule::Object)) {
       const ir::Vec3 c = scene.camera.location;
       // A dielectric is a medium the camera looks out of (water around a diver),
-      // not a wall it sees the inside of.
-      const bool medium =
-          s.material < scene.materials.size() && scene.materials[s.material].as<ir::Dielectric>();
+      // not a wall it sees the inside of: an object all of whose surfaces are
+      // dielectrics (an instance of a glass of water, whose own material is none).
+      bool medium = true, any = false;
+      ir::surface_materials(scene, s, [&](std::uint32_t m) {
+        any = true;
+        medium = medium && m < scene.materials.size() && scene.materials[m].as<ir::Dielectric>();
+      });
+      medium = medium && any;
       out.push_back(
           fmt::format("the camera at <{}, {}, {}> is inside the {} at {}: {}", c.x, c.y, c.z,
                       written_kind(scene, s), ir::to_string(s.src, scene),

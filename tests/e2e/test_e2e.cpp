@@ -701,6 +701,18 @@ TEST_CASE("warnings: no object, no light for a diffuse surface, the camera insid
   CHECK(out.find("inside the sphere") != std::string::npos);
   CHECK(out.find("its rays start in that dielectric") != std::string::npos);
   CHECK(out.find("see only") == std::string::npos);
+  // So is an instance whose parts are dielectrics (a glass of water placed with
+  // `object`; the instance itself has no material).
+  out = check_out(
+      "camera { location <0, 0, 0> look_at <0, 0, 1> } point_light { position <0, 5, -5> "
+      "intensity 10 }\n"
+      "let gw = union { difference { box { min -1 max 1 } box { min -0.8 max 0.8 } material "
+      "dielectric { ior 1.5 priority 2 } } box { min -0.9 max 0.9 material dielectric { ior "
+      "1.33 priority 1 } } };\n"
+      "object { gw }\n");
+  CHECK(out.find("inside the object") != std::string::npos);
+  CHECK(out.find("its rays start in that dielectric") != std::string::npos);
+  CHECK(out.find("see only") == std::string::npos);
   // Composites: inside a CSG result (not inside its hole), inside an instance's
   // value (not inside another instance of it), inside a closed mesh (not beside
   // it), and a plane a half-space only as a CSG leaf.
