@@ -15,6 +15,7 @@
 #include <limits>
 #include <memory>
 #include <optional>
+#include <set>
 #include <unordered_map>
 
 #include "cli/animation.hpp"
@@ -292,6 +293,11 @@ struct FrameJob {
   double clock = 0;
   bool first = true;  // the first frame rendered: checks that need a scene run once
   rt::RenderStats* total = nullptr;
+  // Under --frames: the scene warnings printed for earlier frames. Each frame's
+  // scene is compiled afresh and may warn of something new (the camera inside a
+  // sphere that grows with the clock); one said already is not said again.
+  std::set<std::string>* warned = nullptr;
+  bool of_frames = false;
 };
 
 // What the image helper found, said as the in-process checks of render_frame
@@ -408,9 +414,12 @@ int render_frame(FrameJob& job) {
       return kExitScene;
     }
   }
-  if (job.first)
+  if (job.first || job.warned)
     for (const std::string& w : rt::scene_warnings(scene))
-      std::cerr << o.scene << ": warning: " << w << "\n";
+      if (!job.warned || job.warned->insert(w).second)
+        std::cerr << o.scene << ": warning: " << w
+                  << (job.of_frames ? fmt::format(" (frame {})", job.frame) : std::string())
+                  << "\n";
   Progress progress(!o.quiet, isatty(STDERR_FILENO));
   // A helper still loading is asked after each tile: a writer that cannot load
   // or a display transform that cannot be made cancels the render at once.
@@ -515,9 +524,10 @@ int run_render(const CliArgs& o) {
     run = {*o.frame, *o.frame + 1};
   }
   rt::RenderStats total;
+  std::set<std::string> warned;
   Progress overall(false, false);  // its clock only: the frames' ETA
   for (std::int64_t f = run.begin; f < run.end; ++f) {
-    FrameJob job{o, copts, {}, f, frame_clock(frames, f), f == run.begin, &total};
+    FrameJob job{o, copts, {}, f, frame_clock(frames, f), f == run.begin, &total, &warned, true};
     for (const std::string& out : outputs) job.outputs.push_back(frame_output_name(out, f));
     if (int code = render_frame(job); code >= 0) {
       // Which frame it was: an error that depends on the clock names no frame.

@@ -364,6 +364,26 @@ TEST_CASE("merge refuses pieces that do not make one image, and writes nothing",
   CHECK(!fs::exists(tmp / "n.exr"));
 }
 
+TEST_CASE("animation: a frame's new scene warning is printed once, with its frame",
+          "[e2e][animation]") {
+  // The sphere grows with the frame: the camera is inside it from frame 4 on. Only
+  // the first frame's warnings were printed (none here); now each new one is, once.
+  Scratch tmp;
+  std::ofstream(tmp / "grow.scn") << "settings { resolution <4, 3> samples 1 }\n"
+                                     "camera { location <0, 0, -5> }\n"
+                                     "point_light { position <0, 5, -5> intensity 10 }\n"
+                                     "sphere { radius 1 + clock + frame }\n";
+  REQUIRE(run("render " + (tmp / "grow.scn") + " --quiet --threads 1 --frames 3..7 -o " +
+                  (tmp / "g_##.exr"),
+              tmp / "log.txt") == 0);
+  const std::string log = slurp(tmp / "log.txt");
+  INFO(log);
+  CHECK(log.find("is inside the sphere") != std::string::npos);
+  CHECK(log.find("(frame 4)") != std::string::npos);
+  CHECK(log.find("(frame 3)") == std::string::npos);
+  CHECK(log.find("(frame 5)") == std::string::npos);  // the same warning again
+}
+
 TEST_CASE("animation: --frames renders each frame with its clock and names it",
           "[e2e][animation]") {
   Scratch tmp;
