@@ -390,7 +390,15 @@ std::unique_ptr<Compilation> compile_source(const std::string& path, std::string
     if (options.unreadable_images && !builder.images().empty())
       for (const auto& [image, why] : options.unreadable_images(builder.images()))
         report_unreadable_image(*c, builder.images(), image, why);
-    if (c->diags.has_errors()) return;
+    if (c->diags.has_errors()) {
+      // The runtime's limits (ir::validate: reach from the camera, an instance's
+      // scale, ...) of what was placed are independent errors too (§10): they were
+      // found only once the others were fixed. A scene with errors is not handed on.
+      c->scene = builder.finish();
+      report_runtime_limits(*c);
+      c->scene = ir::Scene{};
+      return;
+    }
     if (!driver.apply_overrides(builder, eval)) return;
     c->scene = builder.finish();
     report_runtime_limits(*c);
