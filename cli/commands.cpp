@@ -105,14 +105,7 @@ namespace {
 int compile_scene(const CliArgs& o, const compile::CompileOptions& given,
                   std::unique_ptr<compile::Compilation>& out) {
   compile::CompileOptions copts = given;
-  if (!o.dump_ir)
-    copts.unreadable_images = [&o](const std::vector<ir::ImageFile>& images) {
-      std::string err;
-      auto bad = rt::unreadable_images(images, o.ocio_config, err);
-      if (!err.empty())  // the image module itself: no image can be read
-        for (std::size_t i = 0; i < images.size(); ++i) bad.emplace_back(i, err);
-      return bad;
-    };
+  if (!o.dump_ir) copts.unreadable_images = cached_image_check(o.ocio_config);
   out = compile::compile_file(o.scene, copts);
   out->diags.print(std::cerr, color_stderr());
   switch (out->status) {
@@ -220,8 +213,6 @@ int dump_ast(const std::string& path) {
   });
   return code;
 }
-
-namespace {}  // namespace
 
 decltype(compile::CompileOptions::unreadable_images) cached_image_check(std::string ocio_config) {
   struct Seen {

@@ -442,10 +442,12 @@ bool Evaluator::eval_pair(const PropInfo& info, const Expr& expr, const std::sha
                           std::vector<EvaluatedProp>& parts) {
   const BlockInfo* block = find_block(info.name);
   // A part's errors name the pair: "'pattern' takes a pattern" alone did not say
-  // that it was bump's first part.
-  const std::string parts_form =
-      "<" + std::string(block->props[0]->name) + ", " + std::string(block->props[1]->name) + ">";
-  const std::string form = "'" + std::string(info.name) + " " + parts_form + "'";
+  // that it was bump's first part. Made only for an error (stops are evaluated by
+  // the thousand).
+  auto parts_form = [&] {
+    return "<" + std::string(block->props[0]->name) + ", " + std::string(block->props[1]->name) +
+           ">";
+  };
   auto take = [&](std::size_t i, const Expr& ex, const Value* given) {
     EvaluatedProp& q = parts.emplace_back();
     q.info = block->props[i];
@@ -465,7 +467,7 @@ bool Evaluator::eval_pair(const PropInfo& info, const Expr& expr, const std::sha
     std::string msg = check_value(*q.info, q.value, &integral);
     if (msg.empty()) return true;
     error(integral ? DiagKind::NotAnInteger : DiagKind::InvalidValue, ex.span,
-          "in " + form + ": " + msg);
+          "in '" + std::string(info.name) + " " + parts_form() + "': " + msg);
     parts.pop_back();
     return false;
   };
@@ -476,7 +478,7 @@ bool Evaluator::eval_pair(const PropInfo& info, const Expr& expr, const std::sha
   }
   if (expr.kind == ExprKind::Vector) {
     error(DiagKind::InvalidValue, expr.span,
-          "'" + std::string(info.name) + "' takes two parts, " + parts_form + ", not " +
+          "'" + std::string(info.name) + "' takes two parts, " + parts_form() + ", not " +
               std::to_string(expr.args.size()));
     return false;
   }

@@ -488,20 +488,19 @@ Value Evaluator::eval_constructor(const Expr& e, const std::shared_ptr<Env>& env
       }
   }
   if (!ok) {
-    // A colour map's own errors are independent of the other properties' (§10).
-    if (block->pattern_kind >= 0)
-      for (const EvaluatedProp& p : props)
+    // A colour map's own errors are independent of the other properties' (§10), and
+    // so is an image's missing file (`image { file "nope.png" mapping "planer" }`).
+    if (block->pattern_kind >= 0) {
+      for (const EvaluatedProp& p : props) {
         if (p.info->name == "color_map") {
           std::vector<ir::ColorStop> map;
           color_map_of(p, diags_, map, false);
-        }
-    // So is an image's missing file (`image { file "nope.png" mapping "planer" }`).
-    if (block->pattern_kind >= 0)
-      for (const EvaluatedProp& p : props)
-        if (p.info->name == "file" && p.value.type == Type::String) {
+        } else if (p.info->name == "file" && p.value.type == Type::String) {
           std::uint32_t unused = 0;
           builder_.add_image(p.value.str(), p.value_span, unused);
         }
+      }
+    }
     return Value::error();
   }
   // A mirror or glossy surface that reflects more than it receives is legal, but
