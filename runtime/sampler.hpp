@@ -327,6 +327,10 @@ void sobol2_lanes(const SobolLanes& k, std::uint32_t n, std::uint32_t index, flo
 std::vector<std::string> sobol2_lanes_paths();
 bool sobol2_lanes_with(const std::string& path, const SobolLanes& k, std::uint32_t n,
                        std::uint32_t index, float* u, float* v);
+// A path's function itself (null if it is not offered), so that a benchmark looks
+// the name up once and not per call, as the renderer does.
+using Sobol2LanesFn = void (*)(const SobolLanes&, std::uint32_t, std::uint32_t, float*, float*);
+Sobol2LanesFn sobol2_lanes_path(const std::string& path);
 
 // One stratified dimension (2-D or 1-D) of up to kLanes pixels, as their DimKeys'
 // keys (dim_key for stratified2_lanes, dim_key1 for stratified1_lanes). Each lane
@@ -347,6 +351,9 @@ void stratified1_lanes(const SamplerSpec& spec, const StrataLanes& k, std::uint3
 std::vector<std::string> stratified_lanes_paths();
 bool stratified_lanes_with(const std::string& path, const SamplerSpec& spec, const StrataLanes& k,
                            std::uint32_t n, std::uint32_t index, float* u, float* v);
+using StratifiedLanesFn = void (*)(const SamplerSpec&, const StrataLanes&, std::uint32_t,
+                                   std::uint32_t, float*, float*);
+StratifiedLanesFn stratified_lanes_path(const std::string& path);
 
 // A packet's lanes of per-lane sampler keys (cell_keys_lanes).
 inline constexpr std::uint32_t kHashLanes = 16;

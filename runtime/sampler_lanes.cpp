@@ -312,8 +312,7 @@ bool avx512dq_supported() {
 
 #endif  // SNELL_HAVE_AVX512_PATH
 
-using StrataFn = void (*)(const SamplerSpec&, const StrataLanes&, std::uint32_t, std::uint32_t,
-                          float*, float*);
+using StrataFn = StratifiedLanesFn;
 const SimdPaths<StrataFn>& strata_available() {
 #ifdef SNELL_HAVE_AVX512_PATH
   static const auto paths =
@@ -348,7 +347,7 @@ const SimdPaths<CellKeysFn>& cell_keys_available() {
 }
 const CellKeysFn g_cell_keys_lanes = best_path(cell_keys_available());
 
-using LanesFn = void (*)(const SobolLanes&, std::uint32_t, std::uint32_t, float*, float*);
+using LanesFn = Sobol2LanesFn;
 const SimdPaths<LanesFn>& available() {
 #ifdef SNELL_HAVE_AVX512_PATH
   static const auto paths =
@@ -370,9 +369,13 @@ std::vector<std::string> sobol2_lanes_paths() {
   return path_names(available());
 }
 
+Sobol2LanesFn sobol2_lanes_path(const std::string& path) {
+  return path_named(available(), path);
+}
+
 bool sobol2_lanes_with(const std::string& path, const SobolLanes& k, std::uint32_t n,
                        std::uint32_t index, float* u, float* v) {
-  const LanesFn p = path_named(available(), path);
+  const LanesFn p = sobol2_lanes_path(path);
   if (p) p(k, n, index, u, v);
   return p != nullptr;
 }
@@ -389,9 +392,13 @@ std::vector<std::string> stratified_lanes_paths() {
   return path_names(strata_available());
 }
 
+StratifiedLanesFn stratified_lanes_path(const std::string& path) {
+  return path_named(strata_available(), path);
+}
+
 bool stratified_lanes_with(const std::string& path, const SamplerSpec& spec, const StrataLanes& k,
                            std::uint32_t n, std::uint32_t index, float* u, float* v) {
-  const StrataFn p = path_named(strata_available(), path);
+  const StrataFn p = stratified_lanes_path(path);
   if (p) p(spec, k, n, index, u, v);
   return p != nullptr;
 }

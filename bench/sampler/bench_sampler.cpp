@@ -74,10 +74,17 @@ Result round(const SamplerSpec& spec, std::uint32_t spp, std::uint32_t pixels,
 // ones through stratified2_lanes; independent ones (and any kind on path "scalar")
 // draw lane by lane with their keys, as the render loop does for them. The
 // same pixels, samples and dimensions as round(), in another order, so the
-// checksum is order-free (a sum of per-draw hashes).
+// checksum is order-free (a sum of a bijection of each draw).
 Result lanes_round(const SamplerSpec& spec, std::uint32_t spp, std::uint32_t pixels,
                    std::uint32_t node_dims, const std::string& path) {
   constexpr std::uint32_t L = SobolLanes::kLanes;
+  constexpr std::uint64_t kOdd = 0x9e3779b97f4a7c15ull;
+  // The path is looked up once, as the renderer picks it once at start-up.
+  const Sobol2LanesFn sobol_fn =
+      spec.kind == ir::SamplerKind::Sobol && path != "scalar" ? sobol2_lanes_path(path) : nullptr;
+  const StratifiedLanesFn strata_fn = spec.kind == ir::SamplerKind::Stratified && path != "scalar"
+                                          ? stratified_lanes_path(path)
+                                          : nullptr;
   auto t0 = std::chrono::steady_clock::now();
   std::uint64_t sum = 0, draws = 0;
   std::vector<std::uint32_t> dims(node_dims);
@@ -105,17 +112,20 @@ Result lanes_round(const SamplerSpec& spec, std::uint32_t spp, std::uint32_t pix
     alignas(64) float u[L], v[L];
     auto draw = [&](const SobolLanes& lanes, const StrataLanes& strata, const DimKey* keys,
                     std::uint32_t s) {
-      if (spec.kind == ir::SamplerKind::Sobol && path != "scalar") {
-        sobol2_lanes_with(path, lanes, n, s, u, v);
-      } else if (spec.kind == ir::SamplerKind::Stratified && path != "scalar") {
-        stratified_lanes_with(path, spec, strata, n, s, u, v);
+      if (sobol_fn) {
+        sobol_fn(lanes, n, s, u, v);
+      } else if (strata_fn) {
+        strata_fn(spec, strata, n, s, u, v);
       } else {
         for (std::uint32_t l = 0; l < n; ++l) {
           Sample2 c = sample2(spec, keys[l], s);
           u[l] = c.u, v[l] = c.v;
         }
       }
-      for (std::uint32_t l = 0; l < n; ++l) sum += hash64(bits(u[l]) << 32 | bits(v[l]));
+      // Times an odd constant: a bijection of each draw, so unequal numbers give
+      // unequal sums, at the cost of one product (a hash here would cost as much as
+      // an independent draw and hide the samplers' differences).
+      for (std::uint32_t l = 0; l < n; ++l) sum += (bits(u[l]) << 32 | bits(v[l])) * kOdd;
       draws += n;
     };
     for (std::uint32_t s = 0; s < spp; ++s) {
