@@ -17,6 +17,7 @@ SamplerSpec::SamplerSpec(ir::SamplerKind kind_, std::uint64_t seed_, std::uint32
   n_mask = permute_mask(n);
   div_cells = Divisor32(cells);
   div_k = Divisor32(k);
+  div_m = Divisor32(m);
   div_n = Divisor32(n);
 }
 

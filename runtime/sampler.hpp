@@ -46,13 +46,25 @@ enum : std::uint32_t {
 // A divisor fixed per render, so the hot path divides by multiplying (Lemire,
 // Kaser, Kurz 2019, "Faster remainder by direct computation"): exact for every
 // 32-bit numerator and every divisor >= 1.
+// A power of two (the grids of 4, 16, 64 or 256 samples) also keeps its shift and
+// its reciprocal, which is exact: the SIMD draws mask, shift and multiply instead,
+// with the same results.
 struct Divisor32 {
   std::uint32_t d = 1;
   std::uint64_t magic = 0;  // ceil(2^64 / d); 0 (wrapped) for d = 1, handled apart
+  bool pow2 = true;
+  std::uint32_t shift = 0;  // log2(d) when pow2
+  double inv = 1;           // 1 / d when pow2 (exact), else 0
   Divisor32() = default;
   explicit Divisor32(std::uint32_t divisor) : d(divisor ? divisor : 1) {
     magic = d == 1 ? 0 : ~std::uint64_t(0) / d + 1;
+    pow2 = (d & (d - 1)) == 0;
+    shift = pow2 ? std::uint32_t(__builtin_ctz(d)) : 0;
+    inv = pow2 ? 1.0 / d : 0;
   }
+  // x / d in double, correctly rounded: a product when 1/d is exact (a product by
+  // a power of two is exact, as is the quotient, so both give the same bits).
+  double over(double x) const { return pow2 ? x * inv : x / d; }
   std::uint32_t quot(std::uint32_t a) const {
     return d == 1 ? a : std::uint32_t((__uint128_t(magic) * a) >> 64);
   }
@@ -77,7 +89,7 @@ class SamplerSpec {
   // Derived. 2-D: m = floor(sqrt(n)) rows, k = ceil(n / m) columns; 1-D: n strata.
   std::uint32_t n = 1, m = 1, k = 1, cells = 1;
   std::uint32_t cells_mask = 0, n_mask = 0;  // 2^ceil(log2 x) - 1: the permutation's domain
-  Divisor32 div_cells, div_k, div_n;
+  Divisor32 div_cells, div_k, div_m, div_n;
 
  private:
   std::uint32_t spp_ = 1;
@@ -240,7 +252,8 @@ struct DimKey {
 
 // Inline with the spec's precomputed grid: a draw is hashes, a permutation and
 // multiplications, with no division but the two that place the value in its cell
-// (kept in double so the numbers stay those of the original formula).
+// (kept in double so the numbers stay those of the original formula; products
+// where the grid's sides are powers of two).
 // The independent sampler's draw from its hash hash_combine(key, index): the low
 // and high halves as two floats.
 [[gnu::always_inline]] inline Sample2 independent_sample(std::uint64_t h) {
@@ -260,7 +273,8 @@ struct DimKey {
       std::uint64_t h = hash_combine(pixel_key ^ 0x5bd1e995u, index);
       float ju = to_unit_float(std::uint32_t(h)), jv = to_unit_float(std::uint32_t(h >> 32));
       std::uint32_t cy = spec.div_k.quot(cell), cx = cell - cy * spec.k;
-      return {detail::unit((cx + double(ju)) / spec.k), detail::unit((cy + double(jv)) / spec.m)};
+      return {detail::unit(spec.div_k.over(cx + double(ju))),
+              detail::unit(spec.div_m.over(cy + double(jv)))};
     }
     case ir::SamplerKind::Sobol: {
       // owen_scramble(x, s) = reverse(lk(reverse(x), s)); written out so that
@@ -292,7 +306,7 @@ struct DimKey {
                            ? permute(index, spec.div_n, spec.n_mask, std::uint32_t(pixel_key))
                            : std::uint32_t(hash_combine(pixel_key, index) % spec.n);
   float j = to_unit_float(std::uint32_t(hash_combine(pixel_key ^ 0x5bd1e995u, index)));
-  return detail::unit((cell + double(j)) / spec.n);
+  return detail::unit(spec.div_n.over(cell + double(j)));
 }
 
 [[gnu::always_inline]] inline Sample2 sample2(const SamplerSpec& spec, std::uint64_t pixel,

@@ -134,8 +134,9 @@ bool avx512_supported() {
 // division in double placing the jitter in its cell; in lanes the permutation
 // walks until every lane is in range (a lane keeps its first value in range),
 // the hashes are 64-bit lane products (vpmullq), the Lemire remainders and
-// quotients are 64x32-bit products split in halves, and the divisions are
-// vdivpd: the same IEEE operations on the same operands, so the same bits.
+// quotients are 64x32-bit products split in halves (a mask and a shift when the
+// grid's sides are powers of two), and the divisions are vdivpd (exact products
+// for powers of two): the same IEEE results on the same operands, so the same bits.
 // generic: the scalar draws, lane by lane.
 void stratified_lanes_generic(const SamplerSpec& spec, const StrataLanes& k, std::uint32_t n,
                               std::uint32_t index, float* u, float* v) {
@@ -170,12 +171,13 @@ SNELL_AVX512DQ_TARGET inline U64x8 mulhi64x32(U64x8 x, std::uint64_t d) {
   U64x8 lo = (x & 0xffffffffull) * d, hi = (x >> 32) * d;
   return (hi + (lo >> 32)) >> 32;
 }
-// Divisor32::rem and ::quot of 8 lanes.
+// Divisor32::rem and ::quot of 8 lanes (a mask and a shift for a power of two).
 SNELL_AVX512DQ_TARGET inline U64x8 rem8(U64x8 a, const Divisor32& l) {
+  if (l.pow2) return a & (l.d - 1);
   return mulhi64x32(a * l.magic, l.d);
 }
 SNELL_AVX512DQ_TARGET inline U64x8 quot8(U64x8 a, const Divisor32& l) {
-  if (l.d == 1) return a;
+  if (l.pow2) return a >> l.shift;
   // (magic · a) >> 64 with a < 2^32: the halves of magic times a.
   U64x8 lo = (l.magic & 0xffffffffull) * a, hi = (l.magic >> 32) * a;
   return (hi + (lo >> 32)) >> 32;
@@ -183,10 +185,11 @@ SNELL_AVX512DQ_TARGET inline U64x8 quot8(U64x8 a, const Divisor32& l) {
 SNELL_AVX512DQ_TARGET inline U64x8 widen(U32x8 x) {
   return __builtin_convertvector(x, U64x8);
 }
-// detail::unit of (c + double(j)) / d: exact sum, one IEEE division, rounded to
-// float, kept below 1.
-SNELL_AVX512DQ_TARGET inline F32x8 place8(U64x8 c, F32x8 j, double d) {
-  F64x8 x = (__builtin_convertvector(c, F64x8) + __builtin_convertvector(j, F64x8)) / d;
+// detail::unit of d.over(c + double(j)): exact sum, one IEEE division (or the
+// product that gives its bits), rounded to float, kept below 1.
+SNELL_AVX512DQ_TARGET inline F32x8 place8(U64x8 c, F32x8 j, const Divisor32& d) {
+  const F64x8 sum = __builtin_convertvector(c, F64x8) + __builtin_convertvector(j, F64x8);
+  const F64x8 x = d.pow2 ? sum * d.inv : sum / double(d.d);
   F32x8 f = __builtin_convertvector(x, F32x8);
   return f < 1.0f ? f : F32x8{} + 0x1.fffffep-1f;
 }
@@ -264,11 +267,11 @@ SNELL_AVX512DQ_TARGET void stratified_lanes_avx512(const SamplerSpec& spec, cons
     if (v) {
       F32x8 jv = unit8(jit >> 32);
       U64x8 cy = quot8(cell, spec.div_k), cx = cell - cy * spec.k;
-      F32x8 fu = place8(cx, ju, double(spec.k)), fv = place8(cy, jv, double(spec.m));
+      F32x8 fu = place8(cx, ju, spec.div_k), fv = place8(cy, jv, spec.div_m);
       std::memcpy(u + 8 * h, &fu, 32);
       std::memcpy(v + 8 * h, &fv, 32);
     } else {
-      F32x8 fu = place8(cell, ju, double(spec.n));
+      F32x8 fu = place8(cell, ju, spec.div_n);
       std::memcpy(u + 8 * h, &fu, 32);
     }
   }

@@ -380,3 +380,22 @@ TEST_CASE("the exact divisor agrees with division for every kind of divisor", "[
       REQUIRE(Divisor32(d).rem(std::uint32_t(a * 4099)) == std::uint32_t(a * 4099) % d);
     }
 }
+
+// The SIMD draws place a jitter in its cell by a product where the grid side is a
+// power of two: the same bits as the division, for every cell and jitter a draw
+// can have (cells below 2^32, jitters k * 2^-24).
+TEST_CASE("the divisor's quotient in double is the division's, by product or not", "[sampler]") {
+  for (std::uint32_t d : {1u, 2u, 3u, 4u, 8u, 10u, 16u, 64u, 1024u, 1u << 31, 0xffffffffu}) {
+    const Divisor32 div(d);
+    CHECK(div.pow2 == ((d & (d - 1)) == 0));
+    if (div.pow2) CHECK((1u << div.shift) == d);
+    std::uint64_t h = d;
+    for (int i = 0; i < 20000; ++i) {
+      h = hash64(h);
+      const double x =
+          double(std::uint32_t(h) % (d == 1 ? 1 : d)) + to_unit_float(std::uint32_t(h >> 32));
+      const double q = div.over(x), ref = x / d;
+      REQUIRE(std::memcmp(&q, &ref, sizeof q) == 0);
+    }
+  }
+}
