@@ -122,7 +122,7 @@ struct CliArgs {
   // Compiling (render, check, sweep).
   std::vector<std::string> include_dirs;
   std::vector<std::string> sets;
-  std::size_t max_errors = 20;
+  std::size_t max_errors = 0;  // 0: all (§10: all independent errors)
   std::uint64_t max_steps = compile::kDefaultStepBudget;
   // Rendering (render, sweep).
   std::string res;

@@ -24,7 +24,7 @@ struct CompileOptions {
   // How the user wrote each override, for its messages ("--res 0x24"), by its
   // index in `overrides`; missing or empty: "--set KEY=VALUE".
   std::vector<std::string> override_labels;
-  std::size_t max_errors = 20;
+  std::size_t max_errors = 0;  // 0: all (§10: all independent errors)
   std::uint64_t step_budget = kDefaultStepBudget;
   std::string stdlib_dir;  // empty: $SNELL_STDLIB, else the installed/build stdlib
   // Editors (snell lsp): the text of a file the scene imports that is open and

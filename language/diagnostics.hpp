@@ -105,7 +105,7 @@ class DiagnosticEngine {
   std::vector<Diagnostic> diags_;
   std::size_t errors_ = 0;
   std::size_t warnings_ = 0;
-  std::size_t max_errors_ = 20;
+  std::size_t max_errors_ = 0;
   std::size_t dropped_ = 0;
   bool stopped_ = false;  // stopped_reading()
   // (kind, file, begin, end) of each kept diagnostic -> its index.

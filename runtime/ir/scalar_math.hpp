@@ -41,9 +41,19 @@ inline double atan_deg(double x) {
 inline double atan2_deg(double y, double x) {
   return std::atan2(y, x) / kDeg;
 }
-// `%`: the floored modulo of reals.
+// `%`: the floored modulo of reals, from fmod, which is exact (a − b·floor(a/b)
+// rounds twice: 1.7 % 0.1 came out negative and 1e17 % 7 as 0). A remainder of
+// the other sign than b takes b once, the one rounding; where that rounds onto b
+// itself (a remainder below half of b's last ulp) the result is the double next
+// to b towards 0, so it stays in [0, b) for b > 0 and (b, 0] for b < 0. A zero
+// remainder is +0.
 inline double floored_mod(double a, double b) {
-  return a - b * std::floor(a / b);
+  double r = std::fmod(a, b);
+  if (r != 0 && ((r < 0) != (b < 0))) {
+    r += b;
+    if (r == b) r = std::nextafter(b, 0.0);
+  }
+  return r == 0 ? 0.0 : r;
 }
 inline double clamp(double x, double lo, double hi) {
   return std::fmin(std::fmax(x, lo), hi);

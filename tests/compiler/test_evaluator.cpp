@@ -70,6 +70,21 @@ TEST_CASE("% is the floored modulo of reals", "[compiler]") {
   CHECK(num("-7 % 3") == 2);
   CHECK(num("7 % -3") == -2);
   CHECK_THAT(num("5.5 % 2"), WithinAbs(1.5, 1e-15));
+  // Exactly, as fmod is: the rounded a - b*floor(a/b) gave -2.2e-16, 0 and 64 here.
+  CHECK(num("1.7 % 0.1") == std::fmod(1.7, 0.1));
+  CHECK(num("1.7 % 0.1") > 0);
+  CHECK(num("-0.9 % 0.3") == std::fmod(-0.9, 0.3) + 0.3);
+  CHECK(num("1e16 % 3") == 1);
+  CHECK(num("1e17 % 7") == 5);  // 10^17 = 7 * 14285714285714285 + 5
+  const double big = num("-4.898619485211566e17 % 0.3");
+  CHECK(big >= 0);
+  CHECK(big < 0.3);
+  CHECK(big == std::fmod(-4.898619485211566e17, 0.3) + 0.3);
+  // A remainder too small to survive adding b stays below b.
+  CHECK(num("-1e-20 % 0.3") == std::nextafter(0.3, 0.0));
+  CHECK(num("1e-20 % -0.3") == std::nextafter(-0.3, 0.0));
+  CHECK(num("6 % 3") == 0);
+  CHECK(num("6 % -3") == 0);
 }
 
 TEST_CASE("vectors: component-wise arithmetic, promotion, components", "[compiler]") {

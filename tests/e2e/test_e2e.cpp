@@ -313,6 +313,28 @@ TEST_CASE("a shorthand option's bad value is reported under its own name", "[e2e
   CHECK(err.find("--set resolution=0: 'resolution' must be >= 1") != std::string::npos);
 }
 
+// §10: "all independent errors are reported, not just the first": by default
+// every one (the limit is --max-errors, an opt-in).
+TEST_CASE("every independent error is printed by default, --max-errors caps them", "[e2e]") {
+  Scratch tmp;
+  std::ofstream f(tmp / "many.scn");
+  for (int i = 1; i <= 25; ++i) f << "sphere { radius -" << i << " }\n";
+  f.close();
+  auto count = [](const std::string& text, const std::string& what) {
+    std::size_t n = 0;
+    for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1))
+      ++n;
+    return n;
+  };
+  std::string err;
+  CHECK(run_capture("check " + (tmp / "many.scn"), err, tmp) == 1);
+  CHECK(count(err, ": error: ") == 25);
+  CHECK(err.find("TooManyErrors") == std::string::npos);
+  CHECK(run_capture("check " + (tmp / "many.scn") + " --max-errors 5", err, tmp) == 1);
+  CHECK(count(err, ": error: ") == 5);
+  CHECK(err.find("25 in all, 20 not shown") != std::string::npos);
+}
+
 TEST_CASE("sweep writes its tables whole or not at all, and says why it cannot", "[e2e]") {
   // Its CSV, JSON, plots and Markdown go through the atomic writer as images do: a
   // table that cannot be written is exit 3 with the file named, and the old one
