@@ -194,14 +194,18 @@ bool bounds_volume(const Shape& s) {
       s.geom);
 }
 
-// The first part of an instance's value that has no inside, or null: a
-// prioritised instance is a solid only when all of it is. (Parts are never
-// instances: a value's own instances are placed beside it.)
+// The first part of an instance's value that takes the instance's material and
+// has no inside, or null: the parts that take a prioritised instance's material
+// must each be a solid (§13: it "applies to the children that have none"; a part
+// with its own material is checked as that part). Parts are never instances: a
+// value's own instances are placed beside it.
 const Shape* part_without_inside(const Shape& s, const Scene& scene) {
   const Instance* in = s.as<Instance>();
   if (!in || in->prototype >= scene.prototypes.size()) return nullptr;
   for (std::uint32_t p : scene.prototypes[in->prototype].parts)
-    if (p < scene.parts.size() && !bounds_volume(scene.parts[p])) return &scene.parts[p];
+    if (p < scene.parts.size() && scene.parts[p].material == kInheritMaterial &&
+        !bounds_volume(scene.parts[p]))
+      return &scene.parts[p];
   return nullptr;
 }
 

@@ -99,4 +99,21 @@ TEST_CASE("a prioritised dielectric needs a solid", "[compiler][interiors]") {
         "holds a triangle, which has no inside\n"
         "InvalidValue: a dielectric with a 'priority' must fill a solid (§14), and this object "
         "holds an open cylinder, which has no inside\n");
+  // §13: the instance's material reaches only the parts that have none; a part
+  // with its own material (or the union's) is no part of the prioritised solid.
+  auto own =
+      run("let disc_v = disc { center 0 normal <0, 0, 1> radius 1 material diffuse 0.5 };\n"
+          "let mixed = union { disc { center 0 normal <0, 1, 0> radius 2 material diffuse 0.5 } "
+          "sphere { } "
+          "};\n"
+          "let all_own = union { disc { center 0 normal <0, 1, 0> radius 2 } sphere { } material "
+          "diffuse "
+          "0.5 };\n"
+          "let tri = triangle { a <0, 0, 0> b <1, 0, 0> c <0, 1, 0> material dielectric 1.5 };\n"
+          "object { disc_v material dielectric { priority 1 } }\n"
+          "object { mixed material dielectric { priority 1 } }\n"
+          "object { all_own material dielectric { priority 1 } }\n"
+          "object { tri material dielectric { priority 1 } }\n");
+  INFO(messages(*own));
+  CHECK(own->status == compile::CompileStatus::Ok);
 }
