@@ -221,6 +221,11 @@ struct Layer;
 struct GeomEntry {
   void (*resolve)(const GeomEntry&, unsigned prim, float u, float v, const Ray& r, float t,
                   Hit& hit) = nullptr;
+  // A prototype's geometry only: the ray's crossing of `prim` found again from a
+  // ray of Snell's own (t, normal, u and v as Embree gives them; false: keep
+  // Embree's). resolve_instance asks it for a moving instance.
+  bool (*retrace)(const GeomEntry&, unsigned prim, const Ray& r, float& t, Vec3f& ng, float& u,
+                  float& v) = nullptr;
   const void* data = nullptr;
   const Layer* layer = nullptr;
   std::uint32_t shape = 0;  // a moving triangle shape's index
@@ -340,7 +345,7 @@ struct EmbreeScene::Impl {
     rtcCommitGeometry(g);
     unsigned id = rtcAttachGeometry(world.scene, g);
     rtcReleaseGeometry(g);
-    world.enter(id, {&resolve_plain, nullptr, nullptr, shape});
+    world.enter(id, {&resolve_plain, nullptr, nullptr, nullptr, shape});
     ++moving_shapes;
     motion_steps += segs + 1;
   }
@@ -357,7 +362,7 @@ struct EmbreeScene::Impl {
     rtcCommitGeometry(g);
     unsigned id = rtcAttachGeometry(layer.scene, g);
     rtcReleaseGeometry(g);
-    layer.enter(id, {&resolve_user<Set>, &set, nullptr, 0});
+    layer.enter(id, {&resolve_user<Set>, &retrace_user<Set>, &set, nullptr, 0});
   }
 
   // Builds a layer's static triangles and user sets after its shapes were added.
@@ -365,7 +370,7 @@ struct EmbreeScene::Impl {
     layer.triangle_count = ti.size() / 3;
     if (!ti.empty()) {
       unsigned id = add_triangles(layer, tv, ti, &layer.tri_vb, &layer.tri_ib);
-      layer.enter(id, {&resolve_static_triangles, &layer, nullptr, 0});
+      layer.enter(id, {&resolve_static_triangles, &retrace_triangles, &layer, nullptr, 0});
     }
     layer.tri_offset.resize(ti.size() / 3);
     for (std::size_t t = 0; t < layer.tri_offset.size(); ++t)
@@ -391,6 +396,11 @@ struct EmbreeScene::Impl {
     hit.offset = l.tri_offset[prim];
     if (!l.smooth.empty()) hit.smooth = l.smooth.shade(prim, u, v, r.dir, l.tri_vb, l.tri_ib, hit);
   }
+  static bool retrace_triangles(const GeomEntry& e, unsigned prim, const Ray& r, float& t,
+                                Vec3f& ng, float& u, float& v) {
+    const Layer& l = *static_cast<const Layer*>(e.data);
+    return geom::triangle_retrace(l.tri_vb, l.tri_ib, prim, r.org, r.dir, t, u, v, ng);
+  }
   // Moving triangles: o + t·d and the Wächter–Binder offset.
   static void resolve_plain(const GeomEntry& e, unsigned prim, float, float, const Ray& r, float t,
                             Hit& hit) {
@@ -405,6 +415,21 @@ struct EmbreeScene::Impl {
     hit.kind = Hit::Kind::AreaLight;
     hit.index = prim / 2;
     hit.p = r.org + r.dir * t, hit.offset = unbounded_offset(r, hit.p);
+  }
+  // The nearest crossing of the user primitive past the ray's start (a CSG
+  // object's leaf rides in u, as in user_intersect).
+  template <class Set>
+  static bool retrace_user(const GeomEntry& e, unsigned prim, const Ray& r, float& t, Vec3f& ng,
+                           float& u, float&) {
+    const Set& set = *static_cast<const Set*>(e.data);
+    if constexpr (HasParts<Set>) {
+      unsigned sub = 0;
+      if (!set.hit(prim, r.time, r.org, r.dir, r.tnear, INFINITY, t, ng, sub)) return false;
+      u = float(sub);
+      return true;
+    } else {
+      return set.hit(prim, r.time, r.org, r.dir, r.tnear, INFINITY, t, ng);
+    }
   }
   template <class Set>
   static void resolve_user(const GeomEntry& e, unsigned prim, float u, float, const Ray& r, float t,
@@ -602,7 +627,7 @@ EmbreeScene::EmbreeScene(const ir::Scene& sc, ir::Vec3 origin)
       for (std::uint32_t j : {0u, 1u, 2u, 0u, 2u, 3u}) li.push_back(base + j);
     }
     unsigned id = im.add_triangles(im.world, lv, li);
-    im.world.enter(id, {&Impl::resolve_light, nullptr, nullptr, 0});
+    im.world.enter(id, {&Impl::resolve_light, nullptr, nullptr, nullptr, 0});
     im.light_tris = 2;
   }
   rtcCommitScene(im.world.scene);
@@ -647,12 +672,25 @@ void resolve_instance(const InstanceEntry& ie, const RTCRayHit& rh, const Ray& r
   Vec3 d = xform_vector(obj_from_rel, Vec3(r.dir.x, r.dir.y, r.dir.z));
   Ray ro{to_float(o.x, o.y, o.z), to_float(d.x, d.y, d.z), r.tmax, r.time, r.tnear};
   const GeomEntry& e = ie.proto->geoms[rh.hit.geomID];
-  e.resolve(e, rh.hit.primID, rh.hit.u, rh.hit.v, ro, hit.t, hit);
+  float u = rh.hit.u, v = rh.hit.v;
+  Vec3f ng(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
+  if (ie.moving && e.retrace) {
+    // Embree turns the ray into a moving instance's space by its own interpolation
+    // (a slerp in rsqrt and polynomial approximations), whose bits differ between
+    // a ray traced alone and one in a packet, and with the packet's other lanes: a
+    // 1×1 crop differed from the whole render. Embree chose the primitive; its
+    // crossing is found again from `ro`, Snell's own double transform at the ray's
+    // time, so the hit is the same however the ray was traced.
+    float t2, u2 = u, v2 = v;
+    Vec3f ng2;
+    if (e.retrace(e, rh.hit.primID, ro, t2, ng2, u2, v2) && t2 > r.tnear && t2 < INFINITY)
+      hit.t = t2, u = u2, v = v2, ng = ng2;
+  }
+  e.resolve(e, rh.hit.primID, u, v, ro, hit.t, hit);
   if (hit.material == ir::kInheritMaterial) hit.material = ie.shape_ir->material;
   (hit.part == ir::kNoPart ? hit.part : hit.outer) = hit.index;  // a CSG part's leaf: kept
   hit.index = ie.shape;
-  Vec3 n = ir::normalize(
-      xform_normal_by_inverse(obj_from_rel, Vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z)));
+  Vec3 n = ir::normalize(xform_normal_by_inverse(obj_from_rel, Vec3(ng.x, ng.y, ng.z)));
   hit.ng = to_float(n.x, n.y, n.z);
   if (hit.smooth) {  // a smooth mesh's shading normal and shadow-ray start, to the world
     Vec3 ns =

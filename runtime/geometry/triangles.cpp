@@ -127,6 +127,30 @@ void triangle_point(const float* vb, const unsigned* ib, unsigned prim, float u,
        a[2] + u * (b[2] - a[2]) + v * (c[2] - a[2])};
 }
 
+bool triangle_retrace(const float* vb, const unsigned* ib, unsigned prim, Vec3f o, Vec3f d,
+                      float& t, float& u, float& v, Vec3f& ng) {
+  auto vertex = [&](int k) {
+    const float* x = vb + 3 * ib[3 * prim + k];
+    return Vec3(x[0], x[1], x[2]);
+  };
+  const Vec3 a = vertex(0), b = vertex(1), c = vertex(2);
+  const Vec3 od(o.x, o.y, o.z), dd(d.x, d.y, d.z);
+  const Vec3 e1 = b - a, e2 = c - a;
+  const Vec3 pv = ir::cross(dd, e2);
+  const double det = ir::dot(e1, pv);
+  if (!(det != 0) || !std::isfinite(det)) return false;
+  const double inv = 1 / det;
+  const Vec3 tv = od - a, qv = ir::cross(tv, e1);
+  const double tt = ir::dot(e2, qv) * inv;
+  if (!std::isfinite(tt)) return false;
+  t = float(tt);
+  u = float(ir::dot(tv, pv) * inv);
+  v = float(ir::dot(dd, qv) * inv);
+  const Vec3 n = ir::cross(c - a, a - b);
+  ng = to_float(n.x, n.y, n.z);
+  return true;
+}
+
 // How far a ray leaving a point of triangle abc must start (Hit::offset), in ulps
 // (2^-24) of two sources; a constant of the triangle, computed once:
 // - the point's own error off the plane, and Embree's rounding of the vertices when

@@ -78,6 +78,14 @@ class SmoothNormals {
 // barycentrics, p = v0 + u·e1 + v·e2 (why: triangles.cpp).
 void triangle_point(const float* vb, const unsigned* ib, unsigned prim, float u, float v, Vec3f& p);
 
+// Ray o + t·d against triangle `prim`'s plane in double (Möller–Trumbore, no
+// inside test: the caller knows the ray meets it): t, Embree's barycentrics (p =
+// v0 + u·e1 + v·e2) and Embree's geometric normal cross(v2 − v0, v0 − v1). False
+// where the ray runs in the plane. For a moving instance's hit (resolve_instance),
+// whose Embree numbers depend on the packet the ray rode in.
+bool triangle_retrace(const float* vb, const unsigned* ib, unsigned prim, Vec3f o, Vec3f d,
+                      float& t, float& u, float& v, Vec3f& ng);
+
 // How far a ray leaving a point of triangle abc must start (Hit::offset); 0 asks
 // for the Wächter–Binder offset (triangles.cpp).
 float triangle_offset(const float* a, const float* b, const float* c);
