@@ -213,23 +213,34 @@ class Driver {
       return nullptr;
     }
     std::string key = canonical(found);
-    if (auto it = cache_.find(key); it != cache_.end())
-      return it->second.program ? &it->second : nullptr;
+    if (auto it = cache_.find(key); it != cache_.end()) return &it->second;
     std::string text, message;
     const std::string* open = opts_.overlay ? opts_.overlay(key) : nullptr;
     if (open) {
       text = *open;
     } else if (!read_file(found.string(), text, message)) {
       c_.diags.report(DiagKind::FileUnreadable, span, message);
-      cache_[key] = {0, nullptr};
+      cache_[key] = {0, nullptr, {}, true};  // what it would bind is unknown
       return nullptr;
     }
     std::size_t before = c_.diags.error_count();
     const lang::Program* program = parse_file(found.lexically_normal().string(), text);
-    // A file with syntax errors is not run: its errors are already reported.
-    bool ok = c_.diags.error_count() == before;
-    cache_[key] = {program->file, ok ? program : nullptr};
-    return ok ? &cache_[key] : nullptr;
+    // A file with syntax errors is not run: its errors are already reported, and
+    // the names it might have bound are not reported undefined where it is imported.
+    if (c_.diags.error_count() == before) {
+      cache_[key] = {program->file, program, {}, false};
+      return &cache_[key];
+    }
+    ImportedFile broken{program->file, nullptr, {}, false};
+    for (const lang::StmtPtr& s : program->statements) {
+      if (s->kind == lang::StmtKind::Let || s->kind == lang::StmtKind::Fn)
+        broken.binds.push_back(s->name);
+      if (s->kind == lang::StmtKind::Import) broken.binds_unknown = true;
+    }
+    broken.binds.insert(broken.binds.end(), program->unsure_names.begin(),
+                        program->unsure_names.end());
+    cache_[key] = std::move(broken);
+    return &cache_[key];
   }
 
   static std::string canonical(const fs::path& p) { return canonical_path(p.string()); }
@@ -237,7 +248,7 @@ class Driver {
   // The main file is in the import cache too, so importing it is a cycle, not a
   // second run.
   void register_main(const std::string& path, const lang::Program* program) {
-    cache_[canonical(path)] = {program->file, program};
+    cache_[canonical(path)] = {program->file, program, {}, false};
   }
 
   // --set KEY=VALUE: false (status UsageError) when the key or value is bad.

@@ -331,8 +331,12 @@ Evaluator::Flow Evaluator::exec_if(const Stmt& s, const std::shared_ptr<Env>& en
 void Evaluator::exec_import(const Stmt& s, const std::shared_ptr<Env>& env) {
   const ImportedFile* f =
       loader_(s.name, s.name_span.end > s.name_span.begin ? s.name_span : s.span);
-  if (!f) {
+  if (!f || (!f->program && f->binds_unknown)) {
     env->failed_import = true;
+    return;
+  }
+  if (!f->program) {  // syntax errors, reported: its names are unsure, no others
+    unsure_names_.insert(f->binds.begin(), f->binds.end());
     return;
   }
   for (std::size_t i = 0; i < running_.size(); ++i) {

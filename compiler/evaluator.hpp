@@ -64,7 +64,12 @@ inline constexpr std::uint64_t kDefaultStepBudget = 400'000'000;
 // program to run, or null after reporting the error at `span`.
 struct ImportedFile {
   lang::FileId file;
-  const lang::Program* program;
+  const lang::Program* program;  // null: the file has syntax errors and is not run
+  // Such a file's names that it might have bound (its top-level let and fn, and
+  // every name of its broken statements): only these are not reported undefined
+  // in the file that imports it. `binds_unknown`: it imports others, so any name.
+  std::vector<std::string> binds;
+  bool binds_unknown = false;
 };
 using ImportLoader = std::function<const ImportedFile*(const std::string& path, lang::Span span)>;
 // Sees each binding as it is made (the name's span and its value); editors use it.

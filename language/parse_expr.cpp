@@ -269,6 +269,25 @@ ExprPtr Parser::parse_primary() {
     default:
       break;
   }
+  if (at(TokenKind::KwIf)) {
+    // `fn f(n) = if n <= 1 { 1 } else { … };`: an `if` where a value belongs. The
+    // whole if/else is skipped here (its braces and `else` branches), so its
+    // bodies are not read as statements of their own and the ';' after it ends
+    // this statement: one error, not a cascade.
+    Span at_if = here();
+    error_here(DiagKind::ExpectedExpression, "expected an expression, found 'if'")
+        .note("'if' is a statement (§4), not a value: choose the value in a function with a "
+              "body, fn f(n) { if … { return …; } return …; }");
+    for (;;) {
+      while (!at(TokenKind::EndOfFile) && !at(TokenKind::LBrace) && !at(TokenKind::Semicolon))
+        advance();
+      if (!at(TokenKind::LBrace)) break;
+      skip_balanced_braces();
+      if (!accept(TokenKind::KwElse)) break;
+      accept(TokenKind::KwIf);
+    }
+    return error_expr(at_if);
+  }
   error_here(DiagKind::ExpectedExpression, "expected an expression, found " + describe(cur_));
   return error_expr(here());
 }
@@ -407,6 +426,7 @@ BlockPtr Parser::parse_block(std::string_view owner) {
 // The properties of a block after its '{' (`open`), up to its '}'.
 BlockPtr Parser::parse_block_rest(const Token& open, std::string_view owner) {
   auto block = std::make_unique<Block>();
+  const bool outer = broke_;  // a block read to its '}' breaks nothing around it
   bool saved_vector = in_vector_, saved_object = no_object_;
   in_vector_ = false;
   no_object_ = false;
@@ -437,8 +457,13 @@ BlockPtr Parser::parse_block_rest(const Token& open, std::string_view owner) {
     }
     if (at(TokenKind::Identifier)) {
       Property prop;
+      broke_ = false;
       parse_property(prop);
-      scratch_properties_.push_back(std::move(prop));
+      // A value a syntax error cut short is dropped, not checked as read.
+      if (broke_)
+        block->broken = true;
+      else
+        scratch_properties_.push_back(std::move(prop));
       continue;
     }
     block->broken = true;
@@ -460,6 +485,9 @@ BlockPtr Parser::parse_block_rest(const Token& open, std::string_view owner) {
       if (const Expr* name = povray_colour_keyword(last.value.get()))
         d.note(name->span, "POV-Ray's '" + name->text +
                                " <r, g, b>': a colour is the vector itself here, write <r, g, b>");
+      // The value before the stray tokens was cut short by them (`center <1, 2 >
+      // 1, 0>` read as <1, 2>): dropped, not checked as read.
+      scratch_properties_.pop_back();
     }
     // Skip the stray tokens (with any groups they open) up to the next name.
     int level = 0;
@@ -477,6 +505,7 @@ BlockPtr Parser::parse_block_rest(const Token& open, std::string_view owner) {
   no_object_ = saved_object;
   take_scratch(block->properties, mark);
   block->span = from(open.span);
+  broke_ = outer;
   return block;
 }
 

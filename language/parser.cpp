@@ -105,12 +105,14 @@ std::string Parser::describe(const Token& t) const {
 DiagBuilder Parser::error(DiagKind kind, Span span, std::string message) {
   if (panic_) return dropped();
   panic_ = true;
+  broke_ = true;
   return diags_.report(kind, span, std::move(message));
 }
 
 DiagBuilder Parser::error_here(DiagKind kind, std::string message) {
   if (at(TokenKind::Error) || (at(TokenKind::EndOfFile) && scanner_.ate_rest_of_file())) {
     panic_ = true;
+    broke_ = true;
     return dropped();
   }
   return error(kind, here(), std::move(message));
@@ -125,8 +127,10 @@ void Parser::expect_semicolon(std::string_view after) {
     panic_ = true;
     return;
   }
+  const bool whole = !broke_;  // what came before the missing ';' was read whole
   error(DiagKind::ExpectedToken, {file_, last_end_, last_end_},
         "expected ';' after " + std::string(after) + ", found " + describe(cur_));
+  if (whole) broke_ = false;
 }
 
 void Parser::missing_closer(const Token& opener, std::string_view closer, std::string_view what) {
@@ -221,9 +225,13 @@ void Parser::make_unsure(std::size_t mark) {
 
 // statements -> { statement }      (up to '}' when nested, else to the end of file)
 void Parser::parse_statements(std::vector<StmtPtr>& out, bool nested) {
+  const bool outer = broke_;  // the statement around a body, when nested
   while (!at(TokenKind::EndOfFile)) {
     if (at(TokenKind::RBrace)) {
-      if (nested) return;
+      if (nested) {
+        broke_ = outer;
+        return;
+      }
       error(DiagKind::ExpectedStatement, here(), "unmatched '}'");
       advance();
       continue;
@@ -236,13 +244,16 @@ void Parser::parse_statements(std::vector<StmtPtr>& out, bool nested) {
     }
     std::uint64_t before = consumed_;
     std::size_t mark = names_seen_.size(), errors = diags_.error_count();
-    if (StmtPtr s = parse_statement()) out.push_back(std::move(s));
+    broke_ = false;
+    StmtPtr s = parse_statement();
+    if (s && !broke_) out.push_back(std::move(s));
     if (consumed_ == before) advance();  // always make progress
     if (panic_ || diags_.error_count() > errors)
       make_unsure(mark);
     else if (!nested)
       names_seen_.resize(mark);  // a whole statement: its names are sure
   }
+  broke_ = outer;
 }
 
 // statement -> let | fn | return | for | if | import | item | background
@@ -534,13 +545,16 @@ BlockPtr Parser::parse_group_body(std::string_view owner) {
       continue;
     }
     std::uint64_t before = consumed_;
+    const bool outer = broke_;
+    broke_ = false;
     if (at(TokenKind::Identifier) && (is_object_property(cur_.text) || reads_as_property())) {
       Property prop;
       parse_property(prop);
-      props.push_back(std::move(prop));
+      if (!broke_) props.push_back(std::move(prop));
     } else if (StmtPtr st = parse_statement()) {
-      block->statements.push_back(std::move(st));
+      if (!broke_) block->statements.push_back(std::move(st));
     }
+    broke_ = outer;                      // what broke was dropped
     if (consumed_ == before) advance();  // always make progress
   }
   in_vector_ = saved_vector;

@@ -94,6 +94,13 @@ class Parser {
   std::uint32_t last_end_ = 0;  // end offset of the last consumed token
   std::uint64_t consumed_ = 0;  // tokens consumed so far (progress checks)
   bool panic_ = false;
+  // A syntax error left the statement (or block property) being read unreadable:
+  // it is dropped, not run on what was read before the error (§10: independent
+  // errors only; `let v = (<1, 2 > 1);` bound v to <1, 2>). Kept per level: a
+  // block that recovered at a property name or its '}', and a body whose broken
+  // statements were dropped, do not break the statement around them; a missing ';'
+  // breaks nothing.
+  bool broke_ = false;
   // Every identifier consumed so far, and the names of broken statements
   // (Program::unsure_names): names_seen_ from `mark` on become unsure.
   std::vector<std::string_view> names_seen_;
