@@ -276,8 +276,9 @@ ExprPtr Parser::parse_primary() {
     // this statement: one error, not a cascade.
     Span at_if = here();
     error_here(DiagKind::ExpectedExpression, "expected an expression, found 'if'")
-        .note("'if' is a statement (§4), not a value: choose the value in a function with a "
-              "body, fn f(n) { if … { return …; } return …; }");
+        .note(
+            "'if' is a statement (§4), not a value: choose the value in a function with a "
+            "body, fn f(n) { if … { return …; } return …; }");
     for (;;) {
       while (!at(TokenKind::EndOfFile) && !at(TokenKind::LBrace) && !at(TokenKind::Semicolon))
         advance();
