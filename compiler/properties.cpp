@@ -129,6 +129,8 @@ bool range_ok(Check c, double x) {
       return x > 0;
     case Check::NonNegative:
       return x >= 0 && x <= kMaxMagnitude;
+    case Check::Length:
+      return x >= 0;
     case Check::AtLeast1:
     case Check::Pixels:
       return x >= 1;
@@ -147,6 +149,8 @@ std::string check_range(Check c, double x) {
   switch (c) {
     case Check::Positive:
       return "must be > 0";
+    case Check::Length:
+      return "must be >= 0";
     case Check::NonNegative:
       return x < 0 ? "must be >= 0"
                    : "must be at most 1e30 (the renderer's colours and weights are single "
@@ -170,6 +174,7 @@ std::string range_words(Check c) {
     case Check::Positive:
       return " > 0";
     case Check::NonNegative:
+    case Check::Length:
       return " >= 0";
     case Check::AtLeast1:
       return " >= 1";

@@ -47,10 +47,13 @@ enum class PropType {
 // blur, aperture, min_weight) may take: the runtime's radiometric limit (the
 // renderer works in float, 3.4e38; 1e30 leaves room for sums over lights and samples).
 inline constexpr double kMaxMagnitude = ir::kMaxRadiometric;
+// Length: >= 0 with no such limit (a cone's radii, a disc's hole): sizes are
+// bounded by the scene's reach from the camera (ir::validate), not by radiometry.
 enum class Check {
   Any,
   Positive,
   NonNegative,
+  Length,
   AtLeast1,
   Fov,
   Ior,
