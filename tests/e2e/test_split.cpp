@@ -85,6 +85,18 @@ Agreement agreement(const Exr& full, const Exr& merged, const Exr& piece) {
   return a;
 }
 
+// How many pixels of `scene` rendered with --crop `crop` differ from `full`'s.
+std::size_t crop_differs(const std::string& scene, const char* crop, const Exr& full,
+                         const Scratch& tmp) {
+  REQUIRE(run(scene + " --crop " + crop + " -o " + (tmp / "crop.exr")) == 0);
+  Exr c = read_exr(tmp / "crop.exr");
+  std::size_t differ = 0;
+  for (int y = c.spec.y; y < c.spec.y + c.spec.height; ++y)
+    for (int x = c.spec.x; x < c.spec.x + c.spec.width; ++x)
+      differ += std::memcmp(c.at(x, y), full.at(x, y), 3 * sizeof(float)) != 0;
+  return differ;
+}
+
 }  // namespace
 
 TEST_CASE("a crop holds the full render's pixels, bit for bit, at their place", "[e2e][split]") {
@@ -156,13 +168,7 @@ TEST_CASE("coincident surfaces: a crop still holds the full render's pixels", "[
   CHECK(blue == 0);
   for (const char* crop : {"5,5,77,61", "1,1,119,89", "3,7,50,50"}) {
     INFO("crop " << crop);
-    REQUIRE(run(scene + " --crop " + crop + " -o " + (tmp / "crop.exr")) == 0);
-    Exr c = read_exr(tmp / "crop.exr");
-    std::size_t differ = 0;
-    for (int y = c.spec.y; y < c.spec.y + c.spec.height; ++y)
-      for (int x = c.spec.x; x < c.spec.x + c.spec.width; ++x)
-        differ += std::memcmp(c.at(x, y), full.at(x, y), 3 * sizeof(float)) != 0;
-    CHECK(differ == 0);
+    CHECK(crop_differs(scene, crop, full, tmp) == 0);
   }
 }
 
@@ -202,13 +208,7 @@ TEST_CASE("moving instances: a crop still holds the full render's pixels", "[e2e
   CHECK(lit > full.rgb.size() / 2);
   for (const char* crop : {"5,5,77,61", "1,1,95,71", "33,0,34,72", "50,0,51,72"}) {
     INFO("crop " << crop);
-    REQUIRE(run(scene + " --crop " + crop + " -o " + (tmp / "crop.exr")) == 0);
-    Exr c = read_exr(tmp / "crop.exr");
-    std::size_t differ = 0;
-    for (int y = c.spec.y; y < c.spec.y + c.spec.height; ++y)
-      for (int x = c.spec.x; x < c.spec.x + c.spec.width; ++x)
-        differ += std::memcmp(c.at(x, y), full.at(x, y), 3 * sizeof(float)) != 0;
-    CHECK(differ == 0);
+    CHECK(crop_differs(scene, crop, full, tmp) == 0);
   }
 }
 
