@@ -89,4 +89,21 @@ PositionalHint positional_hint(const BlockInfo& block, const std::vector<std::st
   return h;
 }
 
+namespace {
+constexpr PovrayWord kWords[] = {
+#define SNELL_POVRAY_WORD(kind, word, note) {PovrayWordKind::kind, #word, note},
+#include "compiler/povray_words.def"
+};
+}  // namespace
+
+std::span<const PovrayWord> povray_words() {
+  return kWords;
+}
+
+const char* povray_note(PovrayWordKind kind, std::string_view word) {
+  for (const PovrayWord& w : kWords)
+    if (w.kind == kind && w.word == word) return w.note.data();
+  return nullptr;
+}
+
 }  // namespace snell::compile

@@ -34,4 +34,14 @@ struct PositionalHint {
 // `values`: the source text of each positional value, in order.
 PositionalHint positional_hint(const BlockInfo& block, const std::vector<std::string>& values);
 
+// POV-Ray's words that Snell writes another way (povray_words.def): the note for an
+// unknown block, property or name that is one of them, or null.
+enum class PovrayWordKind { Block, Property, Name };
+struct PovrayWord {
+  PovrayWordKind kind;
+  std::string_view word, note;
+};
+std::span<const PovrayWord> povray_words();
+const char* povray_note(PovrayWordKind kind, std::string_view word);
+
 }  // namespace snell::compile

@@ -6,12 +6,16 @@
 // Limits: the parameters must be numbers, bools or vectors, and keep their types
 // from run to run; the function must return on some path and call itself only
 // directly in its body (not from a helper it calls); bodies nest at most
-// ir::kMaxLoopNesting deep. At render time a loop that runs ir::kMaxLoopIterations
-// times gives NaN (so the hit's value is 0, counted in --stats).
+// ir::kMaxLoopNesting deep. At render time a loop whose calls would nest deeper
+// than §4's 10 000 (ir::kMaxCallDepth, counting the calls around it as the
+// evaluator does) or that runs out of the evaluation's work (ir::kMaxWork) gives
+// NaN (so the hit's value is 0, counted in --stats).
 
 #include "compiler/shading_compiler.hpp"
 
 namespace snell::compile {
+
+static_assert(kMaxCallDepth == ir::kMaxCallDepth, "the evaluator's and the loops' §4 bound");
 
 using lang::DiagKind;
 using lang::Expr;
@@ -147,6 +151,10 @@ SVal ShadingCompiler::loop_call(const Closure& fn, std::vector<SVal>& args, cons
         roots.push_back(n.kind == SVal::None ? sc->vars[k].second : n);
       }
       prog.first_constant = static_cast<std::uint8_t>(inputs);
+      // The calls between the frame that starts the loop and its first run: the
+      // helpers inlined since (the shading function's own at the top, where no
+      // loop's frame is).
+      prog.depth0 = static_cast<std::uint16_t>(calls_.size() - loop_calls_ + 1);
       body.codegen(roots, def.name_span, prog);
     }
   }

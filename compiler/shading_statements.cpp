@@ -270,8 +270,10 @@ bool ShadingCompiler::run(const Value& fn, Span fn_span, ir::Program& out) {
 
 bool ShadingCompiler::codegen(const std::vector<SVal>& roots, Span fn_span, ir::Program& out) {
   const std::uint8_t first_constant = out.first_constant;
+  const std::uint16_t depth0 = out.depth0;
   out = {};
   out.first_constant = first_constant;
+  out.depth0 = depth0;
   std::vector<int> root_ids;
   for (const SVal& r : roots) root_ids.push_back(mat(r));
   const int root = root_ids[0];

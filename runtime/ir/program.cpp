@@ -116,7 +116,8 @@ void dump(const Program& p, bool body, const std::string& indent, std::string& s
     s += indent + "L" + std::to_string(k) + ": " + std::to_string(b.code.size()) +
          " instructions, " + std::to_string(b.constants.size()) + " constants, " +
          std::to_string(b.slots) + " slots, inputs r0..r" + std::to_string(b.first_constant - 1) +
-         "; until r" + std::to_string(b.done) + ", result r" + std::to_string(b.result) + ", next";
+         "; until r" + std::to_string(b.done) + ", result r" + std::to_string(b.result) +
+         ", first call at depth +" + std::to_string(b.depth0) + ", next";
     for (std::uint8_t n : b.next) s += " r" + std::to_string(n);
     s += "\n";
     dump(b, true, indent + "  ", s);

@@ -58,12 +58,21 @@ inline constexpr std::uint8_t kPointSlot = 0;
 inline constexpr std::uint8_t kNormalSlot = 3;
 inline constexpr std::uint8_t kFirstConstantSlot = 6;
 inline constexpr int kMaxLoopNesting = 8;
-// Runs of one loop body before it gives up (NaN): §4's bound on recursion.
-inline constexpr int kMaxLoopIterations = 10000;
-// Runs of every loop body in one evaluation together (loops inside loops would
-// otherwise multiply their bounds: 10 000^8 runs at one hit). Past it every loop
-// still running gives NaN.
-inline constexpr int kMaxLoopRuns = 100000;
+// §4's bound on recursion: calls nested deeper than this stop. A loop body's run
+// is one call of its function, so run r of a loop whose first call is at depth D
+// is at depth D + r (D counts the calls around it: the shading function's own, a
+// helper's, an outer loop's runs), and past kMaxCallDepth the loop gives NaN
+// where the evaluator stops with RecursionLimit: the same count, so a value the
+// evaluator has is the render's too (compile::kMaxCallDepth is this number).
+inline constexpr int kMaxCallDepth = 10000;
+// The work of one evaluation at one point, in instructions run (a noise octave
+// counts kNoiseWork, cells two): past it every loop still running gives NaN, so a
+// hit costs at most about a millisecond. Loops inside loops would otherwise
+// multiply their bounds (10 000^8 runs at one hit), and a body of 32-octave fbm
+// calls took seconds per hit under a bound on runs alone. An escape-time fractal
+// of 10 000 iterations needs ~150 000.
+inline constexpr std::int64_t kMaxWork = std::int64_t(1) << 20;
+inline constexpr int kNoiseWork = 16;
 
 struct Instr {
   ProgramOp op = ProgramOp::AddS;
@@ -84,6 +93,9 @@ struct Program {
   std::vector<Program> loops;
   std::uint8_t first_constant = kFirstConstantSlot;
   std::uint8_t done = 0;
+  // A loop body: the call depth of its first run, counted from the frame that
+  // starts the loop (1: the loop's function called directly from it).
+  std::uint16_t depth0 = 1;
   std::vector<std::uint8_t> next;
   bool operator==(const Program&) const = default;
 };

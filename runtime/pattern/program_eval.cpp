@@ -20,19 +20,28 @@ ir::Vec3 load(const double* s) {
   return {s[0], s[1], s[2]};
 }
 
-void run_code(const ir::Program& prog, double* s, int& runs_left);
+// What bounds one evaluation (ir::kMaxWork, ir::kMaxCallDepth).
+struct Budget {
+  std::int64_t work = ir::kMaxWork;
+};
 
-// A LoopS/LoopV: the body in a register file of its own, its inputs from `args`,
-// run until its done slot is true; the result into `d` (`w` slots).
-void run_loop(const ir::Program& body, const double* args, double* d, int w, int& runs_left) {
+void run_code(const ir::Program& prog, double* s, Budget& budget, int depth);
+
+// A LoopS/LoopV started from a frame at call depth `depth`: the body in a register
+// file of its own, its inputs from `args`, run until its done slot is true; the
+// result into `d` (`w` slots). NaN when its calls would nest deeper than §4 allows
+// or the evaluation's work runs out.
+void run_loop(const ir::Program& body, const double* args, double* d, int w, Budget& budget,
+              int depth) {
   double t[ir::kMaxSlots], next[ir::kMaxSlots];
   const int inputs = body.first_constant;
   std::memcpy(t, args, inputs * sizeof(double));
   if (!body.constants.empty())
     std::memcpy(t + inputs, body.constants.data(), body.constants.size() * sizeof(double));
-  for (int run = 0; run < ir::kMaxLoopIterations && runs_left > 0; ++run) {
-    --runs_left;
-    run_code(body, t, runs_left);
+  const std::int64_t run_work = std::int64_t(body.code.size()) + 1;
+  for (int at = depth + body.depth0; at <= ir::kMaxCallDepth && budget.work > 0; ++at) {
+    budget.work -= run_work;
+    run_code(body, t, budget, at);
     if (t[body.done] != 0) {
       for (int k = 0; k < w; ++k) d[k] = t[body.result + k];
       return;
@@ -53,8 +62,8 @@ double run_program(const ir::Program& prog, ir::Vec3 p, ir::Vec3 n, bool& finite
   if (!prog.constants.empty())
     std::memcpy(s + ir::kFirstConstantSlot, prog.constants.data(),
                 prog.constants.size() * sizeof(double));
-  int runs_left = ir::kMaxLoopRuns;
-  run_code(prog, s, runs_left);
+  Budget budget;
+  run_code(prog, s, budget, 0);
   double r = s[prog.result];
   finite = std::isfinite(r);
   return r;
@@ -62,7 +71,7 @@ double run_program(const ir::Program& prog, ir::Vec3 p, ir::Vec3 n, bool& finite
 
 namespace {
 
-void run_code(const ir::Program& prog, double* s, int& runs_left) {
+void run_code(const ir::Program& prog, double* s, Budget& budget, int depth) {
   namespace m = ir::scalar;
   using Op = ir::ProgramOp;
   for (const ir::Instr& in : prog.code) {
@@ -201,26 +210,30 @@ void run_code(const ir::Program& prog, double* s, int& runs_left) {
         d[0] = m::random_hash(a[0]);
         break;
       case Op::Noise:
+        budget.work -= ir::kNoiseWork;
         d[0] = noise(load(a));
         break;
       case Op::Fbm: {
         int o = octaves(b[0]);
+        budget.work -= std::int64_t(ir::kNoiseWork) * o;
         d[0] = o ? fbm(load(a), o) : std::numeric_limits<double>::quiet_NaN();
         break;
       }
       case Op::Turb: {
         int o = octaves(b[0]);
+        budget.work -= std::int64_t(ir::kNoiseWork) * o;
         d[0] = o ? turbulence(load(a), o) : std::numeric_limits<double>::quiet_NaN();
         break;
       }
       case Op::Cells:
+        budget.work -= 2 * ir::kNoiseWork;
         d[0] = cells(load(a));
         break;
       case Op::LoopS:
-        run_loop(prog.loops[in.a], s + in.b, d, 1, runs_left);
+        run_loop(prog.loops[in.a], s + in.b, d, 1, budget, depth);
         break;
       case Op::LoopV:
-        run_loop(prog.loops[in.a], s + in.b, d, 3, runs_left);
+        run_loop(prog.loops[in.a], s + in.b, d, 3, budget, depth);
         break;
       case Op::MovS:
         d[0] = a[0];

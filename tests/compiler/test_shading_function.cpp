@@ -3,6 +3,7 @@
 // their places, the limits, and the op registry's agreement with the compiler,
 // the interpreter and the dump.
 #include <catch2/catch.hpp>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -404,18 +405,18 @@ fn g(p) = spin(p.x);
   bool finite = false;
   CHECK(pattern::run_program(p, {1000, 0, 0}, {}, finite) == 1000 / 1024.0);
   CHECK(finite);
-  // A loop that never returns stops after kMaxLoopIterations runs with NaN (the
-  // evaluator stops the same call with RecursionLimit).
+  // A loop that never returns stops at §4's call depth with NaN (the evaluator
+  // stops the same call with RecursionLimit).
   REQUIRE(h.compile("g", p));
   pattern::run_program(p, {0, 0, 0}, {}, finite);
   CHECK(!finite);
-  // Loops in loops share one budget of kMaxLoopRuns (100 000) per evaluation: 400
-  // outer runs of 300 inner ones are too many (the inner loops' bounds would
-  // multiply), 300 of 200 are not.
+  // Loops in loops share one budget of work per evaluation (ir::kMaxWork, 2^20
+  // instructions): 1000 outer runs of 1000 inner ones are too many (the inner
+  // loops' bounds would multiply), 300 of 200 are not.
   Harness n(R"(
 fn inner(x, k) { if k <= 0 { return x; } return inner(x + 1, k - 1); }
 fn outer(x, k, m) { if k <= 0 { return x; } return outer(inner(x, m), k - 1, m); }
-fn big(p) = outer(p.x, 400, 300);
+fn big(p) = outer(p.x, 1000, 1000);
 fn small(p) = outer(p.x, 300, 200);
 )");
   REQUIRE(n.compile("big", p));
@@ -424,6 +425,78 @@ fn small(p) = outer(p.x, 300, 200);
   REQUIRE(n.compile("small", p));
   CHECK(pattern::run_program(p, {0, 0, 0}, {}, finite) == 300 * 200);
   CHECK(finite);
+}
+
+// §4's 10 000 calls, counted as the evaluator counts them: the shading function's
+// own call is one, so a loop of 9 999 runs under it is the deepest that has a
+// value; one run more is NaN at render time where the evaluator stops with
+// RecursionLimit (the loop allowed 10 000 runs whatever called it).
+TEST_CASE("shading: a loop's depth limit is the evaluator's, call for call", "[shading]") {
+  for (int n : {9998, 9999}) {
+    INFO("runs " << n + 1);
+    const std::string defs = "fn cnt(x, i) { if i >= " + std::to_string(n) +
+                             " { return x; } return cnt(x + 1, i + 1); }\n"
+                             "fn f(p) = cnt(p.x * 0, 0);\n";
+    Harness h(defs);
+    ir::Program p;
+    REQUIRE(h.compile("f", p));
+    bool finite = false;
+    const double v = pattern::run_program(p, {0, 0, 0}, {}, finite);
+    bool limit = false;
+    // 10 000 calls deep: on the stack the compiler runs on (the sanitizers' frames
+    // are large).
+    compile::run_with_large_stack([&] {
+      Harness eval(defs + "let v = f(<0, 0, 0>);\n");
+      for (const auto& d : eval.diags.diagnostics())
+        limit = limit || d.kind == lang::DiagKind::RecursionLimit;
+    });
+    CHECK(finite == !limit);
+    CHECK(finite == (n == 9998));
+    if (finite) CHECK(v == n);
+  }
+  // Helpers between the shading function and the loop count too.
+  Harness h(R"(
+fn cnt(x, i) { if i >= 9997 { return x; } return cnt(x + 1, i + 1); }
+fn mid(x) = cnt(x, 0);
+fn f(p) = mid(p.x * 0);
+fn g(p) = cnt(p.x * 0, 0);
+)");
+  ir::Program p;
+  bool finite = true;
+  REQUIRE(h.compile("f", p));  // f, mid and 9 998 runs: 10 000 calls
+  CHECK(pattern::run_program(p, {0, 0, 0}, {}, finite) == 9997);
+  CHECK(finite);
+  Harness deeper(R"(
+fn cnt(x, i) { if i >= 9998 { return x; } return cnt(x + 1, i + 1); }
+fn mid(x) = cnt(x, 0);
+fn f(p) = mid(p.x * 0);
+)");
+  REQUIRE(deeper.compile("f", p));  // 10 001 calls
+  pattern::run_program(p, {0, 0, 0}, {}, finite);
+  CHECK(!finite);
+}
+
+// A hostile function (32-octave fbm calls in loops in loops) ran for seconds at one
+// hit under a bound on loop runs alone; the work budget ends it within ~2^20
+// instructions' worth (a noise octave counting 16).
+TEST_CASE("shading: a function's work at one point is bounded", "[shading]") {
+  Harness h(R"(
+fn heavy(q) = fbm(q, 32) + fbm(q * 1.1, 32) + fbm(q * 1.2, 32) + fbm(q * 1.3, 32);
+fn inner(q, s, j) { if j >= 1000 { return s; } return inner(q + <0.01, 0, 0>, s + heavy(q), j + 1); }
+fn outer(q, s, i) { if i >= 1000 { return s; } return outer(q, inner(q + <0, i, 0>, s, 0), i + 1); }
+fn f(p) = outer(p, 0, 0);
+)");
+  ir::Program p;
+  REQUIRE(h.compile("f", p));
+  bool finite = true;
+  const auto t0 = std::chrono::steady_clock::now();
+  pattern::run_program(p, {0.5, 0.25, 0}, {}, finite);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  CHECK(!finite);
+  // 2^20 / (4 · 32 · 16) ≈ 512 runs of fbm calls: milliseconds, where it was
+  // seconds (a bound loose enough for a loaded machine and the sanitizers).
+  CHECK(seconds < 1.0);
 }
 
 TEST_CASE("shading: a loop's limits are errors with places", "[shading]") {
