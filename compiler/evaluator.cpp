@@ -400,7 +400,9 @@ void Evaluator::exec_item(const Stmt& s, const std::shared_ptr<Env>& env) {
     names.push_back("background");
     auto d = error(DiagKind::UnknownBlock, s.name_span, "'" + s.name + "' is not a scene item");
     std::string guess = lang::closest_match(s.name, names);
-    if (!guess.empty())
+    if (const char* pov = povray_note(PovrayWordKind::Block, s.name))
+      d.note(pov);
+    else if (!guess.empty())
       d.note("did you mean '" + guess + "'?");
     else if (block && block->kind == BlockKind::Constructor)
       d.note("'" + s.name + "' makes a material or pattern; use it as a property value");
@@ -544,7 +546,9 @@ void Evaluator::eval_props(const BlockInfo& block, const lang::Block& body, Span
                      "'" + std::string(block.name) + "' has no property '" + p.name + "'");
       const auto names = prop_names(block);
       std::string guess = lang::closest_match(p.name, names);
-      if (!guess.empty()) {
+      if (const char* pov = povray_note(PovrayWordKind::Property, p.name, block.name)) {
+        d.note(pov);
+      } else if (!guess.empty()) {
         d.note("did you mean '" + guess + "'?");
         guessed.push_back(std::move(guess));
       } else if (!names.empty()) {

@@ -7,6 +7,7 @@
 #include "compiler/arith.hpp"
 #include "compiler/builtins.hpp"
 #include "compiler/evaluator.hpp"
+#include "compiler/povray_forms.hpp"
 #include "compiler/properties.hpp"
 #include "compiler/shading_function.hpp"
 
@@ -115,7 +116,9 @@ Value Evaluator::eval_name(const Expr& e, const std::shared_ptr<Env>& env) {
   for (std::string_view c : lang::constructor_names()) visible.push_back(c);
   auto d = error(DiagKind::UndefinedName, e.span, "'" + e.text + "' is not defined");
   std::string guess = lang::closest_match(e.text, visible);
-  if (lang::is_constructor_name(e.text))
+  if (const char* pov = povray_note(PovrayWordKind::Name, e.text))
+    d.note(pov);
+  else if (lang::is_constructor_name(e.text))
     // Only where no argument follows, or one starting with '-' (docs/language.md:
     // then it is an ordinary name, and `diffuse - c` a subtraction).
     d.note("'" + e.text + "' takes its argument after it ('" + e.text + " { ... }' or '" + e.text +

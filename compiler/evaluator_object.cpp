@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "compiler/evaluator.hpp"
+#include "compiler/povray_forms.hpp"
 
 namespace snell::compile {
 
@@ -62,7 +63,9 @@ Value Evaluator::eval_object_expr(const Expr& e, const std::shared_ptr<Env>& env
                    block ? "'" + e.text + "' is not an object block, so it is not a value"
                          : "there is no block '" + e.text + "' (no object, material or pattern)");
     std::string guess = lang::closest_match(e.text, names);
-    if (!guess.empty())
+    if (const char* pov = povray_note(PovrayWordKind::Block, e.text))
+      d.note(pov);
+    else if (!guess.empty())
       d.note("did you mean '" + guess + "'?");
     else if (block && block->kind == BlockKind::Item)
       d.note("a '" + e.text + "' is a scene item: write it as a statement");

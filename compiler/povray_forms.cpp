@@ -91,7 +91,7 @@ PositionalHint positional_hint(const BlockInfo& block, const std::vector<std::st
 
 namespace {
 constexpr PovrayWord kWords[] = {
-#define SNELL_POVRAY_WORD(kind, word, note) {PovrayWordKind::kind, #word, note},
+#define SNELL_POVRAY_WORD(kind, word, scope, note) {PovrayWordKind::kind, #word, #scope, note},
 #include "compiler/povray_words.def"
 };
 }  // namespace
@@ -100,9 +100,10 @@ std::span<const PovrayWord> povray_words() {
   return kWords;
 }
 
-const char* povray_note(PovrayWordKind kind, std::string_view word) {
+const char* povray_note(PovrayWordKind kind, std::string_view word, std::string_view block) {
   for (const PovrayWord& w : kWords)
-    if (w.kind == kind && w.word == word) return w.note.data();
+    if (w.kind == kind && w.word == word && (w.scope == "any" || w.scope == block))
+      return w.note.data();
   return nullptr;
 }
 

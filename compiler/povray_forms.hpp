@@ -39,9 +39,10 @@ PositionalHint positional_hint(const BlockInfo& block, const std::vector<std::st
 enum class PovrayWordKind { Block, Property, Name };
 struct PovrayWord {
   PovrayWordKind kind;
-  std::string_view word, note;
+  std::string_view word, scope, note;  // scope: a block's name, or "any"
 };
 std::span<const PovrayWord> povray_words();
-const char* povray_note(PovrayWordKind kind, std::string_view word);
+// `block`: where a property word was written (its scope must match).
+const char* povray_note(PovrayWordKind kind, std::string_view word, std::string_view block = {});
 
 }  // namespace snell::compile

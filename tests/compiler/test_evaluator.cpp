@@ -449,6 +449,30 @@ TEST_CASE("an unknown property says what the block takes, or the near miss", "[c
   CHECK(d[1].notes[0].message == "did you mean 'radius'?");
 }
 
+// A POV-Ray user's words (compiler/povray_words.def) get what Snell writes
+// instead, where a "did you mean" could only guess or had nothing to say.
+TEST_CASE("POV-Ray's words get what Snell writes instead", "[compiler]") {
+  auto c = run(
+      "camera { location <0, 1, -5> look_at 0 angle 60 }\n"
+      "sphere { radius 1 material diffuse { color 0.5 phong 0.5 phong_size 40 } }\n"
+      "sphere { radius 1 rotate 90 * y }\n"
+      "sphere { radius 1 angle 3 }\n"
+      "global_settings { }\n");
+  const auto& d = c->diags.diagnostics();
+  REQUIRE(d.size() == 6);
+  auto note = [&](std::size_t i) { return d[i].notes.empty() ? "" : d[i].notes[0].message; };
+  CHECK(note(0).find("'angle' is 'fov' here") != std::string::npos);
+  CHECK(note(1).find("'phong' is 'specular' here") != std::string::npos);
+  CHECK(note(2).find("'phong_size' is 'shininess' here") != std::string::npos);
+  CHECK(note(3) == "POV-Ray's 'y' is the vector <0, 1, 0>: write it out");
+  // A camera's word is no note elsewhere: the sphere's list of properties instead.
+  CHECK(note(4).find("'sphere' takes") != std::string::npos);
+  CHECK(note(5).find("'settings { … }' here") != std::string::npos);
+  // A name the scene defines is the scene's.
+  CHECK(run("let y = <0, 1, 0>;\nsphere { radius 1 rotate 90 * y }\n")->status ==
+        compile::CompileStatus::Ok);
+}
+
 TEST_CASE("a constructor before '-' says to put its argument in parentheses", "[compiler]") {
   // `diffuse -c + 1` is `diffuse - c + 1` (docs/language.md: a constructor name
   // followed by '-' is an ordinary name), so 'diffuse' is undefined; the note says

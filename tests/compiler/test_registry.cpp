@@ -14,9 +14,12 @@
 #include <string>
 #include <vector>
 
+#include "compiler/builtins.hpp"
 #include "compiler/lower.hpp"
+#include "compiler/povray_forms.hpp"
 #include "compiler/properties.hpp"
 #include "language/ast.hpp"
+#include "language/token.hpp"
 #include "language/diagnostics.hpp"
 
 using namespace snell;
@@ -380,4 +383,36 @@ TEST_CASE("registry: groups.def's CSG blocks, instance block and object properti
   CHECK(listed == obj_rows);
   for (const std::string& p : listed) CHECK(lang::is_object_property(p));
   CHECK_FALSE(lang::is_object_property("radius"));
+}
+
+// povray_words.def's notes stand in for "did you mean" only where the word is none
+// of Snell's own: no block, property, builtin or keyword of that name, so a note
+// never hides a real name.
+TEST_CASE("registry: POV-Ray's words are none of Snell's names", "[compiler][registry]") {
+  std::set<std::string_view> snell_names;
+  for (BlockKind k : {BlockKind::Item, BlockKind::Constructor, BlockKind::Nested})
+    for (std::string_view b : block_names(k)) {
+      snell_names.insert(b);
+      if (const BlockInfo* info = find_block(b))
+        for (std::string_view p : prop_names(*info)) snell_names.insert(p);
+    }
+  for (int i = 0; i < builtin_count(); ++i) snell_names.insert(builtin_info(i).name);
+  REQUIRE(!povray_words().empty());
+  for (const PovrayWord& w : povray_words()) {
+    INFO("word " << w.word);
+    if (w.scope == "any") {
+      CHECK(!snell_names.count(w.word));
+    } else {  // a property word of one block: none of that block's, which exists
+      const BlockInfo* b = find_block(w.scope);
+      REQUIRE(b);
+      for (std::string_view p : prop_names(*b)) CHECK(p != w.word);
+    }
+    CHECK(lang::keyword_kind(w.word) == lang::TokenKind::Identifier);
+    CHECK(!w.note.empty());
+    CHECK(povray_note(w.kind, w.word, w.scope) == w.note.data());
+  }
+  // A camera word's note is the camera's only.
+  CHECK(povray_note(PovrayWordKind::Property, "angle", "camera") != nullptr);
+  CHECK(povray_note(PovrayWordKind::Property, "angle", "sphere") == nullptr);
+  CHECK(povray_note(PovrayWordKind::Name, "radius") == nullptr);
 }
