@@ -19,8 +19,8 @@
 #include "compiler/povray_forms.hpp"
 #include "compiler/properties.hpp"
 #include "language/ast.hpp"
-#include "language/token.hpp"
 #include "language/diagnostics.hpp"
+#include "language/token.hpp"
 
 using namespace snell;
 using namespace snell::compile;
