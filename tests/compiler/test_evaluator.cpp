@@ -452,12 +452,12 @@ TEST_CASE("an unknown property says what the block takes, or the near miss", "[c
 // A POV-Ray user's words (compiler/povray_words.def) get what Snell writes
 // instead, where a "did you mean" could only guess or had nothing to say.
 TEST_CASE("POV-Ray's words get what Snell writes instead", "[compiler]") {
-  auto c = run(
-      "camera { location <0, 1, -5> look_at 0 angle 60 }\n"
-      "sphere { radius 1 material diffuse { color 0.5 phong 0.5 phong_size 40 } }\n"
-      "sphere { radius 1 rotate 90 * y }\n"
-      "sphere { radius 1 angle 3 }\n"
-      "global_settings { }\n");
+  auto c =
+      run("camera { location <0, 1, -5> look_at 0 angle 60 }\n"
+          "sphere { radius 1 material diffuse { color 0.5 phong 0.5 phong_size 40 } }\n"
+          "sphere { radius 1 rotate 90 * y }\n"
+          "sphere { radius 1 angle 3 }\n"
+          "global_settings { }\n");
   const auto& d = c->diags.diagnostics();
   REQUIRE(d.size() == 6);
   auto note = [&](std::size_t i) { return d[i].notes.empty() ? "" : d[i].notes[0].message; };
