@@ -100,11 +100,7 @@ json Server::dispatch(const std::string& method, const json& params, bool& handl
   if (method == "textDocument/didSave") return nullptr;
   if (method == "workspace/didChangeWatchedFiles") {
     // A .scn file changed on disk (an import edited elsewhere): analyse again.
-    auto due = Clock::now() + std::chrono::milliseconds(options_.debounce_ms);
-    for (auto& [u, d] : docs_) {
-      d.stale = true;
-      d.due = due;
-    }
+    invalidate_all();
     return nullptr;
   }
   if (method == "textDocument/hover" || method == "textDocument/definition" ||
@@ -167,7 +163,7 @@ void Server::did_open(const json& params) {
   // A newly opened file may be what another open document imports.
   for (auto& [u, other] : docs_)
     if (u != uri && !other.stale) {
-      other.stale = true;
+      other.stale = other.unpublished = true;
       other.due = Clock::now() + std::chrono::milliseconds(options_.debounce_ms);
     }
   publish(fresh(d));
@@ -196,9 +192,13 @@ void Server::did_change(const json& params) {
   if (auto v = params["textDocument"].find("version");
       v != params["textDocument"].end() && v->is_number_integer())
     doc->version = v->get<std::int64_t>();
+  invalidate_all();
+}
+
+void Server::invalidate_all() {
   auto due = Clock::now() + std::chrono::milliseconds(options_.debounce_ms);
   for (auto& [u, d] : docs_) {
-    d.stale = true;
+    d.stale = d.unpublished = true;
     d.due = due;
   }
 }
@@ -208,10 +208,7 @@ void Server::did_close(const json& params) {
   if (docs_.erase(uri) == 0) return;
   send_(make_notification("textDocument/publishDiagnostics",
                           {{"uri", uri}, {"diagnostics", json::array()}}));
-  for (auto& [u, d] : docs_) {
-    d.stale = true;
-    d.due = Clock::now() + std::chrono::milliseconds(options_.debounce_ms);
-  }
+  invalidate_all();
 }
 
 Server::Document& Server::fresh(Document& doc) {
@@ -223,6 +220,7 @@ Server::Document& Server::fresh(Document& doc) {
 }
 
 void Server::publish(Document& doc) {
+  doc.unpublished = false;
   Locator at{*doc.analysis, encoding_, doc.uri};
   send_(make_notification(
       "textDocument/publishDiagnostics",
@@ -232,12 +230,12 @@ void Server::publish(Document& doc) {
 std::optional<Server::Clock::duration> Server::tick(Clock::time_point now) {
   std::optional<Clock::duration> next;
   for (auto& [uri, d] : docs_) {
-    if (!d.stale) continue;
+    if (!d.stale && !d.unpublished) continue;
     if (d.due <= now) {
       try {
         publish(fresh(d));
       } catch (const std::exception&) {
-        d.stale = false;  // never retry a document that cannot be analysed
+        d.stale = d.unpublished = false;  // never retry a document that cannot be analysed
       }
     } else if (!next || d.due - now < *next) {
       next = d.due - now;

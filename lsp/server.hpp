@@ -53,9 +53,16 @@ class Server {
     std::string text;
     std::int64_t version = 0;
     std::unique_ptr<Analysis> analysis;
-    bool stale = true;
+    bool stale = true;  // the analysis is not of the current text (and imports)
+    // Its diagnostics are owed to the client at `due`: a change set both, and a
+    // request may freshen the analysis before then, which must not cancel them
+    // (the editor kept the old errors after a completion right after a change).
+    bool unpublished = false;
     Clock::time_point due;
   };
+  // Marks every open document's analysis out of date, its diagnostics due after
+  // the debounce.
+  void invalidate_all();
 
   json dispatch(const std::string& method, const json& params, bool& handled);
   json initialize(const json& params);

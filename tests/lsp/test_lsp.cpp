@@ -174,6 +174,36 @@ TEST_CASE("server: diagnostics, hover and definition in memory", "[lsp]") {
   CHECK(c.server.exit_code() == 0);
 }
 
+// A request right after a change analyses the new text at once; the change's
+// diagnostics are still owed and sent when the debounce ends (they were not: the
+// editor kept showing the fixed error after a completion or outline request).
+TEST_CASE("server: a request after a change does not swallow its diagnostics", "[lsp]") {
+  Client c;
+  c.request("initialize", {{"capabilities", json::object()}});
+  c.notify("initialized", json::object());
+  c.notify(
+      "textDocument/didOpen",
+      {{"textDocument",
+        {{"uri", kUri}, {"languageId", "snell"}, {"version", 1}, {"text", "let a = nope;\n"}}}});
+  REQUIRE(c.last_diagnostics()["diagnostics"].size() == 1);
+  for (const char* method :
+       {"textDocument/hover", "textDocument/completion", "textDocument/documentSymbol"}) {
+    INFO(method);
+    static int version = 1;
+    ++version;
+    const bool fixed = version % 2 == 0;
+    c.notify("textDocument/didChange",
+             {{"textDocument", {{"uri", kUri}, {"version", version}}},
+              {"contentChanges",
+               json::array({{{"text", fixed ? "let a = 1;\nlet b = a;\n" : "let b = zzz;\n"}}})}});
+    c.request(method, {{"textDocument", {{"uri", kUri}}}, {"position", pos(1, 8)}});
+    c.server.tick(Server::Clock::now() + std::chrono::seconds(1));
+    json d = c.last_diagnostics();
+    CHECK(d["version"] == version);
+    CHECK(d["diagnostics"].size() == (fixed ? 0u : 1u));
+  }
+}
+
 TEST_CASE("server: the predeclared clock and frame hover and complete (§18)", "[lsp]") {
   Client c;
   c.request("initialize", {{"capabilities", json::object()}});
