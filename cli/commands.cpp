@@ -263,8 +263,8 @@ int run_check(const CliArgs& o) {
             << " material(s), " << s.point_lights.size() << " point light(s), "
             << s.area_lights.size() << " area light(s); " << s.settings.width << "x"
             << s.settings.height << " at " << s.settings.samples << " spp\n";
-  for (const std::string& w : rt::scene_warnings(s))
-    std::cout << o.scene << ": warning: " << w << "\n";
+  for (const rt::SceneWarning& w : rt::scene_warnings(s))
+    std::cout << o.scene << ": warning: " << w.message << "\n";
   std::cout << "effects:\n";
   ir::Features f = ir::analyze_features(s);
   if (f.reasons.empty()) std::cout << "  (none beyond diffuse shading)\n";
@@ -406,9 +406,9 @@ int render_frame(FrameJob& job) {
     }
   }
   if (job.first || job.warned)
-    for (const std::string& w : rt::scene_warnings(scene))
-      if (!job.warned || job.warned->insert(w).second)
-        std::cerr << o.scene << ": warning: " << w
+    for (const rt::SceneWarning& w : rt::scene_warnings(scene))
+      if (!job.warned || job.warned->insert(w.message).second)
+        std::cerr << o.scene << ": warning: " << w.message
                   << (job.of_frames ? fmt::format(" (frame {})", job.frame) : std::string())
                   << "\n";
   Progress progress(!o.quiet, isatty(STDERR_FILENO));

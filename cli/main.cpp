@@ -14,6 +14,7 @@
 #include "compiler/compile.hpp"
 #include "lsp/server.hpp"
 #include "runtime/atomic_file.hpp"
+#include "runtime/scene_checks.hpp"
 
 namespace {
 
@@ -42,6 +43,12 @@ int dispatch(unsigned command, const cli::CliArgs& o) {
       // budget applies unless --max-steps says otherwise.
       if (o.max_steps != compile::kDefaultStepBudget) so.step_budget = o.max_steps;
       so.unreadable_images = cli::cached_image_check(o.ocio_config);
+      so.scene_warnings = [](const ir::Scene& scene) {
+        lsp::AnalysisOptions::SceneWarnings out;
+        for (rt::SceneWarning& w : rt::scene_warnings(scene))
+          out.emplace_back(std::move(w.message), w.where);
+        return out;
+      };
       return lsp::run_stdio(so);
     }
     case cli::Sweep: {

@@ -245,6 +245,9 @@ std::unique_ptr<Analysis> analyze(const std::string& path, std::string text,
   };
   a->comp = compile::compile_source(path, std::move(text), copts);
   compile::run_with_large_stack([&] { Walker(*a, options).run(); });
+  if (options.scene_warnings && a->comp->status == compile::CompileStatus::Ok &&
+      !a->comp->diags.has_errors())
+    a->scene_warnings = options.scene_warnings(a->comp->scene);
   a->milliseconds =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   return a;

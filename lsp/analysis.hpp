@@ -72,6 +72,11 @@ struct AnalysisOptions {
   // §17: images the texture system cannot read (compile::CompileOptions'); null:
   // only existence and signature are checked.
   decltype(compile::CompileOptions::unreadable_images) unreadable_images;
+  // The warnings `snell check` prints about a scene as a whole (no light, the
+  // camera inside an object: rt::scene_warnings, which the runtime owns), each
+  // with the object it is about; null: none.
+  using SceneWarnings = std::vector<std::pair<std::string, ir::SourceRef>>;
+  std::function<SceneWarnings(const ir::Scene&)> scene_warnings;
 };
 
 struct Analysis {
@@ -83,6 +88,7 @@ struct Analysis {
   std::vector<Site> sites;      // in the main file, in source order
   std::vector<ImportSite> imports;
   std::unordered_map<std::uint64_t, TypesSeen> types;  // by type_key(span)
+  AnalysisOptions::SceneWarnings scene_warnings;       // of a scene without errors
   double milliseconds = 0;                             // the whole analysis
 
   const lang::SourceFile& main_file() const { return comp->sources.file(main); }

@@ -2,6 +2,8 @@
 // the [Kind] as the code, and each note as related information. A diagnostic in
 // an imported file is shown at the import that leads to it (the editor shows
 // only the open document's), its real place kept as related information.
+#include <cctype>
+
 #include "language/diagnostics.hpp"
 
 #include "lsp/features.hpp"
@@ -36,6 +38,34 @@ json diagnostics(const Locator& at) {
               {"message", message}};
     if (!related.empty()) j["relatedInformation"] = std::move(related);
     out.push_back(std::move(j));
+  }
+  // The scene's own warnings (`snell check`'s): at the object they name, the
+  // import that brings it when it is another file's, else the file's start.
+  for (const auto& [message, where] : a.scene_warnings) {
+    lang::Span span{a.main, 0, 0};
+    const ir::Scene& scene = a.comp->scene;
+    if (where.line > 0 && where.file < scene.files.size()) {
+      for (lang::FileId f = 0; f < sources.size(); ++f) {
+        if (sources.file(f).path() != scene.files[where.file]) continue;
+        const lang::SourceFile& file = sources.file(f);
+        std::uint32_t b = file.offset_of({where.line, where.col}), e = b;
+        const std::string_view text = file.text();
+        while (e < text.size() && (std::isalnum(static_cast<unsigned char>(text[e])) ||
+                                   text[e] == '_'))
+          ++e;  // the block's keyword
+        span = {f, b, e};
+        break;
+      }
+      if (span.file != a.main)
+        for (const ImportSite& s : a.imports)
+          if (s.file == span.file) span = s.span;
+      if (span.file != a.main) span = {a.main, 0, 0};
+    }
+    out.push_back({{"range", at.range(span)},
+                   {"severity", 2},
+                   {"code", "SceneWarning"},
+                   {"source", "snell"},
+                   {"message", message}});
   }
   // Errors past --max-errors are counted but not kept: say so once.
   std::size_t kept = 0;

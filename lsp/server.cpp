@@ -19,6 +19,7 @@ AnalysisOptions Server::analysis_options() const {
   o.include_dirs = options_.include_dirs;
   o.step_budget = options_.step_budget;
   o.unreadable_images = options_.unreadable_images;
+  o.scene_warnings = options_.scene_warnings;
   // Unsaved buffers win over the disk for imports.
   o.overlay = [this](const std::string& canonical) -> const std::string* {
     for (const auto& [uri, d] : docs_)

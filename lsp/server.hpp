@@ -30,6 +30,7 @@ struct ServerOptions {
   // §17: as AnalysisOptions' (`snell lsp` reads each image once per version of its
   // file: see cli's cached_image_check).
   decltype(AnalysisOptions::unreadable_images) unreadable_images;
+  decltype(AnalysisOptions::scene_warnings) scene_warnings;  // as AnalysisOptions'
 };
 
 class Server {

@@ -38,10 +38,10 @@ std::string written_kind(const ir::Scene& scene, const ir::Shape& s) {
 
 }  // namespace
 
-std::vector<std::string> scene_warnings(const ir::Scene& scene) {
-  std::vector<std::string> out;
+std::vector<SceneWarning> scene_warnings(const ir::Scene& scene) {
+  std::vector<SceneWarning> out;
   if (scene.shapes.empty()) {
-    out.push_back("the scene has no object: the image will be the background alone");
+    out.push_back({"the scene has no object: the image will be the background alone", {}});
     return out;
   }
   if (scene.point_lights.empty() && scene.area_lights.empty())
@@ -51,9 +51,10 @@ std::vector<std::string> scene_warnings(const ir::Scene& scene) {
         dark = dark || (m < scene.materials.size() && needs_light(scene.materials[m]));
       });
       if (dark) {
-        out.push_back(fmt::format(
-            "the scene has no light: diffuse and glazed surfaces (the first at {}) will be black",
-            ir::to_string(s.src, scene)));
+        out.push_back({fmt::format("the scene has no light: diffuse and glazed surfaces (the "
+                                   "first at {}) will be black",
+                                   ir::to_string(s.src, scene)),
+                       s.src});
         break;
       }
     }
@@ -70,10 +71,11 @@ std::vector<std::string> scene_warnings(const ir::Scene& scene) {
       });
       medium = medium && any;
       out.push_back(
-          fmt::format("the camera at <{}, {}, {}> is inside the {} at {}: {}", c.x, c.y, c.z,
-                      written_kind(scene, s), ir::to_string(s.src, scene),
-                      medium ? "its rays start in that dielectric and see out through its surface"
-                             : "it will see only that object's inside"));
+          {fmt::format("the camera at <{}, {}, {}> is inside the {} at {}: {}", c.x, c.y, c.z,
+                       written_kind(scene, s), ir::to_string(s.src, scene),
+                       medium ? "its rays start in that dielectric and see out through its surface"
+                              : "it will see only that object's inside"),
+           s.src});
     }
   // Boxes, triangles, meshes and instances move in linear steps (at most 128, each
   // turning at most 90°); spheres and the other shapes are placed exactly per ray.
@@ -84,12 +86,14 @@ std::vector<std::string> scene_warnings(const ir::Scene& scene) {
       continue;
     const double deg = geom::turn_degrees(s.motion());
     if (deg > geom::kMaxFollowedTurn)
-      out.push_back(fmt::format(
-          "the {} at {} turns {:.6g}° during the shutter; a moving {} is traced in at most 128 "
-          "steps of 90°, {:g}° in all, so its blur will not follow the spin (a sphere or a CSG "
-          "object of it would)",
-          written_kind(scene, s), ir::to_string(s.src, scene), deg, written_kind(scene, s),
-          geom::kMaxFollowedTurn));
+      out.push_back(
+          {fmt::format(
+               "the {} at {} turns {:.6g}° during the shutter; a moving {} is traced in at most "
+               "128 steps of 90°, {:g}° in all, so its blur will not follow the spin (a sphere or "
+               "a CSG object of it would)",
+               written_kind(scene, s), ir::to_string(s.src, scene), deg, written_kind(scene, s),
+               geom::kMaxFollowedTurn),
+           s.src});
   }
   return out;
 }

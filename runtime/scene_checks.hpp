@@ -13,11 +13,16 @@
 
 namespace snell::rt {
 
-// One line each ("the scene has no light: ..."), without a "warning:" prefix;
-// empty when there is nothing to say. Limits: the camera test covers the
-// top-level objects that do not move and have an inside: spheres, boxes, closed
-// cylinders and cones, tori, closed meshes, CSG objects (by their trees) and
-// instances (inside any part of their value).
-std::vector<std::string> scene_warnings(const ir::Scene& scene);
+// One line each ("the scene has no light: ..."), without a "warning:" prefix,
+// with the object it is about (line 0: none, the scene as a whole); empty when
+// there is nothing to say. Limits: the camera test covers the top-level objects
+// that do not move and have an inside: spheres, boxes, closed cylinders and cones,
+// tori, closed meshes, CSG objects (by their trees) and instances (inside any
+// part of their value).
+struct SceneWarning {
+  std::string message;
+  ir::SourceRef where;
+};
+std::vector<SceneWarning> scene_warnings(const ir::Scene& scene);
 
 }  // namespace snell::rt

@@ -120,7 +120,8 @@ TEST_CASE("uris", "[lsp]") {
 namespace {
 struct Client {
   std::vector<json> out;
-  Server server{ServerOptions{{}, 5'000'000, 0, {}}, [this](const json& m) { out.push_back(m); }};
+  Server server{ServerOptions{{}, 5'000'000, 0, {}, {}},
+                [this](const json& m) { out.push_back(m); }};
   int next_id = 1;
   json request(const std::string& method, json params) {
     int id = next_id++;

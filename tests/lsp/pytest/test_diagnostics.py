@@ -4,6 +4,11 @@ from conftest import find, open_doc
 from lsprotocol import types
 
 
+def errors(diags):
+    """The errors alone (a scene without a light also has snell check's warning)."""
+    return [d for d in diags if d.severity == types.DiagnosticSeverity.Error]
+
+
 async def test_unknown_property_range_code_and_note(client, tmp_path):
     text = "camera { location <0, 1, -5> look_at <0, 1, 0> }\nsphere { radus 1 }\n"
     uri = await open_doc(client, tmp_path / "a.scn", text)
@@ -38,11 +43,32 @@ async def test_change_updates_diagnostics(client, tmp_path):
     client.text_document_did_change(
         types.DidChangeTextDocumentParams(
             text_document=types.VersionedTextDocumentIdentifier(uri=uri, version=2),
-            content_changes=[types.TextDocumentContentChangeWholeDocument(text="sphere { radius 1 }\n")],
+            content_changes=[
+                types.TextDocumentContentChangeWholeDocument(
+                    text="point_light { position <0, 5, 0> intensity 10 }\n"
+                    "sphere { radius 1 center <0, 0, 5> }\n"
+                )
+            ],
         )
     )
     await client.wait_for_notification(types.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
     assert list(client.diagnostics[uri]) == []
+
+
+async def test_scene_warnings_as_snell_check_prints_them(client, tmp_path):
+    # No light for a diffuse sphere, and the camera (at the origin) inside it:
+    # `snell check`'s two warnings, at the sphere.
+    text = "camera { location <0, 0, 0> look_at <0, 0, 1> }\nsphere { radius 2 }\n"
+    uri = await open_doc(client, tmp_path / "w.scn", text)
+    diags = [d for d in client.diagnostics[uri] if d.code == "SceneWarning"]
+    messages = sorted(d.message for d in diags)
+    assert len(diags) == 2, messages
+    assert messages[0].startswith("the camera at <0, 0, 0> is inside the sphere")
+    assert messages[1].startswith("the scene has no light")
+    for d in diags:
+        assert d.severity == types.DiagnosticSeverity.Warning
+        assert d.range.start == find(text, "sphere")
+        assert d.range.end == find(text, "sphere", delta=6)
 
 
 async def test_unsaved_import_wins_over_disk(client, tmp_path):
@@ -84,7 +110,7 @@ async def test_an_import_changed_on_disk(client, tmp_path):
     lib = tmp_path / "lib2.scn"
     lib.write_text("let size = 1;\n")
     uri = await open_doc(client, tmp_path / "w.scn", 'import "lib2.scn";\nsphere { radius size }\n')
-    assert list(client.diagnostics[uri]) == []
+    assert errors(client.diagnostics[uri]) == []
     lib.write_text("let size = -1;\n")
     client.workspace_did_change_watched_files(
         types.DidChangeWatchedFilesParams(
@@ -131,4 +157,4 @@ async def test_an_unreadable_image_beside_other_errors(client, tmp_path):
         )
     )
     await client.wait_for_notification(types.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
-    assert list(client.diagnostics[uri]) == []
+    assert errors(client.diagnostics[uri]) == []
