@@ -2,9 +2,9 @@
 // the [Kind] as the code, and each note as related information. A diagnostic in
 // an imported file is shown at the import that leads to it (the editor shows
 // only the open document's), its real place kept as related information.
-#include <cctype>
-
 #include "language/diagnostics.hpp"
+
+#include <cctype>
 
 #include "lsp/features.hpp"
 
@@ -50,8 +50,8 @@ json diagnostics(const Locator& at) {
         const lang::SourceFile& file = sources.file(f);
         std::uint32_t b = file.offset_of({where.line, where.col}), e = b;
         const std::string_view text = file.text();
-        while (e < text.size() && (std::isalnum(static_cast<unsigned char>(text[e])) ||
-                                   text[e] == '_'))
+        while (e < text.size() &&
+               (std::isalnum(static_cast<unsigned char>(text[e])) || text[e] == '_'))
           ++e;  // the block's keyword
         span = {f, b, e};
         break;
