@@ -277,6 +277,20 @@ json completion(const Locator& at, std::string_view text, std::uint32_t offset,
       frames.back().given.insert(std::string(t.text));
     }
   }
+  if (frames.size() > 1 && !string) {
+    // The block's properties after the cursor are given too (`checker { color1 0 |
+    // color2 1 }` offers no second color2): its own level, up to its '}'.
+    std::vector<lang::Token> rest =
+        lang::lex(sources, sources.add("after", std::string(text.substr(offset))), diags);
+    int depth = 0;
+    for (const lang::Token& t : rest) {
+      if (t.kind == TokenKind::LBrace) ++depth;
+      if (t.kind == TokenKind::RBrace && --depth < 0) break;
+      if (depth == 0 && t.kind == TokenKind::Identifier && t.span.begin > 0 &&
+          is_prop_of(frames.back(), t.text))
+        frames.back().given.insert(std::string(t.text));
+    }
+  }
   if (string) {
     // An enum property's spellings (settings { sampler "…" }).
     if (const compile::PropInfo* p = prop_of(frames.back(), before_quote))

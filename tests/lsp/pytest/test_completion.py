@@ -32,6 +32,12 @@ async def test_properties_not_yet_given(client, tmp_path):
     uri2 = await open_doc(client, tmp_path / "q.scn", text2)
     got = await labels(client, uri2, find(text2, "  }", delta=1))
     assert "translate" in got and "min" not in got
+    # Properties after the cursor are given too; a nested block's are not its parent's.
+    text3 = "sphere { radius 1  center <0, 0, 0> material diffuse { color 1 } }\n"
+    uri3 = await open_doc(client, tmp_path / "r.scn", text3)
+    got = await labels(client, uri3, find(text3, "  center", delta=1))
+    assert "center" not in got and "radius" not in got and "material" not in got
+    assert "translate" in got
 
 
 async def test_values(client, tmp_path):
