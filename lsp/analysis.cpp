@@ -100,9 +100,12 @@ class Walker {
           a_.sites.push_back({Site::Block, s.name_span, s.name, ""});
           walk_block(s.block.get(), s.name);
           break;
+        case StmtKind::Background:
+          a_.sites.push_back({Site::Block, s.name_span, "background", ""});
+          for (const lang::ExprPtr& e : s.exprs) walk_expr(e.get());
+          break;
         case StmtKind::Return:
         case StmtKind::ExprStmt:
-        case StmtKind::Background:
           for (const lang::ExprPtr& e : s.exprs) walk_expr(e.get());
           break;
         case StmtKind::Error:

@@ -72,15 +72,20 @@ std::string describe_block(std::string_view name) {
                s += prop_line(*p);
              return s;
            }();
+  if (name == "background")
+    return "**background** — `background EXPR`: what a ray that meets nothing sees, a colour "
+           "or any pattern (§6, §17: a gradient sky, `sky_gradient`, an image with mapping "
+           "\"latlong\"); at most one per scene";
   const compile::BlockInfo* b = compile::find_block(name);
   if (!b) return {};
   std::string s = "**" + std::string(name) + "** — " + kind_words(*b) + "\n\n";
   if (b->props.empty() && b->named.empty() && !b->is_object) return s;
-  s += "Properties:\n\n";
+  if (!b->props.empty() || !b->named.empty()) s += "Properties:\n\n";
   for (const compile::PropInfo* p : b->props) s += prop_line(*p);
   for (const compile::PropInfo* p : b->named) s += prop_line(*p);
   if (b->is_object) {
-    s += "\nand the object properties:\n\n";
+    s += b->props.empty() && b->named.empty() ? "The object properties:\n\n"
+                                               : "\nand the object properties:\n\n";
     for (const compile::PropInfo* p : compile::find_block("object")->props) s += prop_line(*p);
   }
   return s;

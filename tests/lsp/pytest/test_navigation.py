@@ -134,3 +134,12 @@ async def test_names_in_if_branches(client, tmp_path):
         )
         loc = loc[0] if isinstance(loc, list) else loc
         assert loc.range.start == find(text, target), needle
+
+
+async def test_hover_background_and_sky_gradient(client, tmp_path):
+    text = "background sky_gradient\nsphere { }\n"
+    uri = await open_doc(client, tmp_path / "bg.scn", text)
+    kw = await hover_text(client, uri, find(text, "background", delta=2))
+    assert "background" in kw and "§" in kw, kw
+    sky = await hover_text(client, uri, find(text, "sky_gradient", delta=3))
+    assert "sky_gradient" in sky and "predeclared" in sky, sky
