@@ -85,7 +85,7 @@ std::string describe_block(std::string_view name) {
   for (const compile::PropInfo* p : b->named) s += prop_line(*p);
   if (b->is_object) {
     s += b->props.empty() && b->named.empty() ? "The object properties:\n\n"
-                                               : "\nand the object properties:\n\n";
+                                              : "\nand the object properties:\n\n";
     for (const compile::PropInfo* p : compile::find_block("object")->props) s += prop_line(*p);
   }
   return s;
