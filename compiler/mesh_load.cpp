@@ -182,7 +182,10 @@ bool SceneBuilder::load_mesh(const std::string& file, Span span, std::uint32_t& 
                   std::to_string(report.bad_normals) + " triangle(s) of '" + key +
                       "' name a zero or non-finite normal (vn) and shade flat");
   if (mesh.indices.empty()) {
-    diags_.report(DiagKind::FileUnreadable, span, "mesh '" + key + "' has no usable triangles");
+    // The file was read; what it holds draws nothing: an error in the scene (exit 1),
+    // as a malformed line is, not an unreadable file (exit 3).
+    diags_.report(DiagKind::MalformedMesh, span,
+                  "mesh '" + key + "' has no usable triangles (no face with an area)");
     return false;
   }
   index = static_cast<std::uint32_t>(scene_.meshes.size());

@@ -132,13 +132,14 @@ bool source_colour(const OIIO::ImageSpec& spec, const std::string& ocio_config, 
 // `error`, on failure.
 std::string linear_texture(const std::string& path, const SourceColour& colour,
                            const OIIO::ImageSpec& file_spec, std::string& error) {
-  // The decoding holds the image whole as floats about three times over (the
-  // read, the decoded copy, the texture maker's); a small file can claim a huge
-  // image (a 2.7 MB PNG of 30000 x 30000), so the claim is checked first against
-  // half the machine's memory.
+  // The decoding holds the image whole as floats about six times over (the read,
+  // the decoded copy, the texture maker's copies and its MIP levels): an 8192 x
+  // 8192 RGB PNG peaked at 4.85 GB, 72 bytes a pixel, where three copies had been
+  // counted. A small file can claim a huge image (a 2.7 MB PNG of 30000 x 30000),
+  // so the claim is checked first against half the machine's memory.
   const double bytes = double(file_spec.width) * double(file_spec.height) *
                        double(std::max(file_spec.depth, 1)) *
-                       double(std::max(file_spec.nchannels, 1)) * sizeof(float) * 3;
+                       double(std::max(file_spec.nchannels, 1)) * sizeof(float) * 6;
   const double memory = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE));
   if (memory > 0 && bytes > memory / 2) {
     error = fmt::format(
