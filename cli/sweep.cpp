@@ -8,6 +8,7 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "cli/commands.hpp"
@@ -426,25 +427,41 @@ std::string Sweeper::write_outputs(const std::string& stem) {
   auto save = [](const fs::path& path, const std::string& text) {
     return rt::write_file_atomically(path.string(), text.data(), text.size());
   };
+  // Texts as written (a path, `sampler="sobol"`) may hold quotes and commas: CSV
+  // fields are quoted where they need it (RFC 4180: "" for a quote), and the JSON
+  // is nlohmann's (escaped strings; a non-finite number is null).
+  auto field = [](const std::string& s) {
+    if (s.find_first_of(",\"\r\n") == std::string::npos) return s;
+    std::string q = "\"";
+    for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+    return q + "\"";
+  };
   std::ostringstream csv;
   csv << "scene,knob,value,series_key,series_value,seconds_median,seconds_min,rays,rmse,relmse,"
          "dssim,image\n";
   for (const SweepRow& r : rows_)
-    csv << o_.scene << ',' << r.knob << ",\"" << r.value << "\"," << o_.series.key << ','
-        << r.series_value << ',' << r.seconds << ',' << r.seconds_min << ',' << r.rays << ','
-        << r.rmse << ',' << r.relmse << ',' << r.dssim << ',' << r.image << '\n';
+    csv << field(o_.scene) << ',' << field(r.knob) << ',' << field(r.value) << ','
+        << field(o_.series.key) << ',' << field(r.series_value) << ',' << r.seconds << ','
+        << r.seconds_min << ',' << r.rays << ',' << r.rmse << ',' << r.relmse << ',' << r.dssim
+        << ',' << field(r.image) << '\n';
+  nlohmann::ordered_json rows = nlohmann::ordered_json::array();
+  for (const SweepRow& r : rows_)
+    rows.push_back({{"knob", r.knob},
+                    {"value", r.value},
+                    {"series", r.series_value},
+                    {"seconds", r.seconds},
+                    {"seconds_min", r.seconds_min},
+                    {"rays", r.rays},
+                    {"rmse", r.rmse},
+                    {"relmse", r.relmse},
+                    {"dssim", r.dssim},
+                    {"image", r.image}});
+  const nlohmann::ordered_json doc = {{"scene", o_.scene},
+                                      {"reference_spp", o_.reference_spp},
+                                      {"repeats", o_.repeats},
+                                      {"rows", std::move(rows)}};
   std::ostringstream json;
-  json << "{\n  \"scene\": \"" << o_.scene << "\",\n  \"reference_spp\": " << o_.reference_spp
-       << ",\n  \"repeats\": " << o_.repeats << ",\n  \"rows\": [\n";
-  for (std::size_t i = 0; i < rows_.size(); ++i) {
-    const SweepRow& r = rows_[i];
-    json << "    {\"knob\": \"" << r.knob << "\", \"value\": \"" << r.value << "\", \"series\": \""
-         << r.series_value << "\", \"seconds\": " << r.seconds
-         << ", \"seconds_min\": " << r.seconds_min << ", \"rays\": " << r.rays
-         << ", \"rmse\": " << r.rmse << ", \"relmse\": " << r.relmse << ", \"dssim\": " << r.dssim
-         << ", \"image\": \"" << r.image << "\"}" << (i + 1 < rows_.size() ? ",\n" : "\n");
-  }
-  json << "  ]\n}\n";
+  json << doc.dump(2) << '\n';
   std::ostringstream md;
   for (const SweepAxis& axis : o_.vary) {
     Plot plot;

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <thread>
 
@@ -356,6 +357,32 @@ TEST_CASE("sweep writes its tables whole or not at all, and says why it cannot",
   CHECK(run_capture(base + (tmp / "a-file"), err, tmp) == 3);
   CHECK(err.find("cannot create the folder") != std::string::npos);
   CHECK(err.find("internal error") == std::string::npos);
+}
+
+// Values as written (`sampler="sobol"`, a .scn expression) and scene names may
+// hold quotes and commas: the JSON escapes them and the CSV quotes them (the JSON
+// read `"value": ""sobol""`, which no parser takes).
+TEST_CASE("sweep's JSON and CSV hold quotes and commas as written", "[e2e]") {
+  Scratch tmp;
+  const std::string scene = tmp / "q\"a,b.scn";
+  std::ofstream(scene) << "settings { resolution <8, 6> }\n"
+                          "point_light { position <0, 3, -3> intensity 10 }\n"
+                          "sphere { center <0, 0, 4> }\n";
+  std::string err;
+  REQUIRE(run_capture("sweep '" + scene + "' --vary 'sampler=\"sobol\",independent' " +
+                          "--reference-spp 2 --no-images --quiet --name t --out " + (tmp / "out"),
+                      err, tmp) == 0);
+  std::ifstream in(tmp / "out/t.json");
+  const nlohmann::json doc = nlohmann::json::parse(in);  // throws on malformed JSON
+  CHECK(doc["scene"] == scene);
+  REQUIRE(doc["rows"].size() == 2);
+  CHECK(doc["rows"][0]["value"] == "\"sobol\"");
+  std::ifstream csv_in(tmp / "out/t.csv");
+  std::string header, first;
+  std::getline(csv_in, header);
+  std::getline(csv_in, first);
+  CHECK(first.rfind("\"" + std::string(tmp / "q\"\"a,b.scn") + "\",sampler,\"\"\"sobol\"\"\",",
+                    0) == 0);
 }
 
 TEST_CASE("sweep never writes over a file it reads, and --name is no path", "[e2e]") {
