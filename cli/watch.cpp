@@ -22,6 +22,7 @@
 #include "cli/tev.hpp"
 #include "cli/watch_http.hpp"
 #include "runtime/render.hpp"
+#include "runtime/scene_checks.hpp"
 
 namespace snell::cli {
 
@@ -184,6 +185,10 @@ class Watcher {
       if (!o_.quiet) std::cerr << diagnostics;
       return false;
     }
+    // The warnings `snell check` prints about the scene as a whole (no light, the
+    // camera inside an object): what explains a black or empty preview.
+    for (const rt::SceneWarning& w : rt::scene_warnings(c->scene))
+      diagnostics += o_.scene + ": warning: " + w.message + "\n";
     page_.set_diagnostics(diagnostics, false);
     if (!o_.quiet && !diagnostics.empty()) std::cerr << diagnostics;
     return render_passes(c->scene);
