@@ -226,25 +226,24 @@ class Sweeper {
 
   int run() {
     int code = kExitOk;
-    rt::Image ref;
-    if (!reference(ref, code)) return code;
     std::vector<std::string> series_values =
         o_.series.key.empty() ? std::vector<std::string>{""} : o_.series.values;
-    if (std::string e = make_folder(fs::path(o_.out_dir) / "images"); !e.empty()) {
-      std::cerr << "snell sweep: error: " << e << "\n";
-      return kExitIo;
-    }
-    std::string stem = o_.name.empty() ? fs::path(o_.scene).stem().string() : o_.name;
+    // Every configuration of every axis compiled first: a value the scene refuses
+    // (`--vary max_depth=2,-1`) or one that changes the image's size is wrong
+    // usage found before the reference's seconds of rendering, and nothing is
+    // written (the reference's cache and the images folder were left behind).
+    struct Job {
+      Config config;
+      ir::Scene scene;
+      SweepRow row;
+      std::vector<double> times;
+      rt::RenderResult first;
+    };
+    ir::Scene plain;
+    if (!compile(Config{}, plain, code)) return code;
+    std::vector<std::vector<Job>> axes;
     for (const SweepAxis& axis : o_.vary) {
-      // Every configuration of this axis, compiled first.
-      struct Job {
-        Config config;
-        ir::Scene scene;
-        SweepRow row;
-        std::vector<double> times;
-        rt::RenderResult first;
-      };
-      std::vector<Job> jobs;
+      std::vector<Job>& jobs = axes.emplace_back();
       for (const std::string& sv : series_values)
         for (const std::string& v : axis.values) {
           Job j;
@@ -255,11 +254,28 @@ class Sweeper {
             return kExitUsage;
           }
           if (!compile(j.config, j.scene, code)) return code;
+          if (j.scene.settings.width != plain.settings.width ||
+              j.scene.settings.height != plain.settings.height) {
+            std::cerr << "snell sweep: error: '" << axis.key
+                      << "' changes the resolution; sweep resolution with --res instead\n";
+            return kExitUsage;
+          }
           j.row.knob = axis.key;
           j.row.value = v;
           j.row.series_value = sv;
           jobs.push_back(std::move(j));
         }
+    }
+    rt::Image ref;
+    if (!reference(ref, code)) return code;
+    if (std::string e = make_folder(fs::path(o_.out_dir) / "images"); !e.empty()) {
+      std::cerr << "snell sweep: error: " << e << "\n";
+      return kExitIo;
+    }
+    std::string stem = o_.name.empty() ? fs::path(o_.scene).stem().string() : o_.name;
+    for (std::size_t ai = 0; ai < o_.vary.size(); ++ai) {
+      const SweepAxis& axis = o_.vary[ai];
+      std::vector<Job>& jobs = axes[ai];
       // Repeats are interleaved: round r renders every configuration once, so a
       // change in the machine's load during the run falls on all of them alike
       // and the ratios between configurations hold.
@@ -276,10 +292,10 @@ class Sweeper {
         row.seconds = j.times[j.times.size() / 2];
         row.seconds_min = j.times.front();
         const rt::Image& img = j.first.image;
-        if (img.width != ref.width || img.height != ref.height) {
-          std::cerr << "snell sweep: error: '" << axis.key
-                    << "' changes the resolution; sweep resolution with --res instead\n";
-          return kExitUsage;
+        if (img.width != ref.width || img.height != ref.height) {  // a stale cached reference
+          std::cerr << "snell sweep: error: the reference is " << ref.width << "x" << ref.height
+                    << " and the render " << img.width << "x" << img.height << "\n";
+          return kExitIo;
         }
         row.rmse = rmse(img, ref);
         row.relmse = relative_mse(img, ref);

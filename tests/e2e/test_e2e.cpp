@@ -385,6 +385,25 @@ TEST_CASE("sweep's JSON and CSV hold quotes and commas as written", "[e2e]") {
                     0) == 0);
 }
 
+// A --vary value the scene refuses is wrong usage found before any render: it
+// was found after the reference's seconds of rendering, and left the reference's
+// cache and an empty images folder behind.
+TEST_CASE("sweep checks every configuration before it renders anything", "[e2e]") {
+  Scratch tmp;
+  std::ofstream(tmp / "s.scn") << "settings { resolution <8, 6> }\n"
+                                  "point_light { position <0, 3, -3> intensity 10 }\n"
+                                  "sphere { center <0, 0, 4> }\n";
+  std::string err;
+  for (const char* vary : {"max_depth=2,-1", "'resolution=<16,12>,<8,6>'", "nosuch=1,2"}) {
+    INFO(vary);
+    const fs::path out = tmp.dir / "out";
+    CHECK(run_capture("sweep " + (tmp / "s.scn") + " --vary " + vary + " --out " + out.string(),
+                      err, tmp) == 2);
+    CHECK(!fs::exists(out));
+    CHECK(err.find("reference:") == std::string::npos);  // no reference rendered
+  }
+}
+
 TEST_CASE("sweep never writes over a file it reads, and --name is no path", "[e2e]") {
   // --markdown onto the scene, or --out beside a scene named like its CSV, replaced
   // the scene with exit 0; render and merge refused the same. A '/' in --name
