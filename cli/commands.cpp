@@ -348,6 +348,10 @@ int render_frame(FrameJob& job) {
                          (o.crop.empty() ? std::to_string(W) + "x" + std::to_string(H) + " image"
                                          : "crop " + o.crop));
     ropts.trace_pixel = {{x, y}};
+    // Alone (no image asked for) only that pixel is rendered: the whole image was
+    // rendered and thrown away (a second where a millisecond does), and --stats
+    // counts that pixel's rays.
+    if (job.outputs.empty()) ropts.crop = Window{x, y, x + 1, y + 1};
   }
 
   if (int code = check_not_an_input(job.outputs, scene_inputs(scene)); code >= 0) return code;

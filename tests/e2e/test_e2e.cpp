@@ -501,6 +501,21 @@ TEST_CASE("a render with --pixel alone prints the ray tree and writes no image",
   // With -o it writes what it is asked to.
   REQUIRE(in_tmp("ok.scn --quiet --pixel 4,4 -o traced.png") == 0);
   CHECK(fs::exists(tmp / "traced.png"));
+  // Alone it renders that pixel only: its one camera ray (1 spp), not the 64 of
+  // the image, and the same tree as within the whole render.
+  REQUIRE(in_tmp("ok.scn --pixel 4,4 --stats") == 0);
+  std::ifstream alone(tmp / "out.txt");
+  std::string stats((std::istreambuf_iterator<char>(alone)), std::istreambuf_iterator<char>());
+  CHECK(stats.find("(1 camera,") != std::string::npos);
+  const std::size_t from = stats.find("pixel (4, 4)"),
+                    to = stats.find('\n', stats.find("sample radiance"));
+  REQUIRE(from < to);
+  REQUIRE(to != std::string::npos);
+  const std::string tree = stats.substr(from, to - from);
+  REQUIRE(in_tmp("ok.scn --pixel 4,4 -o whole.exr") == 0);
+  std::ifstream whole(tmp / "out.txt");
+  std::string with_image((std::istreambuf_iterator<char>(whole)), std::istreambuf_iterator<char>());
+  CHECK(with_image.find(tree) != std::string::npos);
 }
 
 TEST_CASE("inputs that are not files, sizes and numbers are reported as they are", "[e2e]") {
