@@ -73,11 +73,34 @@ bool read_bytes(const std::string& path, std::vector<unsigned char>& out) {
 
 // Every file the compilation read (the scene, its imports) or names for the
 // runtime (meshes, images), and the scene itself even when it could not be read.
-std::vector<std::string> files_read(const std::string& scene, const compile::Compilation* c) {
+// Every place an `import` of these statements could find its file (§9: the
+// importing file's folder, each -I folder, the standard library), so that a file
+// saved where an earlier folder of the search now wins is seen (a new
+// scene/lib.scn in front of -I's lib.scn): only the files read were watched.
+void import_candidates(const std::vector<lang::StmtPtr>& stmts, const std::string& from,
+                       const compile::CompileOptions& copts, std::vector<std::string>& out) {
+  for (const lang::StmtPtr& s : stmts) {
+    if (!s) continue;
+    if (s->kind == lang::StmtKind::Import && !fs::path(s->name).is_absolute()) {
+      std::vector<std::string> dirs;
+      compile::find_import(s->name, from, copts, &dirs);
+      for (const std::string& d : dirs) out.push_back((fs::path(d) / s->name).string());
+    }
+    import_candidates(s->body, from, copts, out);
+    import_candidates(s->else_body, from, copts, out);
+    for (const auto& b : s->branches) import_candidates(b, from, copts, out);
+  }
+}
+
+std::vector<std::string> files_read(const std::string& scene, const compile::Compilation* c,
+                                    const compile::CompileOptions& copts) {
   std::vector<std::string> out{scene};
   if (!c) return out;
   for (std::size_t i = 0; i < c->sources.size(); ++i)
     out.push_back(c->sources.file(lang::FileId(i)).path());
+  for (const auto& program : c->programs)
+    if (program && program->file < c->sources.size())
+      import_candidates(program->statements, c->sources.file(program->file).path(), copts, out);
   for (const ir::MeshData& m : c->scene.meshes) out.push_back(m.path);
   for (const ir::ImageFile& im : c->scene.images) out.push_back(im.path);
   return out;
@@ -171,7 +194,7 @@ class Watcher {
     }
     // A failed compile watches every file in the folders: the missing import may
     // be the next file saved.
-    files_.set_files(files_read(o_.scene, c.get()), !ok);
+    files_.set_files(files_read(o_.scene, c.get(), copts), !ok);
     if (!ok) {
       std::size_t n = c ? c->diags.error_count() : 1;
       if (n == 0) n = 1;
