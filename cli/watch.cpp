@@ -399,6 +399,12 @@ int run_watch(const CliArgs& o) {
   compile::CompileOptions copts;
   std::string error;
   if (!build_compile_options(o, copts, error)) return usage_error(error);
+  // Options no edit of the scene can fix (`--set foo=1`, `--res 0x0`) are wrong
+  // usage before the URL is printed: a script reading it took the watch as
+  // started. They are checked on an empty scene (the real one may not exist yet).
+  if (auto empty = compile::compile_source(o.scene, "", copts);
+      empty->status == compile::CompileStatus::UsageError)
+    return usage_error(empty->message);
   std::string host, port;
   if (!o.display_server.empty() && !TevStream::parse_address(o.display_server, host, port, error))
     return usage_error(error);

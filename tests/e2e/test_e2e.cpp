@@ -249,6 +249,24 @@ TEST_CASE("every subcommand's usage errors exit 2, its --help 0", "[e2e]") {
   CHECK(run("render " + (tmp / "clock.scn") + " --quiet --clock 0.25 -o " + (tmp / "c.exr")) == 0);
 }
 
+// snell watch prints its URL only once it runs: options that no edit of the scene
+// fixes are exit 2 with nothing on stdout (a script that reads the URL took the
+// watch as started).
+TEST_CASE("watch's bad options exit 2 before any URL is printed", "[e2e]") {
+  Scratch tmp;
+  std::ofstream(tmp / "w.scn") << "sphere { }\n";
+  for (const char* opt : {"--set foo=1", "--res 0x0", "--set samples=-1"}) {
+    INFO(opt);
+    const std::string out = tmp / "stdout.txt";
+    int status = std::system(("timeout 20 " + kSnell + " watch " + (tmp / "w.scn") + " --port 0 " +
+                              opt + " > " + out + " 2> /dev/null")
+                                 .c_str());
+    CHECK((WIFEXITED(status) ? WEXITSTATUS(status) : -1) == 2);
+    std::ifstream in(out);
+    CHECK(std::string(std::istreambuf_iterator<char>(in), {}).empty());
+  }
+}
+
 TEST_CASE("a failed write leaves an existing output untouched", "[e2e]") {
   Scratch tmp;
   std::ofstream(tmp / "ok.scn") << "settings { resolution <8, 8> }\nsphere { }\n";
