@@ -469,7 +469,6 @@ int render_frame(FrameJob& job) {
 }  // namespace
 
 int run_render(const CliArgs& o) {
-  if (o.dump_ast) return dump_ast(o.scene);
   std::vector<std::string> outputs = o.outputs;
   // --pixel alone is a look at one pixel's ray tree: it writes an image only where
   // -o asks for one, never over the default SCENE-STEM.png.
@@ -484,6 +483,26 @@ int run_render(const CliArgs& o) {
   compile::CompileOptions copts;
   std::string error;
   if (!build_compile_options(o, copts, error)) return usage_error(error);
+  // §18: one frame (clock from --clock, default 0), or --frames A..B. Checked with
+  // the other options, before any work (and for --dump-ast too, which takes them).
+  if (o.frames.empty() && o.frame)
+    return usage_error("--frame F picks one frame of a sequence: give --frames A..B with it");
+  IntRange frames, run;  // all the frames, and those this process renders
+  if (!o.frames.empty()) {
+    if (o.clock)
+      return usage_error(
+          "--clock sets the clock of a single frame; with --frames each frame's clock is "
+          "(frame - A) / (B - A): give one or the other");
+    if (!parse_range(o.frames, "--frames", std::numeric_limits<std::int32_t>::max(), frames, error))
+      return usage_error(error);
+    run = frames;
+    if (o.frame) {
+      if (*o.frame < frames.begin || *o.frame >= frames.end)
+        return usage_error(fmt::format("--frame {} is not one of --frames {}", *o.frame, o.frames));
+      run = {*o.frame, *o.frame + 1};
+    }
+  }
+  if (o.dump_ast) return dump_ast(o.scene);
 
   // The image module loads in a helper process while the scene compiles and
   // renders (image_helper.hpp); stopped, however this returns.
@@ -497,26 +516,10 @@ int run_render(const CliArgs& o) {
     ~StopHelper() { rt::stop_image_helper(/*leave_resident=*/true); }
   } stop_helper;
 
-  // §18: one frame (clock from --clock, default 0), or --frames A..B.
-  if (o.frames.empty() && o.frame)
-    return usage_error("--frame F picks one frame of a sequence: give --frames A..B with it");
   if (o.frames.empty()) {
     FrameJob job{o, copts, outputs, 0, o.clock.value_or(0.0)};
     int code = render_frame(job);
     return code < 0 ? kExitOk : code;
-  }
-  if (o.clock)
-    return usage_error(
-        "--clock sets the clock of a single frame; with --frames each frame's clock is "
-        "(frame - A) / (B - A): give one or the other");
-  IntRange frames;
-  if (!parse_range(o.frames, "--frames", std::numeric_limits<std::int32_t>::max(), frames, error))
-    return usage_error(error);
-  IntRange run = frames;  // the frames this process renders
-  if (o.frame) {
-    if (*o.frame < frames.begin || *o.frame >= frames.end)
-      return usage_error(fmt::format("--frame {} is not one of --frames {}", *o.frame, o.frames));
-    run = {*o.frame, *o.frame + 1};
   }
   rt::RenderStats total;
   std::set<std::string> warned;

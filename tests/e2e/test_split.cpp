@@ -520,6 +520,14 @@ TEST_CASE("animation and split options: usage errors exit 2 and write nothing",
     INFO(bad);
     CHECK(run(r + " " + bad) == 2);
   }
+  // --dump-ast takes the same options, and the same are wrong (it ignored them all).
+  for (const char* bad :
+       {"--frames 0..2 --clock 0.5", "--frames 3..1", "--frame 1", "--features bogus"}) {
+    INFO(bad);
+    CHECK(run("render " + (tmp / "ok.scn") + " --dump-ast " + bad) == 2);
+  }
+  CHECK(run("render " + (tmp / "ok.scn") + " --dump-ast -o " + (tmp / "x.foo")) == 2);
+  CHECK(run("render " + (tmp / "ok.scn") + " --dump-ast --frames 0..2") == 0);
   CHECK(!fs::exists(tmp / "x.exr"));
   CHECK(!fs::exists(tmp / "x_0000.exr"));
   CHECK(run("merge --help") == 0);
