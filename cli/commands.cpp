@@ -434,7 +434,10 @@ int render_frame(FrameJob& job) {
   if (job.first && rt::image_helper_running())
     if (int code = helper_verdict(*rt::image_helper_status(true), job.outputs); code >= 0)
       return code;
-  if (!result.trace.empty()) std::cerr << result.trace;
+  if (!result.trace.empty())
+    std::cerr << (job.of_frames ? fmt::format("frame {} (clock {}): ", job.frame, job.clock)
+                                : std::string())
+              << result.trace;
 
   rt::OutputInfo info;
   info.scene_path = o.scene;

@@ -534,6 +534,12 @@ TEST_CASE("a render with --pixel alone prints the ray tree and writes no image",
   std::ifstream whole(tmp / "out.txt");
   std::string with_image((std::istreambuf_iterator<char>(whole)), std::istreambuf_iterator<char>());
   CHECK(with_image.find(tree) != std::string::npos);
+  // Under --frames each frame's tree says which frame it is.
+  REQUIRE(in_tmp("ok.scn --pixel 4,4 --frames 0..2") == 0);
+  std::ifstream framed(tmp / "out.txt");
+  std::string frames((std::istreambuf_iterator<char>(framed)), std::istreambuf_iterator<char>());
+  CHECK(frames.find("frame 0 (clock 0): pixel (4, 4) sample 0") != std::string::npos);
+  CHECK(frames.find("frame 1 (clock 0.5): pixel (4, 4) sample 0") != std::string::npos);
 }
 
 TEST_CASE("inputs that are not files, sizes and numbers are reported as they are", "[e2e]") {
