@@ -315,10 +315,11 @@ int render_frame(FrameJob& job) {
   std::unique_ptr<compile::Compilation> c;
   if (int code = compile_scene(o, copts, c); code >= 0) return code;
   const ir::Scene& scene = c->scene;
-  if (o.dump_ir) {
+  if (o.dump_ir) {  // every frame's, under --frames, each under its own header
+    if (job.of_frames) std::cout << fmt::format("frame {} (clock {}):\n", job.frame, job.clock);
     std::cout << ir::to_string(scene);
     std::cout << "features:\n" << ir::to_string(ir::analyze_features(scene));
-    return kExitOk;
+    return -1;
   }
   rt::RenderOptions ropts;
   ropts.threads = o.threads;
@@ -539,7 +540,7 @@ int run_render(const CliArgs& o) {
     }
     std::int64_t done = f - run.begin + 1;
     double elapsed = overall.seconds();
-    if (!o.quiet)
+    if (!o.quiet && !o.dump_ir)
       std::cerr << fmt::format("frame {} ({}/{}, clock {}) done: {:.1f}s elapsed, ETA {:.1f}s\n", f,
                                done, run.size(), job.clock, elapsed,
                                elapsed / double(done) * double(run.size() - done));

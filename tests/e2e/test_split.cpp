@@ -492,6 +492,19 @@ TEST_CASE("animation: --frames renders each frame with its clock and names it",
   CHECK(!fs::exists(tmp / "l2.exr"));
 }
 
+// --dump-ir under --frames shows every frame's scene, each under its frame and
+// clock (it showed frame A's alone, without saying so).
+TEST_CASE("animation: --dump-ir shows each frame's scene", "[e2e][animation]") {
+  Scratch tmp;
+  std::ofstream(tmp / "c.scn") << "settings { resolution <8, 6> }\nsphere { radius 1 + clock }\n";
+  REQUIRE(run("render " + (tmp / "c.scn") + " --dump-ir --frames 0..3", tmp / "ir.txt") == 0);
+  const std::string ir = slurp(tmp / "ir.txt");
+  CHECK(ir.find("frame 0 (clock 0):") != std::string::npos);
+  CHECK(ir.find("frame 2 (clock 0.6666666666666666):") != std::string::npos);
+  CHECK(ir.find("radius 1.6666666666666665") != std::string::npos);
+  CHECK(ir.find("frame 3") == std::string::npos);
+}
+
 TEST_CASE("animation and split options: usage errors exit 2 and write nothing",
           "[e2e][animation][split]") {
   Scratch tmp;
