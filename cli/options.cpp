@@ -140,6 +140,17 @@ std::string did_you_mean(CLI::App& app, const std::vector<std::string>& args) {
     }
     for (const std::string& n : spelt) known = known || n == word;
     if (known) continue;
+    // Another command's option (`snell watch -o x.png`): say whose it is.
+    for (const CommandInfo& c : kCommands) {
+      CLI::App* other = app.get_subcommand(std::string(c.name));
+      if (other == sub) continue;
+      for (const CLI::Option* opt : other->get_options())
+        if (opt->check_name(word))
+          return "'" + word + "' is an option of 'snell " + std::string(c.name) +
+                 "', not of 'snell " + sub->get_name() + "'";
+    }
+    // One letter is one edit from every other (`-o` is not a misspelt `-h`).
+    if (word.size() <= 2) continue;
     std::vector<std::string_view> names(spelt.begin(), spelt.end());
     std::string guess = lang::closest_match(word, names);
     if (!guess.empty()) return "did you mean '" + guess + "'?";

@@ -375,4 +375,10 @@ TEST_CASE("a misspelt option or subcommand gets a did-you-mean note", "[cli][opt
   // Known options and words nothing is close to: no note.
   CHECK(cli::did_you_mean(line.app, {"render", "w.scn", "--spp", "4"}).empty());
   CHECK(cli::did_you_mean(line.app, {"render", "w.scn", "--xyzzyplugh"}).empty());
+  // Another command's option is said to be that command's; one letter is no slip.
+  CHECK(cli::did_you_mean(line.app, {"watch", "w.scn", "-o", "x.png"}) ==
+        "'-o' is an option of 'snell render', not of 'snell watch'");
+  CHECK(cli::did_you_mean(line.app, {"render", "w.scn", "--port", "3"}) ==
+        "'--port' is an option of 'snell watch', not of 'snell render'");
+  CHECK(cli::did_you_mean(line.app, {"render", "w.scn", "-z"}).empty());
 }
