@@ -62,10 +62,22 @@ int dispatch(unsigned command, const cli::CliArgs& o) {
         cli::SweepAxis axis;
         if (!cli::parse_axis(v, axis))
           return cli::usage_error("--vary takes KEY=V1,V2,..., got '" + v + "'");
+        // One knob is one table and one plot: a second --vary of it wrote over the
+        // first's plot and repeated its table.
+        for (const cli::SweepAxis& earlier : so.vary)
+          if (earlier.key == axis.key)
+            return cli::usage_error("--vary " + axis.key +
+                                    " is given twice: give all its values in one --vary");
         so.vary.push_back(axis);
       }
       if (!o.series.empty() && !cli::parse_axis(o.series, so.series))
         return cli::usage_error("--series takes KEY=V1,V2,..., got '" + o.series + "'");
+      // A knob both varied and the series: the series' value was overridden by the
+      // row's, yet the rows were labelled with it.
+      for (const cli::SweepAxis& axis : so.vary)
+        if (!so.series.key.empty() && axis.key == so.series.key)
+          return cli::usage_error("'" + axis.key +
+                                  "' is both varied and the series: a knob can be only one");
       return cli::run_sweep(so);
     }
   }

@@ -412,7 +412,8 @@ TEST_CASE("sweep checks every configuration before it renders anything", "[e2e]"
                                   "point_light { position <0, 3, -3> intensity 10 }\n"
                                   "sphere { center <0, 0, 4> }\n";
   std::string err;
-  for (const char* vary : {"max_depth=2,-1", "'resolution=<16,12>,<8,6>'", "nosuch=1,2"}) {
+  for (const char* vary : {"max_depth=2,-1", "'resolution=<16,12>,<8,6>'", "nosuch=1,2",
+                           "samples=1,2 --vary samples=4", "samples=1,2 --series samples=16,32"}) {
     INFO(vary);
     const fs::path out = tmp.dir / "out";
     CHECK(run_capture("sweep " + (tmp / "s.scn") + " --vary " + vary + " --out " + out.string(),
