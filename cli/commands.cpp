@@ -142,6 +142,8 @@ int compile_scene(const CliArgs& o, std::unique_ptr<compile::Compilation>& out) 
   return compile_scene(o, copts, out);
 }
 
+}  // namespace
+
 // An output that cannot be written fails before the render, not after (exit 3,
 // §10): its folder is missing, not a folder or not writable, or the path is a
 // folder or something other than a file. (A full disk is found when writing; the
@@ -168,8 +170,6 @@ int check_output_folder(const std::string& out) {
     return fail("the folder " + folder + " is not writable (" + std::strerror(errno) + ")");
   return -1;
 }
-
-}  // namespace
 
 // An output never replaces a file the work reads (§10: nothing is lost): the
 // scene, an import, a mesh, an image, a piece being merged. The same file by

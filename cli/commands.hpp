@@ -29,6 +29,10 @@ int check_not_an_input(const std::vector<std::string>& outputs,
                        const std::vector<std::string>& inputs);
 // The files a compiled scene was made from.
 std::vector<std::string> scene_inputs(const ir::Scene& s);
+// An output that cannot be written is said before the work (exit 3, §10): its
+// folder missing or not a folder, the path a folder or not a regular file.
+// kExitIo after printing why, or -1.
+int check_output_folder(const std::string& out);
 
 // §17 for editors (`snell lsp`, compile::CompileOptions::unreadable_images): each
 // image opened through the texture system once per version of its file (its size

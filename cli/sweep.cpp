@@ -145,11 +145,14 @@ class Sweeper {
       case compile::CompileStatus::Ok:
         break;
       case compile::CompileStatus::SceneErrors:
-        code = kExitScene;
+      case compile::CompileStatus::FileErrors: {
+        // The closing line `snell render` and `snell check` print.
+        const std::size_t n = comp->diags.error_count();
+        std::cerr << (comp->diags.counts_are_lower_bounds() ? "at least " : "") << n << " error"
+                  << (n == 1 ? "" : "s") << " in " << o_.scene << "\n";
+        code = comp->status == compile::CompileStatus::FileErrors ? kExitIo : kExitScene;
         return false;
-      case compile::CompileStatus::FileErrors:
-        code = kExitIo;
-        return false;
+      }
       case compile::CompileStatus::UsageError:
         std::cerr << "snell sweep: error: " << comp->message << "\n";
         code = kExitUsage;
@@ -553,6 +556,10 @@ int run_sweep(const SweepOptions& options) {
           outputs.push_back((dir / image_name(stem, axis.key, v, sv)).string());
     }
     if (int code = check_not_an_input(outputs, inputs); code >= 0) return code;
+    // --markdown may lie outside --out: a folder that is not there (or a folder
+    // given as the file) is said now, not after every render.
+    if (!options.markdown.empty())
+      if (int code = check_output_folder(options.markdown); code >= 0) return code;
   }
   Sweeper s(options);
   return s.run();

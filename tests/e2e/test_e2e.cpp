@@ -371,6 +371,16 @@ TEST_CASE("sweep writes its tables whole or not at all, and says why it cannot",
   std::ofstream(tmp / "out/s.csv") << "OLD\n";
   CHECK(run_capture(base + (tmp / "out") + " --markdown " + (tmp / "md-folder"), err, tmp) == 3);
   CHECK(err.find("md-folder") != std::string::npos);
+  // Said before any render: the tables beside it are not written either.
+  std::ifstream old(tmp / "out/s.csv");
+  CHECK(std::string(std::istreambuf_iterator<char>(old), {}) == "OLD\n");
+  CHECK(run_capture(base + (tmp / "out") + " --markdown " + (tmp / "nodir/x.md"), err, tmp) == 3);
+  CHECK(err.find("does not exist") != std::string::npos);
+  // A scene with errors: its diagnostics and the closing line render prints.
+  std::ofstream(tmp / "bad.scn") << "sphere { radus 1 }\n";
+  CHECK(run_capture("sweep " + (tmp / "bad.scn") + " --vary samples=1,2 --out " + (tmp / "b"), err,
+                    tmp) == 1);
+  CHECK(err.find("1 error in") != std::string::npos);
   std::ofstream(tmp / "a-file") << "x\n";
   CHECK(run_capture(base + (tmp / "a-file"), err, tmp) == 3);
   CHECK(err.find("cannot create the folder") != std::string::npos);
