@@ -342,6 +342,7 @@ class Sweeper {
 
   const SweepOptions& o_;
   std::vector<SweepRow> rows_;
+  std::string link_;  // from the Markdown's folder to --out, "" or ending in '/'
 };
 
 std::string pct(double x) {
@@ -404,7 +405,7 @@ std::string Sweeper::reading(const SweepAxis& axis) const {
              " s): left `" + o_.series.key + " " + pa->series_value + "`, `" + axis.key + " " +
              pa->value + "` (RMSE " + num(pa->rmse) + "); right `" + o_.series.key + " " +
              pb->series_value + "`, `" + axis.key + " " + pb->value + "` (RMSE " + num(pb->rmse) +
-             ").\n\n  ![](" + pa->image + ") ![](" + pb->image + ")\n";
+             ").\n\n  ![](" + link_ + pa->image + ") ![](" + link_ + pb->image + ")\n";
   }
   // Slope of log error against log time along each curve.
   std::map<std::string, std::vector<const SweepRow*>> curves;
@@ -481,6 +482,14 @@ std::string Sweeper::write_outputs(const std::string& stem) {
                                       {"rows", std::move(rows)}};
   std::ostringstream json;
   json << doc.dump(2) << '\n';
+  // The Markdown's links to the plots and images in --out, from its own folder
+  // (it may lie elsewhere: docs/accuracy/ beside build/sweeps/).
+  if (!o_.markdown.empty()) {
+    std::error_code ec;
+    const fs::path from = fs::weakly_canonical(fs::absolute(o_.markdown), ec).parent_path();
+    const fs::path rel = fs::weakly_canonical(fs::absolute(dir), ec).lexically_relative(from);
+    link_ = rel.empty() || rel == "." ? "" : rel.generic_string() + "/";
+  }
   std::ostringstream md;
   for (const SweepAxis& axis : o_.vary) {
     Plot plot;
@@ -503,7 +512,7 @@ std::string Sweeper::write_outputs(const std::string& stem) {
     if (std::string e = save(dir / svg_name, render_svg(plot)); !e.empty()) return e;
     md << "### " << stem << ": " << axis.key << (o_.series.key.empty() ? "" : " × " + o_.series.key)
        << "\n\n";
-    md << "![" << plot.title << "](" << svg_name << ")\n\n";
+    md << "![" << plot.title << "](" << link_ << svg_name << ")\n\n";
     md << "| " << axis.key << " |" << (o_.series.key.empty() ? "" : " " + o_.series.key + " |")
        << " time (s) | RMSE | relMSE | 1 − SSIM | rays |\n|---|"
        << (o_.series.key.empty() ? "" : "---|") << "---|---|---|---|---|\n";

@@ -433,6 +433,33 @@ TEST_CASE("sweep checks every configuration before it renders anything", "[e2e]"
   }
 }
 
+// The Markdown links its plots and images from its own folder: written outside
+// --out its links pointed beside it, where nothing is.
+TEST_CASE("sweep's Markdown links from its own folder", "[e2e]") {
+  Scratch tmp;
+  std::ofstream(tmp / "s.scn") << "settings { resolution <8, 6> }\n"
+                                  "point_light { position <0, 3, -3> intensity 10 }\n"
+                                  "sphere { center <0, 0, 4> }\n";
+  fs::create_directories(tmp.dir / "docs");
+  std::string err;
+  REQUIRE(run_capture("sweep " + (tmp / "s.scn") +
+                          " --vary samples=1,2 --reference-spp 2 --quiet --out " + (tmp / "out") +
+                          " --markdown " + (tmp / "docs/r.md"),
+                      err, tmp) == 0);
+  std::ifstream in(tmp / "docs/r.md");
+  const std::string md(std::istreambuf_iterator<char>(in), {});
+  CHECK(md.find("](../out/s-samples.svg)") != std::string::npos);
+  CHECK(fs::exists(tmp / "out/s-samples.svg"));
+  // Inside --out, as before: beside it.
+  REQUIRE(run_capture("sweep " + (tmp / "s.scn") +
+                          " --vary samples=1,2 --reference-spp 2 --quiet --out " + (tmp / "out") +
+                          " --markdown " + (tmp / "out/r.md"),
+                      err, tmp) == 0);
+  std::ifstream in2(tmp / "out/r.md");
+  CHECK(std::string(std::istreambuf_iterator<char>(in2), {}).find("](s-samples.svg)") !=
+        std::string::npos);
+}
+
 TEST_CASE("sweep never writes over a file it reads, and --name is no path", "[e2e]") {
   // --markdown onto the scene, or --out beside a scene named like its CSV, replaced
   // the scene with exit 0; render and merge refused the same. A '/' in --name
