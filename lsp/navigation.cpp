@@ -42,6 +42,19 @@ class Outline {
           json f = symbol(s.name, kFunction, s.span, s.name_span, "(" + params + ")");
           json children = json::array();
           add(s.body, children);
+          // `fn mk(n) = sphere { radius n };`: what an expression body makes too.
+          if (!s.exprs.empty() && s.exprs[0] && s.exprs[0]->kind == lang::ExprKind::Object) {
+            const lang::Expr& e = *s.exprs[0];
+            const lang::Span kw{e.span.file, e.span.begin,
+                                e.span.begin + static_cast<std::uint32_t>(e.text.size())};
+            json item = symbol(e.text, kObject, e.span, kw, "");
+            if (e.block && !e.block->statements.empty()) {
+              json inner = json::array();
+              add(e.block->statements, inner);
+              if (!inner.empty()) item["children"] = std::move(inner);
+            }
+            children.push_back(std::move(item));
+          }
           if (!children.empty()) f["children"] = std::move(children);
           out.push_back(std::move(f));
           break;

@@ -110,6 +110,17 @@ async def test_document_symbols(client, tmp_path):
     assert pillar.selection_range.start == find(SCENE, "pillar")
 
 
+async def test_document_symbols_of_an_expression_bodied_fn(client, tmp_path):
+    text = "fn mk(n) = union { sphere { radius n } box { min 0 max 1 } };\n"
+    uri = await open_doc(client, tmp_path / "e.scn", text)
+    syms = await client.text_document_document_symbol_async(
+        types.DocumentSymbolParams(text_document=doc(uri))
+    )
+    mk = next(s for s in syms if s.name == "mk")
+    assert [c.name for c in mk.children] == ["union"]
+    assert [c.name for c in mk.children[0].children] == ["sphere", "box"]
+
+
 async def test_hover_in_groups_and_constructors(client, tmp_path):
     text = "union {\n  sphere { radius 1 }\n  translate <0, 1, 0>\n}\nlet g = dielectric { ior 1.5 };\n"
     uri = await open_doc(client, tmp_path / "h.scn", text)
