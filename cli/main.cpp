@@ -111,7 +111,16 @@ int main(int argc, char** argv) {
   // machine does not have is reported (exit 1: the scene asks for it); anything
   // else escaping is a Snell bug, reported as such.
   try {
-    return dispatch(cli::parsed_command(app), o);
+    int code = dispatch(cli::parsed_command(app), o);
+    // What was printed on stdout (check's report, --dump-ir, dump-ast, watch's URL)
+    // is output too (§10: 3 when it cannot be written): a full disk or a closed
+    // pipe behind it lost it, with exit 0.
+    std::cout.flush();
+    if (!std::cout && code == kExitOk) {
+      std::cerr << "snell: error: cannot write the standard output\n";
+      return cli::kExitIo;
+    }
+    return code;
   } catch (const std::bad_alloc&) {
     std::cerr << "snell: error: out of memory (the scene needs more memory than this machine "
                  "has; lower the resolution, samples or geometry)\n";

@@ -174,6 +174,13 @@ TEST_CASE("exit codes follow spec §10", "[e2e]") {
   CHECK(!fs::exists(tmp / "x.png"));
   CHECK(run("check " + (tmp / "bad.scn")) == 1);
   CHECK(run("check " + (tmp / "ok.scn")) == 0);
+  // What goes to stdout is output too: a full disk behind it is exit 3, not a loss.
+  for (const std::string& cmd : {"check " + (tmp / "ok.scn"), "dump-ast " + (tmp / "ok.scn"),
+                                 "render " + (tmp / "ok.scn") + " --dump-ir"}) {
+    INFO(cmd);
+    int status = std::system((kSnell + " " + cmd + " > /dev/full 2> /dev/null").c_str());
+    CHECK((WIFEXITED(status) ? WEXITSTATUS(status) : -1) == 3);
+  }
   CHECK(run("render " + (tmp / "missing.scn")) == 3);
   CHECK(run("render") == 2);
   CHECK(run("render " + (tmp / "ok.scn") + " --bogus") == 2);
