@@ -458,7 +458,7 @@ int render_frame(FrameJob& job) {
   }
   if (o.stats)
     std::cerr << result.stats.to_string() << result.texture_stats
-              << "images encoded by: " << rt::image_writer_kind() << "\n";
+              << "images encoded by: " << rt::image_encoder_for(result.image) << "\n";
   if (result.stats.nonfinite_samples > 0)
     std::cerr << "snell: warning: " << result.stats.nonfinite_samples
               << " non-finite sample(s) were dropped\n";

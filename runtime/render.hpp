@@ -129,6 +129,9 @@ struct OutputInfo {
 // missing module is an error message, like a failed write.
 std::string write_image(const std::string& path, const Image& image, const OutputInfo& info,
                         const DisplayView& display);
+// Who encodes `image` for write_image: "this process", or the image helper or
+// resident server (image_writer_kind) for images whose film is at most 64 MB.
+std::string image_encoder_for(const Image& image);
 
 // An image file read back (snell merge): its pixels as linear float RGB (the
 // first three channels), its data window at its place in the display window,

@@ -12,6 +12,9 @@ namespace snell::rt {
 
 namespace {
 
+// A max_depth past which the scene is warned of its time (scene_warnings).
+constexpr std::uint32_t kDeepTree = 1000;
+
 bool black(const ir::Texture& t) {
   const ir::Constant* c = std::get_if<ir::Constant>(&t.pattern);
   return c && c->color.x == 0 && c->color.y == 0 && c->color.z == 0;
@@ -77,6 +80,15 @@ std::vector<SceneWarning> scene_warnings(const ir::Scene& scene) {
                               : "it will see only that object's inside"),
            s.src});
     }
+  // A ray tree as deep as asked is traced (mirrors that face each other reflect to
+  // the last level, min_weight 0 prunes nothing): a render's time grows with it,
+  // and at a million levels a 64×48 image took minutes, at 2^32 it would take days.
+  if (scene.settings.max_depth > kDeepTree)
+    out.push_back({fmt::format("max_depth {} lets a ray tree be that deep (mirrors facing each "
+                               "other reflect to the last level), and a render takes time in "
+                               "proportion; scenes seldom need more than 100",
+                               scene.settings.max_depth),
+                   scene.settings.src});
   // Boxes, triangles, meshes and instances move in linear steps (at most 128, each
   // turning at most 90°); spheres and the other shapes are placed exactly per ray.
   for (const ir::Shape& s : scene.shapes) {
