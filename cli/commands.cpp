@@ -315,12 +315,6 @@ int render_frame(FrameJob& job) {
   std::unique_ptr<compile::Compilation> c;
   if (int code = compile_scene(o, copts, c); code >= 0) return code;
   const ir::Scene& scene = c->scene;
-  if (o.dump_ir) {  // every frame's, under --frames, each under its own header
-    if (job.of_frames) std::cout << fmt::format("frame {} (clock {}):\n", job.frame, job.clock);
-    std::cout << ir::to_string(scene);
-    std::cout << "features:\n" << ir::to_string(ir::analyze_features(scene));
-    return -1;
-  }
   rt::RenderOptions ropts;
   ropts.threads = o.threads;
   ropts.general_kernel = o.features == "all";
@@ -353,6 +347,15 @@ int render_frame(FrameJob& job) {
     // rendered and thrown away (a second where a millisecond does), and --stats
     // counts that pixel's rays.
     if (job.outputs.empty()) ropts.crop = Window{x, y, x + 1, y + 1};
+  }
+  // --dump-ir after the options that take the scene's size are checked (a
+  // --pixel, --crop or --sample-range it cannot have was taken silently): every
+  // frame's, under --frames, each under its own header.
+  if (o.dump_ir) {
+    if (job.of_frames) std::cout << fmt::format("frame {} (clock {}):\n", job.frame, job.clock);
+    std::cout << ir::to_string(scene);
+    std::cout << "features:\n" << ir::to_string(ir::analyze_features(scene));
+    return -1;
   }
 
   if (int code = check_not_an_input(job.outputs, scene_inputs(scene)); code >= 0) return code;

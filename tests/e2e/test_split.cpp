@@ -541,6 +541,12 @@ TEST_CASE("animation and split options: usage errors exit 2 and write nothing",
   }
   CHECK(run("render " + (tmp / "ok.scn") + " --dump-ast -o " + (tmp / "x.foo")) == 2);
   CHECK(run("render " + (tmp / "ok.scn") + " --dump-ast --frames 0..2") == 0);
+  // --dump-ir, after the scene's size is known: what does not fit it is wrong too.
+  for (const char* bad : {"--pixel garbage", "--crop 1,1,0,0", "--sample-range 5..9"}) {
+    INFO(bad);
+    CHECK(run("render " + (tmp / "ok.scn") + " --dump-ir " + bad) == 2);
+  }
+  CHECK(run("render " + (tmp / "ok.scn") + " --dump-ir --pixel 3,3") == 0);
   CHECK(!fs::exists(tmp / "x.exr"));
   CHECK(!fs::exists(tmp / "x_0000.exr"));
   CHECK(run("merge --help") == 0);
