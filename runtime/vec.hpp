@@ -129,6 +129,10 @@ using Color = Vec3f;
 // scene 1e-3 units across (robustness #2, #4). Scaling the switch point and that
 // step with the scene keeps every scene of size >= 1 bit-identical to the
 // published method and makes tiny scenes behave like unit ones.
+[[gnu::always_inline]] inline Vec3f offset_ray_origin(Vec3f p, Vec3f n, float scale = 1.0f) {
+  return {offset_coord(p.x, n.x, scale), offset_coord(p.y, n.y, scale),
+          offset_coord(p.z, n.z, scale)};
+}
 // The Wächter–Binder scale for a point whose rounding comes from coordinates of at
 // most `reach` (camera-relative): the scene's size around the camera, or less for a
 // point much nearer the camera than that. With the scene's size alone, points near
@@ -139,10 +143,6 @@ using Color = Vec3f;
 // scene's size keep the scene's scale, to the bit.
 [[gnu::always_inline]] inline float near_scale(float scale, float reach) {
   return std::fmin(scale, std::fmax(32.0f * reach, 0x1p-100f));
-}
-[[gnu::always_inline]] inline Vec3f offset_ray_origin(Vec3f p, Vec3f n, float scale = 1.0f) {
-  return {offset_coord(p.x, n.x, scale), offset_coord(p.y, n.y, scale),
-          offset_coord(p.z, n.z, scale)};
 }
 
 // An orthonormal basis around unit `n` (Duff et al. 2017, JCGT 6(1)): no

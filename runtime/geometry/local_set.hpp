@@ -146,7 +146,8 @@ class MovingLocalSet {
                                   .inv;
     return hit_local(m.surface, local_from_rel, o, d, tnear, tfar, t, n);
   }
-  // o + t·d, offset 0 (the Wächter–Binder offset covers its error).
+  // o + t·d with no bound of its own (unbounded_offset): the Wächter–Binder offset
+  // covers its error.
   void refine(unsigned, const Ray& r, float t, Hit& hit) const {
     hit.p = r.org + r.dir * t, hit.offset = unbounded_offset(r, hit.p);
   }

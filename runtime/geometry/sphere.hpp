@@ -182,7 +182,8 @@ class MovingSphereSet {
     return may_hit(spheres_[prim], time, o, d, tnear, tfar) &&
            hit_exact(prim, time, o, d, tnear, tfar, t, n);
   }
-  // o + t·d, offset 0 (the Wächter–Binder offset covers its error).
+  // o + t·d with no bound of its own (unbounded_offset): the Wächter–Binder offset
+  // covers its error.
   void refine(unsigned, const Ray& r, float t, Hit& hit) const {
     hit.p = r.org + r.dir * t, hit.offset = unbounded_offset(r, hit.p);
   }
