@@ -112,12 +112,9 @@ int compile_scene(const CliArgs& o, const compile::CompileOptions& given,
     case compile::CompileStatus::Ok:
       break;
     case compile::CompileStatus::SceneErrors:
-    case compile::CompileStatus::FileErrors: {
-      std::size_t n = out->diags.error_count();
-      std::cerr << (out->diags.counts_are_lower_bounds() ? "at least " : "") << n << " error"
-                << (n == 1 ? "" : "s") << " in " << o.scene << "\n";
+    case compile::CompileStatus::FileErrors:
+      std::cerr << error_count_line(out->diags, o.scene);
       return out->status == compile::CompileStatus::FileErrors ? kExitIo : kExitScene;
-    }
     case compile::CompileStatus::UsageError:
       return usage_error(out->message);
     case compile::CompileStatus::IoError:
@@ -143,6 +140,12 @@ int compile_scene(const CliArgs& o, std::unique_ptr<compile::Compilation>& out) 
 }
 
 }  // namespace
+
+std::string error_count_line(const lang::DiagnosticEngine& diags, const std::string& scene) {
+  const std::size_t n = std::max<std::size_t>(diags.error_count(), 1);
+  return fmt::format("{}{} error{} in {}\n", diags.counts_are_lower_bounds() ? "at least " : "", n,
+                     n == 1 ? "" : "s", scene);
+}
 
 // An output that cannot be written fails before the render, not after (exit 3,
 // §10): its folder is missing, not a folder or not writable, or the path is a

@@ -29,6 +29,9 @@ int check_not_an_input(const std::vector<std::string>& outputs,
                        const std::vector<std::string>& inputs);
 // The files a compiled scene was made from.
 std::vector<std::string> scene_inputs(const ir::Scene& s);
+// The closing line of a scene's diagnostics, as `snell check` prints it: "3 errors
+// in scene.scn" ("at least" when the parse stopped at --max-errors; at least one).
+std::string error_count_line(const lang::DiagnosticEngine& diags, const std::string& scene);
 // An output that cannot be written is said before the work (exit 3, §10): its
 // folder missing or not a folder, the path a folder or not a regular file.
 // kExitIo after printing why, or -1.

@@ -145,14 +145,10 @@ class Sweeper {
       case compile::CompileStatus::Ok:
         break;
       case compile::CompileStatus::SceneErrors:
-      case compile::CompileStatus::FileErrors: {
-        // The closing line `snell render` and `snell check` print.
-        const std::size_t n = comp->diags.error_count();
-        std::cerr << (comp->diags.counts_are_lower_bounds() ? "at least " : "") << n << " error"
-                  << (n == 1 ? "" : "s") << " in " << o_.scene << "\n";
+      case compile::CompileStatus::FileErrors:
+        std::cerr << error_count_line(comp->diags, o_.scene);
         code = comp->status == compile::CompileStatus::FileErrors ? kExitIo : kExitScene;
         return false;
-      }
       case compile::CompileStatus::UsageError:
         std::cerr << "snell sweep: error: " << comp->message << "\n";
         code = kExitUsage;

@@ -196,13 +196,9 @@ class Watcher {
     // be the next file saved.
     files_.set_files(files_read(o_.scene, c.get(), copts), !ok);
     if (!ok) {
-      std::size_t n = c ? c->diags.error_count() : 1;
-      if (n == 0) n = 1;
-      // The closing line as `snell check` prints it ("at least" when the parse
-      // stopped at --max-errors).
-      diagnostics += fmt::format("{}{} error{} in {}\n",
-                                 c && c->diags.counts_are_lower_bounds() ? "at least " : "", n,
-                                 n == 1 ? "" : "s", o_.scene);
+      const std::size_t n = c ? std::max<std::size_t>(c->diags.error_count(), 1) : 1;
+      diagnostics +=
+          c ? error_count_line(c->diags, o_.scene) : fmt::format("1 error in {}\n", o_.scene);
       page_.set_diagnostics(diagnostics, true);
       page_.set_status(fmt::format("{} error{}: waiting for a change", n, n == 1 ? "" : "s"));
       if (!o_.quiet) std::cerr << diagnostics;
