@@ -247,9 +247,15 @@ SNELL_AVX512DQ_TARGET void stratified_lanes_avx512(const SamplerSpec& spec, cons
   U32x16 p = __builtin_shufflevector(__builtin_convertvector(key[0], U32x8),
                                      __builtin_convertvector(key[1], U32x8), 0, 1, 2, 3, 4, 5, 6, 7,
                                      8, 9, 10, 11, 12, 13, 14, 15);
-  U32x16 perm = permute16(index, div, v ? spec.cells_mask : spec.n_mask, p);
-  // hash_combine(key ^ 0x5bd1e995, index): the index's hash is the same in every lane.
+  // The jitter hashes first: they do not depend on the permutation, so they fill
+  // the latency of its rounds instead of waiting behind its loop's exit branch.
   const std::uint64_t hb = hash64(index) + 0x9e3779b97f4a7c15ull;
+  U64x8 jit[2];
+  for (int h = 0; h < 2; ++h) {
+    U64x8 a = key[h] ^ 0x5bd1e995u;
+    jit[h] = hash64_8(a ^ (hb + (a << 6) + (a >> 2)));
+  }
+  U32x16 perm = permute16(index, div, v ? spec.cells_mask : spec.n_mask, p);
   for (int h = 0; h < 2; ++h) {
     U64x8 cell;
     if (div.d <= 1) {
@@ -261,11 +267,9 @@ SNELL_AVX512DQ_TARGET void stratified_lanes_avx512(const SamplerSpec& spec, cons
       std::memcpy(&ph, reinterpret_cast<const std::uint32_t*>(&p) + 8 * h, 32);
       cell = rem8(widen(half + ph), div);  // the u32 sum wraps, as in permute
     }
-    U64x8 a = key[h] ^ 0x5bd1e995u;
-    U64x8 jit = hash64_8(a ^ (hb + (a << 6) + (a >> 2)));
-    F32x8 ju = unit8(jit);
+    F32x8 ju = unit8(jit[h]);
     if (v) {
-      F32x8 jv = unit8(jit >> 32);
+      F32x8 jv = unit8(jit[h] >> 32);
       U64x8 cy = quot8(cell, spec.div_k), cx = cell - cy * spec.k;
       F32x8 fu = place8(cx, ju, spec.div_k), fv = place8(cy, jv, spec.div_m);
       std::memcpy(u + 8 * h, &fu, 32);
