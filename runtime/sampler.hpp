@@ -360,13 +360,21 @@ void stratified2_lanes(const SamplerSpec& spec, const StrataLanes& k, std::uint3
                        std::uint32_t index, float* u, float* v);
 void stratified1_lanes(const SamplerSpec& spec, const StrataLanes& k, std::uint32_t n,
                        std::uint32_t index, float* u);
+// count (at most kMaxStrataDims) 2-D dimensions of the same lanes at once: k[c]
+// into u[c], v[c], the numbers of stratified2_lanes on each. Faster than one by
+// one where the grid is not a power of two: each dimension's permutation walks a
+// chain of dependent products, and the chains interleave.
+inline constexpr std::uint32_t kMaxStrataDims = 4;
+void stratified2_lanes(const SamplerSpec& spec, const StrataLanes* const* k, std::uint32_t count,
+                       std::uint32_t n, std::uint32_t index, float* const* u, float* const* v);
 // The paths, best first, and one by name (v null: the 1-D draw), for tests and
-// benchmarks.
+// benchmarks. A path's function draws `count` dimensions as the overload above
+// (v null: 1-D draws).
 std::vector<std::string> stratified_lanes_paths();
 bool stratified_lanes_with(const std::string& path, const SamplerSpec& spec, const StrataLanes& k,
                            std::uint32_t n, std::uint32_t index, float* u, float* v);
-using StratifiedLanesFn = void (*)(const SamplerSpec&, const StrataLanes&, std::uint32_t,
-                                   std::uint32_t, float*, float*);
+using StratifiedLanesFn = void (*)(const SamplerSpec&, const StrataLanes* const*, std::uint32_t,
+                                   std::uint32_t, std::uint32_t, float* const*, float* const*);
 StratifiedLanesFn stratified_lanes_path(const std::string& path);
 
 // A packet's lanes of per-lane sampler keys (cell_keys_lanes).

@@ -138,8 +138,8 @@ bool avx512_supported() {
 // grid's sides are powers of two), and the divisions are vdivpd (exact products
 // for powers of two): the same IEEE results on the same operands, so the same bits.
 // generic: the scalar draws, lane by lane.
-void stratified_lanes_generic(const SamplerSpec& spec, const StrataLanes& k, std::uint32_t n,
-                              std::uint32_t index, float* u, float* v) {
+void stratified_one_generic(const SamplerSpec& spec, const StrataLanes& k, std::uint32_t n,
+                            std::uint32_t index, float* u, float* v) {
   for (std::uint32_t l = 0; l < n; ++l) {
     if (v) {
       Sample2 s = sample2(spec, DimKey{k.key[l]}, index);
@@ -148,6 +148,12 @@ void stratified_lanes_generic(const SamplerSpec& spec, const StrataLanes& k, std
       u[l] = sample1(spec, DimKey{k.key[l]}, index);
     }
   }
+}
+void stratified_lanes_generic(const SamplerSpec& spec, const StrataLanes* const* k,
+                              std::uint32_t count, std::uint32_t n, std::uint32_t index,
+                              float* const* u, float* const* v) {
+  for (std::uint32_t c = 0; c < count; ++c)
+    stratified_one_generic(spec, *k[c], n, index, u[c], v ? v[c] : nullptr);
 }
 
 #ifdef SNELL_HAVE_AVX512_PATH
@@ -198,88 +204,128 @@ SNELL_AVX512DQ_TARGET inline F32x8 unit8(U64x8 bits) {
          (1.0f / 16777216.0f);
 }
 
-// permute(index, l, w, p) of 16 lanes of p. Kensler's rounds are written again
-// here, as lk16 is: the scalar code cannot be inlined into a function of another
-// target; test_sampler.cpp holds the two to the same bits.
-SNELL_AVX512DQ_TARGET inline U32x16 permute16(std::uint32_t index, const Divisor32& l,
-                                              std::uint32_t w, U32x16 p) {
-  if (l.d <= 1) return U32x16{};
-  U32x16 i = U32x16{} + index, out = {};
-  __mmask16 todo = 0xffff;
-  while (todo) {
-    i ^= p;
-    i *= 0xe170893d;
-    i ^= p >> 16;
-    i ^= (i & w) >> 4;
-    i ^= p >> 8;
-    i *= 0x0929eb3f;
-    i ^= p >> 23;
-    i ^= (i & w) >> 1;
-    i *= 1 | p >> 27;
-    i *= 0x6935fa69;
-    i ^= (i & w) >> 11;
-    i *= 0x74dcb303;
-    i ^= (i & w) >> 2;
-    i *= 0x9e501cc3;
-    i ^= (i & w) >> 2;
-    i *= 0xc860a3df;
-    i &= w;
-    i ^= i >> 5;
-    __mmask16 in = _mm512_cmplt_epu32_mask(__m512i(i), _mm512_set1_epi32(int(l.d))) & todo;
-    out = U32x16(_mm512_mask_mov_epi32(__m512i(out), in, __m512i(i)));
-    todo &= __mmask16(~in);
+// permute(index, l, w, p[c]) of 16 lanes of N key sets p[c]. Kensler's rounds
+// are written again here, as lk16 is: the scalar code cannot be inlined into a
+// function of another target; test_sampler.cpp holds the two to the same bits.
+// A round is one dependent chain of ~40 cycles (seven products), so the N walks
+// go in one loop, each round of one filling the others' latency; a chain that is
+// done still runs its rounds (cheaper than a branch), keeping its first value in
+// range.
+template <int N>
+SNELL_AVX512DQ_TARGET inline void permute16(std::uint32_t index, const Divisor32& l,
+                                            std::uint32_t w, const U32x16* p, U32x16* out) {
+  U32x16 i[N];
+  __mmask16 todo[N];
+  for (int c = 0; c < N; ++c) i[c] = U32x16{} + index, out[c] = U32x16{}, todo[c] = 0xffff;
+  if (l.d <= 1) return;
+  for (;;) {
+    __mmask16 any = 0;
+    for (int c = 0; c < N; ++c) {
+      U32x16 x = i[c];
+      const U32x16 q = p[c];
+      x ^= q;
+      x *= 0xe170893d;
+      x ^= q >> 16;
+      x ^= (x & w) >> 4;
+      x ^= q >> 8;
+      x *= 0x0929eb3f;
+      x ^= q >> 23;
+      x ^= (x & w) >> 1;
+      x *= 1 | q >> 27;
+      x *= 0x6935fa69;
+      x ^= (x & w) >> 11;
+      x *= 0x74dcb303;
+      x ^= (x & w) >> 2;
+      x *= 0x9e501cc3;
+      x ^= (x & w) >> 2;
+      x *= 0xc860a3df;
+      x &= w;
+      x ^= x >> 5;
+      i[c] = x;
+      __mmask16 in = _mm512_cmplt_epu32_mask(__m512i(x), _mm512_set1_epi32(int(l.d))) & todo[c];
+      out[c] = U32x16(_mm512_mask_mov_epi32(__m512i(out[c]), in, __m512i(x)));
+      todo[c] &= __mmask16(~in);
+      any |= todo[c];
+    }
+    if (!any) return;
   }
-  return out;
 }
 
-SNELL_AVX512DQ_TARGET void stratified_lanes_avx512(const SamplerSpec& spec, const StrataLanes& k,
-                                                   std::uint32_t n, std::uint32_t index, float* u,
-                                                   float* v) {
-  static_assert(StrataLanes::kLanes == 16);
+// The draws of N dimensions (key sets k[c]) at one sample index.
+template <int N>
+SNELL_AVX512DQ_TARGET void stratified_n_avx512(const SamplerSpec& spec, const StrataLanes* const* k,
+                                               std::uint32_t index, float* const* u,
+                                               float* const* v) {
+  const Divisor32& div = v ? spec.div_cells : spec.div_n;
+  U64x8 key[N][2];
+  U32x16 p[N];
+  for (int c = 0; c < N; ++c) {
+    std::memcpy(key[c], k[c]->key, 128);
+    p[c] = __builtin_shufflevector(__builtin_convertvector(key[c][0], U32x8),
+                                   __builtin_convertvector(key[c][1], U32x8), 0, 1, 2, 3, 4, 5, 6,
+                                   7, 8, 9, 10, 11, 12, 13, 14, 15);
+  }
+  // hash_combine(key ^ 0x5bd1e995, index): the index's hash is the same in every
+  // lane. The jitter hashes go first: they do not depend on the permutation, so
+  // they fill the latency of its rounds instead of waiting behind its loop.
+  const std::uint64_t hb = hash64(index) + 0x9e3779b97f4a7c15ull;
+  U64x8 jit[N][2];
+  for (int c = 0; c < N; ++c)
+    for (int h = 0; h < 2; ++h) {
+      U64x8 a = key[c][h] ^ 0x5bd1e995u;
+      jit[c][h] = hash64_8(a ^ (hb + (a << 6) + (a >> 2)));
+    }
+  U32x16 perm[N];
+  permute16<N>(index, div, v ? spec.cells_mask : spec.n_mask, p, perm);
+  for (int c = 0; c < N; ++c)
+    for (int h = 0; h < 2; ++h) {
+      U64x8 cell;
+      if (div.d <= 1) {
+        cell = U64x8{};
+      } else {
+        U32x8 half;
+        std::memcpy(&half, reinterpret_cast<const std::uint32_t*>(&perm[c]) + 8 * h, 32);
+        U32x8 ph;
+        std::memcpy(&ph, reinterpret_cast<const std::uint32_t*>(&p[c]) + 8 * h, 32);
+        cell = rem8(widen(half + ph), div);  // the u32 sum wraps, as in permute
+      }
+      F32x8 ju = unit8(jit[c][h]);
+      if (v) {
+        F32x8 jv = unit8(jit[c][h] >> 32);
+        U64x8 cy = quot8(cell, spec.div_k), cx = cell - cy * spec.k;
+        F32x8 fu = place8(cx, ju, spec.div_k), fv = place8(cy, jv, spec.div_m);
+        std::memcpy(u[c] + 8 * h, &fu, 32);
+        std::memcpy(v[c] + 8 * h, &fv, 32);
+      } else {
+        F32x8 fu = place8(cell, ju, spec.div_n);
+        std::memcpy(u[c] + 8 * h, &fu, 32);
+      }
+    }
+}
+
+SNELL_AVX512DQ_TARGET void stratified_lanes_avx512(const SamplerSpec& spec,
+                                                   const StrataLanes* const* k, std::uint32_t count,
+                                                   std::uint32_t n, std::uint32_t index,
+                                                   float* const* u, float* const* v) {
+  static_assert(StrataLanes::kLanes == 16 && kMaxStrataDims == 4);
   const std::uint32_t cells = v ? spec.cells : spec.n;
   if (index >= cells) {  // past the grid (not drawn by a render): the scalar draws
-    stratified_lanes_generic(spec, k, n, index, u, v);
+    stratified_lanes_generic(spec, k, count, n, index, u, v);
     return;
   }
-  const Divisor32& div = v ? spec.div_cells : spec.div_n;
-  U64x8 key[2];
-  std::memcpy(key, k.key, 128);
-  U32x16 p = __builtin_shufflevector(__builtin_convertvector(key[0], U32x8),
-                                     __builtin_convertvector(key[1], U32x8), 0, 1, 2, 3, 4, 5, 6, 7,
-                                     8, 9, 10, 11, 12, 13, 14, 15);
-  // The jitter hashes first: they do not depend on the permutation, so they fill
-  // the latency of its rounds instead of waiting behind its loop's exit branch.
-  const std::uint64_t hb = hash64(index) + 0x9e3779b97f4a7c15ull;
-  U64x8 jit[2];
-  for (int h = 0; h < 2; ++h) {
-    U64x8 a = key[h] ^ 0x5bd1e995u;
-    jit[h] = hash64_8(a ^ (hb + (a << 6) + (a >> 2)));
+  // All 16 lanes are drawn and stored: the caller has room for them.
+  switch (count) {
+    case 1:
+      return stratified_n_avx512<1>(spec, k, index, u, v);
+    case 2:
+      return stratified_n_avx512<2>(spec, k, index, u, v);
+    case 3:
+      return stratified_n_avx512<3>(spec, k, index, u, v);
+    case 4:
+      return stratified_n_avx512<4>(spec, k, index, u, v);
+    default:
+      return;
   }
-  U32x16 perm = permute16(index, div, v ? spec.cells_mask : spec.n_mask, p);
-  for (int h = 0; h < 2; ++h) {
-    U64x8 cell;
-    if (div.d <= 1) {
-      cell = U64x8{};
-    } else {
-      U32x8 half;
-      std::memcpy(&half, reinterpret_cast<const std::uint32_t*>(&perm) + 8 * h, 32);
-      U32x8 ph;
-      std::memcpy(&ph, reinterpret_cast<const std::uint32_t*>(&p) + 8 * h, 32);
-      cell = rem8(widen(half + ph), div);  // the u32 sum wraps, as in permute
-    }
-    F32x8 ju = unit8(jit[h]);
-    if (v) {
-      F32x8 jv = unit8(jit[h] >> 32);
-      U64x8 cy = quot8(cell, spec.div_k), cx = cell - cy * spec.k;
-      F32x8 fu = place8(cx, ju, spec.div_k), fv = place8(cy, jv, spec.div_m);
-      std::memcpy(u + 8 * h, &fu, 32);
-      std::memcpy(v + 8 * h, &fv, 32);
-    } else {
-      F32x8 fu = place8(cell, ju, spec.div_n);
-      std::memcpy(u + 8 * h, &fu, 32);
-    }
-  }
-  (void)n;  // all 16 lanes are drawn and stored: the caller has room for them
 }
 
 // hash_combine(x, c) of 8 lanes with one c: its hash64(c) term once.
@@ -389,11 +435,17 @@ bool sobol2_lanes_with(const std::string& path, const SobolLanes& k, std::uint32
 
 void stratified2_lanes(const SamplerSpec& spec, const StrataLanes& k, std::uint32_t n,
                        std::uint32_t index, float* u, float* v) {
-  g_stratified_lanes(spec, k, n, index, u, v);
+  const StrataLanes* ks = &k;
+  g_stratified_lanes(spec, &ks, 1, n, index, &u, &v);
 }
 void stratified1_lanes(const SamplerSpec& spec, const StrataLanes& k, std::uint32_t n,
                        std::uint32_t index, float* u) {
-  g_stratified_lanes(spec, k, n, index, u, nullptr);
+  const StrataLanes* ks = &k;
+  g_stratified_lanes(spec, &ks, 1, n, index, &u, nullptr);
+}
+void stratified2_lanes(const SamplerSpec& spec, const StrataLanes* const* k, std::uint32_t count,
+                       std::uint32_t n, std::uint32_t index, float* const* u, float* const* v) {
+  g_stratified_lanes(spec, k, count, n, index, u, v);
 }
 std::vector<std::string> stratified_lanes_paths() {
   return path_names(strata_available());
@@ -406,7 +458,8 @@ StratifiedLanesFn stratified_lanes_path(const std::string& path) {
 bool stratified_lanes_with(const std::string& path, const SamplerSpec& spec, const StrataLanes& k,
                            std::uint32_t n, std::uint32_t index, float* u, float* v) {
   const StrataFn p = stratified_lanes_path(path);
-  if (p) p(spec, k, n, index, u, v);
+  const StrataLanes* ks = &k;
+  if (p) p(spec, &ks, 1, n, index, &u, v ? &v : nullptr);
   return p != nullptr;
 }
 

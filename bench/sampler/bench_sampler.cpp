@@ -110,12 +110,9 @@ Result lanes_round(const SamplerSpec& spec, std::uint32_t spp, std::uint32_t pix
       }
     }
     alignas(64) float u[L], v[L];
-    auto draw = [&](const SobolLanes& lanes, const StrataLanes& strata, const DimKey* keys,
-                    std::uint32_t s) {
+    auto draw = [&](const SobolLanes& lanes, const DimKey* keys, std::uint32_t s) {
       if (sobol_fn) {
         sobol_fn(lanes, n, s, u, v);
-      } else if (strata_fn) {
-        strata_fn(spec, strata, n, s, u, v);
       } else {
         for (std::uint32_t l = 0; l < n; ++l) {
           Sample2 c = sample2(spec, keys[l], s);
@@ -128,11 +125,33 @@ Result lanes_round(const SamplerSpec& spec, std::uint32_t spp, std::uint32_t pix
       for (std::uint32_t l = 0; l < n; ++l) sum += (bits(u[l]) << 32 | bits(v[l])) * kOdd;
       draws += n;
     };
+    // Stratified draws go as the renderer groups them: the film and lens
+    // dimensions in one call (camera_rays), a light's cells kMaxStrataDims at a
+    // time (whitted_light.hpp); the other kinds one dimension a call.
+    auto draw_group = [&](const StrataLanes* const* k, std::uint32_t count, std::uint32_t s) {
+      alignas(64) float gu[kMaxStrataDims][L], gv[kMaxStrataDims][L];
+      float *up[kMaxStrataDims], *vp[kMaxStrataDims];
+      for (std::uint32_t c = 0; c < count; ++c) up[c] = gu[c], vp[c] = gv[c];
+      strata_fn(spec, k, count, n, s, up, vp);
+      for (std::uint32_t c = 0; c < count; ++c)
+        for (std::uint32_t l = 0; l < n; ++l) sum += (bits(gu[c][l]) << 32 | bits(gv[c][l])) * kOdd;
+      draws += count * n;
+    };
     for (std::uint32_t s = 0; s < spp; ++s) {
-      draw(film, film_s, film_k, s);
-      draw(lens, lens_s, lens_k, s);
-      for (std::uint32_t d = 0; d < node_dims; ++d)
-        draw(node_lanes[d], node_strata[d], &node_keys[d * L], s);
+      if (strata_fn) {
+        const StrataLanes* camera[2] = {&film_s, &lens_s};
+        draw_group(camera, 2, s);
+        for (std::uint32_t d = 0; d < node_dims; d += kMaxStrataDims) {
+          const StrataLanes* k[kMaxStrataDims];
+          const std::uint32_t count = std::min(kMaxStrataDims, node_dims - d);
+          for (std::uint32_t c = 0; c < count; ++c) k[c] = &node_strata[d + c];
+          draw_group(k, count, s);
+        }
+        continue;
+      }
+      draw(film, film_k, s);
+      draw(lens, lens_k, s);
+      for (std::uint32_t d = 0; d < node_dims; ++d) draw(node_lanes[d], &node_keys[d * L], s);
     }
   }
   double ns =

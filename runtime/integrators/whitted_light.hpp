@@ -165,7 +165,8 @@ void WhittedIntegrator::direct_lanes(std::uint32_t lanes_in, const DirectQuery* 
       shared = shared && indices[i] == indices[0];
     }
   }
-  auto draw_cell = [&](std::uint64_t cell) {
+  // Lane i's jitter of cell `cell` into du[i], dv[i].
+  auto draw_cell_to = [&](std::uint64_t cell, float* du, float* dv) {
     if constexpr (kLanes > 1) {
       alignas(64) std::uint64_t key[kHashLanes];
       const ir::SamplerKind kind = sc[0]->spec.kind;
@@ -175,7 +176,7 @@ void WhittedIntegrator::direct_lanes(std::uint32_t lanes_in, const DirectQuery* 
       if (kind == ir::SamplerKind::Independent) {
         for (std::uint32_t i = 0; i < lanes; ++i) {
           Sample2 s = independent_sample(key[i]);
-          ju[i] = s.u, jv[i] = s.v;
+          du[i] = s.u, dv[i] = s.v;
         }
         return;
       }
@@ -184,21 +185,45 @@ void WhittedIntegrator::direct_lanes(std::uint32_t lanes_in, const DirectQuery* 
         for (std::uint32_t i = 0; i < lanes; ++i)
           keys.v[0].set(i, dim_key_of_hash(sc[0]->spec, key[i]));
         for (std::uint32_t i = lanes; i % 4; ++i) keys.v[0].set(i, DimKey{});
-        sobol2_lanes(keys.v[0], lanes, sc[0]->index, ju, jv);
+        sobol2_lanes(keys.v[0], lanes, sc[0]->index, du, dv);
         return;
       }
       if (shared) {
         Uninit<StrataLanes, 1> keys;
         for (std::uint32_t i = 0; i < StrataLanes::kLanes; ++i)
           keys.v[0].key[i] = i < lanes ? key[i] : 0;
-        stratified2_lanes(sc[0]->spec, keys.v[0], lanes, sc[0]->index, ju, jv);
+        stratified2_lanes(sc[0]->spec, keys.v[0], lanes, sc[0]->index, du, dv);
         return;
       }
     }
     for (std::uint32_t i = 0; i < lanes; ++i) {
       Sample2 s = draw2(*sc[i], whitted_detail::node_dim(q(i).key, cell));
-      ju[i] = s.u, jv[i] = s.v;
+      du[i] = s.u, dv[i] = s.v;
     }
+  };
+  auto draw_cell = [&](std::uint64_t cell) { draw_cell_to(cell, ju, jv); };
+  // count (<= kMaxStrataDims) cells' jitter at once, into gu[j], gv[j]: the numbers
+  // of draw_cell_to on each, with the stratified draws of a shared sample index
+  // in one call (their permutations' walks interleave).
+  [[maybe_unused]] auto draw_cells = [&](const std::uint64_t* cells, std::uint32_t count,
+                                         float(*gu)[kJitter], float(*gv)[kJitter]) {
+    if constexpr (kLanes > 1) {
+      if (shared && sc[0]->spec.kind == ir::SamplerKind::Stratified) {
+        Uninit<StrataLanes, kMaxStrataDims> keys;
+        const StrataLanes* kp[kMaxStrataDims];
+        float *up[kMaxStrataDims], *vp[kMaxStrataDims];
+        for (std::uint32_t j = 0; j < count; ++j) {
+          alignas(64) std::uint64_t key[kHashLanes];
+          cell_keys_lanes(node_keys, cells[j], pixels, nullptr, key);
+          for (std::uint32_t i = 0; i < StrataLanes::kLanes; ++i)
+            keys.v[j].key[i] = i < lanes ? key[i] : 0;
+          kp[j] = &keys.v[j], up[j] = gu[j], vp[j] = gv[j];
+        }
+        stratified2_lanes(sc[0]->spec, kp, count, lanes, sc[0]->index, up, vp);
+        return;
+      }
+    }
+    for (std::uint32_t j = 0; j < count; ++j) draw_cell_to(cells[j], gu[j], gv[j]);
   };
   for (const PointLightF& l : lights_.points) {
     for (std::uint32_t i = 0; i < lanes; ++i)
@@ -263,11 +288,21 @@ void WhittedIntegrator::direct_lanes(std::uint32_t lanes_in, const DirectQuery* 
         const std::uint32_t all = (1u << lanes) - 1;  // lanes <= 16
         Uninit<ShadowLanes, 1> sh_store;
         ShadowLanes& sh = sh_store.v[0];
-        for (std::uint32_t iv = 0; iv < l.nv; ++iv)
-          for (std::uint32_t iu = 0; iu < l.nu; ++iu) {
-            draw_cell(whitted_detail::light_cell(li, iu, iv));
+        // The cells in row order, their jitter drawn kMaxStrataDims at a time.
+        alignas(64) float gu[kMaxStrataDims][kJitter] = {}, gv[kMaxStrataDims][kJitter] = {};
+        std::uint32_t iu = 0, iv = 0;
+        while (iv < l.nv) {
+          std::uint64_t cells[kMaxStrataDims];
+          std::uint32_t cu[kMaxStrataDims], cv[kMaxStrataDims], count = 0;
+          for (; count < kMaxStrataDims && iv < l.nv; ++count) {
+            cells[count] = whitted_detail::light_cell(li, iu, iv);
+            cu[count] = iu, cv[count] = iv;
+            if (++iu == l.nu) iu = 0, ++iv;
+          }
+          draw_cells(cells, count, gu, gv);
+          for (std::uint32_t j = 0; j < count; ++j) {
             const std::uint32_t lit_mask =
-                area_lanes_({&l, iu, iv, offset_scale_}, pt, ju, jv, all, sh);
+                area_lanes_({&l, cu[j], cv[j], offset_scale_}, pt, gu[j], gv[j], all, sh);
             stats.shadow_rays += std::uint64_t(std::popcount(lit_mask));
             if (!lit_mask) continue;
             const std::uint32_t shadowed = embree_.occluded(
@@ -279,6 +314,7 @@ void WhittedIntegrator::direct_lanes(std::uint32_t lanes_in, const DirectQuery* 
                 add_sample(i, l.radiance, sh.g[i], Vec3f(sh.tx[i], sh.ty[i], sh.tz[i]), Color(1));
             }
           }
+        }
         continue;
       }
     }

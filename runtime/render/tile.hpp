@@ -145,8 +145,14 @@ void camera_rays(const TileContext& c, std::uint32_t n, const CameraKeys* keys,
     if constexpr (K::lens) sobol2_lanes(lanes.lens, n, s, lu, lv);
     if (timed) sobol2_lanes(lanes.time, n, s, tu, tv);  // sample1 is the 2-D draw's u
   } else if (c.spec.kind == ir::SamplerKind::Stratified) {
-    stratified2_lanes(c.spec, lanes.sfilm, n, s, ju, jv);
-    if constexpr (K::lens) stratified2_lanes(c.spec, lanes.slens, n, s, lu, lv);
+    if constexpr (K::lens) {  // together: their permutations' walks interleave
+      const StrataLanes* k[2] = {&lanes.sfilm, &lanes.slens};
+      float* u[2] = {ju, lu};
+      float* v[2] = {jv, lv};
+      stratified2_lanes(c.spec, k, 2, n, s, u, v);
+    } else {
+      stratified2_lanes(c.spec, lanes.sfilm, n, s, ju, jv);
+    }
     if (timed) stratified1_lanes(c.spec, lanes.stime, n, s, tu);
   } else {
     for (std::uint32_t i = 0; i < n; ++i) {

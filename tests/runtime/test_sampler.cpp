@@ -328,6 +328,54 @@ TEST_CASE("stratified draws in lanes give the one-by-one numbers, on every SIMD 
       stratified_lanes_with("no such path", SamplerSpec{}, StrataLanes{}, 1, 0, nullptr, nullptr));
 }
 
+TEST_CASE("stratified dimensions drawn together give the numbers of each drawn alone",
+          "[sampler]") {
+  // One to kMaxStrataDims key sets in one call, whose permutations walk different
+  // numbers of rounds (a grid that is not a power of two), 2-D and 1-D, on every path.
+  for (const std::string& path : stratified_lanes_paths()) {
+    INFO("path " << path);
+    const StratifiedLanesFn fn = stratified_lanes_path(path);
+    REQUIRE(fn);
+    std::uint64_t mismatches = 0, draws = 0;
+    for (std::uint32_t spp : {3u, 16u, 100u, 1000u}) {
+      SamplerSpec spec{ir::SamplerKind::Stratified, 0x99 + spp, spp};
+      for (std::uint32_t count = 1; count <= kMaxStrataDims; ++count)
+        for (bool two_d : {true, false}) {
+          StrataLanes lanes[kMaxStrataDims];
+          const StrataLanes* kp[kMaxStrataDims];
+          DimKey keys[kMaxStrataDims][StrataLanes::kLanes];
+          for (std::uint32_t c = 0; c < count; ++c) {
+            for (std::uint32_t l = 0; l < StrataLanes::kLanes; ++l) {
+              std::uint64_t pixel = pixel_hash(spec, l + 3 * c, spp);
+              keys[c][l] = two_d ? dim_key(spec, pixel, 40 + c) : dim_key1(spec, pixel, 40 + c);
+              lanes[c].set(l, keys[c][l]);
+            }
+            kp[c] = &lanes[c];
+          }
+          for (std::uint32_t i = 0; i < spp; i += 1 + spp / 50) {
+            alignas(64) float u[kMaxStrataDims][StrataLanes::kLanes];
+            alignas(64) float v[kMaxStrataDims][StrataLanes::kLanes];
+            float *up[kMaxStrataDims], *vp[kMaxStrataDims];
+            for (std::uint32_t c = 0; c < kMaxStrataDims; ++c) up[c] = u[c], vp[c] = v[c];
+            fn(spec, kp, count, StrataLanes::kLanes, i, up, two_d ? vp : nullptr);
+            for (std::uint32_t c = 0; c < count; ++c)
+              for (std::uint32_t l = 0; l < StrataLanes::kLanes; ++l, ++draws) {
+                if (two_d) {
+                  Sample2 one = sample2(spec, keys[c][l], i);
+                  mismatches += (one.u != u[c][l]) + (one.v != v[c][l]);
+                } else {
+                  mismatches += sample1(spec, keys[c][l], i) != u[c][l];
+                }
+              }
+          }
+        }
+    }
+    INFO(draws << " draws");
+    CHECK(draws > 10000);
+    CHECK(mismatches == 0);
+  }
+}
+
 TEST_CASE("a light cell's keys in lanes are the one-by-one keys, on every SIMD path", "[sampler]") {
   // node_dim of the cell, then the pixel's key of it, then (independent) the
   // sample's: the scalar composition the one-lane draw makes (draw2 of node_dim).
