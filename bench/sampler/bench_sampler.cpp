@@ -218,7 +218,7 @@ int main(int argc, char** argv) {
       "%s)\n",
       SobolLanes::kLanes, paths[1].c_str(), strata_paths[1].c_str());
   std::printf("%-6s %-20s %10s %9s  %s\n", "spp", "sampler", "ns/draw", "÷indep", "checksum");
-  for (std::uint32_t spp : {4u, 16u, 64u, 100u}) {
+  for (std::uint32_t spp : {4u, 9u, 16u, 36u, 64u, 100u}) {
     std::uint32_t px = std::max<std::uint32_t>(16, pixels * 16 / spp);
     struct Row {
       ir::SamplerKind kind;
