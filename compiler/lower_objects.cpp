@@ -101,8 +101,8 @@ namespace {
 // (patterns see the same space either way when it does not).
 void set_object_space(ir::Shape& s, const ir::ObjectSpace* object) {
   if (!object) return;
-  if (object->world_from_object.m == s.world_from_object().m && object->motion.empty() &&
-      s.motion().empty())
+  if (object->world_from_object.m == s.world_from_object().m &&
+      ir::same_motion(object->motion, s.motion()))
     return;
   s.set_object_space(*object);
 }
@@ -167,6 +167,14 @@ void SceneBuilder::place(const ObjectNode& n, const Placement& at,
                   material_of(n.props, at.material),
                   motion_in(at.motion, at.world_from_parent, n.props), at.object};
   if (too_many_motions(inner.motion, n)) return;
+  // An object that moves inside its top-level object (a union's child) carries
+  // that object's space along, as a moving CSG leaf does (§15: the pattern moves
+  // with the object's motion): the space's motion becomes this object's whole
+  // motion, which is the space's own (the same as at.motion, kept so at every
+  // moving level) nested with this one.
+  if (inner.object && find_evaluated(n.props, PropId::object_motion))
+    inner.object = std::make_shared<const ir::ObjectSpace>(
+        ir::ObjectSpace{inner.object->world_from_object, inner.motion});
   // In the scene (not a prototype) an object without a material has the default.
   auto settle = [&] {
     if (!proto && inner.material == ir::kInheritMaterial) inner.material = default_material();

@@ -88,6 +88,28 @@ T motion_at(const Motion& mo, double u, Make make) {
 }
 }  // namespace
 
+namespace {
+bool same_ops(const std::vector<TransformOp>& a, const std::vector<TransformOp>& b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    if (a[i].kind != b[i].kind || !(a[i].value == b[i].value)) return false;
+  return true;
+}
+}  // namespace
+
+bool same_motion(const Motion& a, const Motion& b) {
+  if (!same_ops(a.ops, b.ops) || a.has_pivot != b.has_pivot || !(a.pivot == b.pivot) ||
+      a.nested.size() != b.nested.size())
+    return false;
+  for (std::size_t i = 0; i < a.nested.size(); ++i) {
+    const MotionBlock &x = a.nested[i], &y = b.nested[i];
+    if (!(x.world_from_frame.m == y.world_from_frame.m) || !same_ops(x.ops, y.ops) ||
+        x.has_pivot != y.has_pivot || !(x.pivot == y.pivot))
+      return false;
+  }
+  return true;
+}
+
 Transform Motion::at(double u) const {
   return motion_at<Transform>(*this, u, [](const Transform& x) { return x; });
 }

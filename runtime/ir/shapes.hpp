@@ -229,6 +229,8 @@ struct Motion {
   Transform at(double u) const;
   InverseTransform inverse_at(double u) const;  // at(u).inv, the same bits, half the work
 };
+// The same steps in the same frames (so the same at(u), to the bit).
+bool same_motion(const Motion& a, const Motion& b);
 
 // The motion of an object whose own motion is `own` (in its parent's space, placed
 // in the world by `world_from_frame`) inside objects that move by `outer`.
