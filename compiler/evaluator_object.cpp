@@ -80,6 +80,7 @@ Value Evaluator::eval_object(std::string_view keyword, const BlockInfo* block,
   auto node = std::make_shared<ObjectNode>();
   node->block = block;
   node->keyword = kw;
+  if (depth_ > 0) node->call = outer_call_;
   bool ok = true;
   if (!block) {
     // object { EXPR ... }: EXPR is the object value placed.

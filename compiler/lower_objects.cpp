@@ -97,6 +97,20 @@ bool instanceable(const ObjectNode& n, bool in_csg) {
 }  // namespace
 
 namespace {
+// While an object is checked or placed, its errors note the call it was made in.
+class CallContext {
+ public:
+  CallContext(lang::DiagnosticEngine& diags, const ObjectNode& n)
+      : diags_(diags), outer_(diags.set_call_context(n.call)) {}
+  ~CallContext() { diags_.set_call_context(outer_); }
+  CallContext(const CallContext&) = delete;
+  CallContext& operator=(const CallContext&) = delete;
+
+ private:
+  lang::DiagnosticEngine& diags_;
+  lang::Span outer_;
+};
+
 // Records the top-level object's space on `s` where it differs from s's own
 // (patterns see the same space either way when it does not).
 void set_object_space(ir::Shape& s, const ir::ObjectSpace* object) {
@@ -144,6 +158,7 @@ bool SceneBuilder::check_tree(const ObjectNode& n, const ObjectNode* csg, CheckM
   if (wrong(n)) return false;
   CheckMemo& memo = seen[csg ? 1 : 0];
   if (auto it = memo.find(&n); it != memo.end()) return it->second;
+  CallContext call(diags_, n);
   bool ok = true;
   if (n.instance()) {
     ok = check_tree(*n.children[0], csg, seen);
@@ -163,6 +178,7 @@ bool SceneBuilder::check_tree(const ObjectNode& n, const ObjectNode* csg, CheckM
 void SceneBuilder::place(const ObjectNode& n, const Placement& at,
                          std::vector<std::uint32_t>* proto) {
   if (wrong(n)) return;  // check_value reported it
+  CallContext call(diags_, n);
   Placement inner{at.world_from_parent * object_transforms(n.props),
                   material_of(n.props, at.material),
                   motion_in(at.motion, at.world_from_parent, n.props), at.object};
@@ -274,6 +290,7 @@ std::int64_t SceneBuilder::csg_node(const ObjectNode& c, const ir::Transform& cs
                                     const ir::Motion& motion, std::uint32_t material,
                                     const ObjectNode& csg) {
   if (wrong(c)) return -1;  // check_value reported it
+  CallContext call(diags_, c);
   ir::Transform xf = csg_from_parent * object_transforms(c.props);
   ir::Motion moves = motion_in(motion, csg_from_parent, c.props);
   if (too_many_motions(moves, c)) return -1;

@@ -18,6 +18,9 @@ namespace snell::compile {
 struct ObjectNode {
   const BlockInfo* block = nullptr;  // a shape or CSG block; null: an instance
   lang::Span keyword;
+  // The outermost function call it was made in (empty: none), noted on the errors
+  // that placing it finds (its shape's checks, §12's solids), as on the others.
+  lang::Span call;
   std::vector<EvaluatedProp> props;  // checked: the kind's own and the object ones
   // A CSG block's objects in the order made; an instance: the value it places.
   std::vector<std::shared_ptr<const ObjectNode>> children;

@@ -151,7 +151,9 @@ DiagBuilder DiagnosticEngine::report(DiagKind kind, Span span, std::string messa
   }
   diags_.push_back({kind, sev, span, std::move(message), {}, 0});
   if (bucket) bucket->push_back(diags_.size() - 1);
-  return DiagBuilder(this, diags_.size() - 1);
+  DiagBuilder d(this, diags_.size() - 1);
+  if (call_context_.end > call_context_.begin) d.note(call_context_, "in the call from here");
+  return d;
 }
 
 void DiagnosticEngine::snippet(std::string& out, Span span, bool color) const {

@@ -87,6 +87,15 @@ class DiagnosticEngine {
   // what was found before it stopped, a lower bound.
   void stopped_reading() { stopped_ = true; }
   bool counts_are_lower_bounds() const { return stopped_; }
+  // A call site that every diagnostic reported while it is set gets as a note "in
+  // the call from here" (an empty span: none). The scene builder sets it while it
+  // checks and places an object made inside a function call, whose errors are
+  // found after the call returned. Returns the previous one, to put back.
+  Span set_call_context(Span call) {
+    Span old = call_context_;
+    call_context_ = call;
+    return old;
+  }
 
   const std::vector<Diagnostic>& diagnostics() const { return diags_; }
   const SourceManager& sources() const { return sources_; }
@@ -108,6 +117,7 @@ class DiagnosticEngine {
   std::size_t max_errors_ = 0;
   std::size_t dropped_ = 0;
   bool stopped_ = false;  // stopped_reading()
+  Span call_context_{};   // set_call_context()
   // (kind, file, begin, end) of each kept diagnostic -> its index.
   std::unordered_map<std::uint64_t, std::vector<std::size_t>> places_;
 };

@@ -673,3 +673,36 @@ TEST_CASE("an error inside a function names the scene's call that reached it", "
   REQUIRE(c->diags.diagnostics().size() == 1);
   CHECK(c->diags.diagnostics()[0].notes.empty());
 }
+
+TEST_CASE("errors found placing an object made in a call note the call", "[compiler]") {
+  // A box's min/max and §12's solids are checked when the object is placed, after
+  // the call returned: those errors lacked the "in the call from here" note that
+  // the ones found during the call (radius) have. An object made outside a call,
+  // placed by one, gets none.
+  auto c =
+      run("fn pawn(h) = merge { sphere { radius 1 } box { min <-1, 0, -1> max <1, h, 1> } };\n"
+          "fn ring() = difference { sphere { radius 1 } disc { center 0 normal 1 radius 0.5 } };\n"
+          "let b = box { min 1 max 0 };\n"
+          "fn place(v) = union { object { v } };\n"
+          "object { pawn(-1) }\n"
+          "object { ring() }\n"
+          "object { place(b) }\n");
+  const auto& d = c->diags.diagnostics();
+  REQUIRE(d.size() == 3);
+  auto has_call_note = [&](std::size_t i, std::uint32_t line) {
+    for (const auto& n : d[i].notes)
+      if (n.message == "in the call from here" && n.span)
+        return c->sources.file(n.span->file).line_col(n.span->begin).line == line;
+    return false;
+  };
+  std::size_t box_in_call = 0, ring = 0, b = 0;
+  for (std::size_t i = 0; i < d.size(); ++i) {
+    std::uint32_t line = c->sources.file(d[i].span.file).line_col(d[i].span.begin).line;
+    if (line == 1) box_in_call = i;
+    if (line == 2) ring = i;
+    if (line == 3) b = i;
+  }
+  CHECK(has_call_note(box_in_call, 5));
+  CHECK(has_call_note(ring, 6));
+  CHECK_FALSE(has_call_note(b, 7));
+}
