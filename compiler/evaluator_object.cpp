@@ -105,12 +105,14 @@ Value Evaluator::eval_object(std::string_view keyword, const BlockInfo* block,
     scope->parent = env;
     collectors_.push_back({&node->children, block, kw});
     Frame frame;
+    const std::size_t errors = diags_.error_count();
     exec_block(body.statements, scope, frame);
     collectors_.pop_back();
     eval_props(*block, body, kw, scope, node->props, ok);
-    if (node->children.empty() && !aborted_) {
+    if (node->children.empty() && !aborted_ && diags_.error_count() == errors) {
       // A warning, as POV-Ray's: a loop that made no children (a generated scene)
-      // leaves nothing here, and the scene renders without it.
+      // leaves nothing here, and the scene renders without it. Not where the body
+      // had errors: its objects that failed were there (no warning cascades).
       error(DiagKind::EmptyCsg, kw,
             "this '" + std::string(block->name) + "' holds no object: it adds nothing");
       ok = false;

@@ -706,3 +706,13 @@ TEST_CASE("errors found placing an object made in a call note the call", "[compi
   CHECK(has_call_note(ring, 6));
   CHECK_FALSE(has_call_note(b, 7));
 }
+
+TEST_CASE("a CSG block whose objects failed gives their errors, not an empty-block warning",
+          "[compiler]") {
+  // The failed sphere was in the union: "holds no object" was a cascade of its error.
+  auto c = run("union { sphere { radius -1 } }\nunion { for i in 0 .. -1 { sphere { } } }\n");
+  CHECK(diag_kinds(*c) == "InvalidValue EmptyCsg ");
+  const auto& d = c->diags.diagnostics();
+  REQUIRE(d.size() == 2);
+  CHECK(c->sources.file(d[1].span.file).line_col(d[1].span.begin).line == 2);
+}
