@@ -11,13 +11,12 @@
 //   whole in memory.
 // - Colour: OIIO 2.4 applies no colour transform at lookup, so a file that is not
 //   linear already is decoded once to linear and made into a tiled, MIP-mapped
-//   .tx in the user's temporary folder, named by the source's path, size, time
-//   and the decoding; filtering then averages linear radiance, as it must (a
-//   black-and-white checker far away is 0.5, not sRGB's 0.21). The file's own
-//   colour space (its oiio:ColorSpace) decides, as source_colour() says: none on
-//   8- and 16-bit files is sRGB and none on float files linear; a name the OCIO
-//   config (--ocio-config, else $OCIO, else Snell's) knows is converted from that
-//   space to the config's scene_linear role; of the rest, OIIO's own names
+//   .tx in the texture cache folder (texture_cache.hpp), named by the source's
+//   path, size, time, bytes and the decoding; filtering then averages linear radiance, as it must
+//   (a black-and-white checker far away is 0.5, not sRGB's 0.21). The file's own colour space (its
+//   oiio:ColorSpace) decides, as source_colour() says: none on 8- and 16-bit files is sRGB and none
+//   on float files linear; a name the OCIO config (--ocio-config, else $OCIO, else Snell's) knows
+//   is converted from that space to the config's scene_linear role; of the rest, OIIO's own names
 //   ("sRGB", any "linear" one, "GammaG" for a PNG gAMA chunk) mean what they say,
 //   "Rec709" (OIIO's tag for any PPM) is read as an untagged file of its format,
 //   and anything else is an error. Primaries: a file with `chromaticities` (an
@@ -47,10 +46,15 @@
 
 #include "runtime/color.hpp"
 #include "runtime/primaries.hpp"
+#include "runtime/texture_cache.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
+using snell::rt::texture_cache_dir;
+using snell::rt::texture_cache_max_bytes;
+using snell::rt::texture_cache_prune;
+using snell::rt::texture_cache_touch;
 
 // The sRGB decoding function (IEC 61966-2-1).
 float srgb_to_linear(float c) {
@@ -171,10 +175,13 @@ std::string linear_texture(const std::string& path, const SourceColour& colour,
   // (.tx files made before are not reused).
   std::size_t key = std::hash<std::string>{}(
       fmt::format("{}|{}|{}|{}|{:016x}|straight", path, size, time, colour.key, content));
-  fs::path dir = fs::temp_directory_path(ec) / fmt::format("snell-textures-{}", ::getuid());
-  fs::create_directories(dir, ec);
+  const fs::path dir = texture_cache_dir(error);
+  if (dir.empty()) return {};
   fs::path out = dir / fmt::format("{:016x}.tx", key);
-  if (fs::exists(out, ec)) return out.string();
+  if (fs::exists(out, ec)) {
+    texture_cache_touch(out);
+    return out.string();
+  }
   // Colours as the file holds them: OIIO would multiply them by an unassociated
   // alpha (PNG's, TIFF's) as it reads, and the decoding below is of the file's
   // codes, not of codes times alpha. (§17 images give colours; alpha is unused.)
@@ -248,6 +255,8 @@ std::string linear_texture(const std::string& path, const SourceColour& colour,
     error = ec.message();
     return {};
   }
+  // An hour's grace: a render in another process that opened a file may reopen it.
+  texture_cache_prune(dir, texture_cache_max_bytes(), std::chrono::hours(1), out);
   return out.string();
 }
 
