@@ -417,9 +417,12 @@ void Evaluator::exec_item(const Stmt& s, const std::shared_ptr<Env>& env) {
   bool ok = true;
   PropsLease props(*this);
   eval_props(*block, *s.block, s.name_span, env, props.list(), ok);
-  if (ok)
+  if (ok) {
     builder_.add_item(*block, s.name_span, props.list());
-  else if (block->name == "settings" || block->name == "camera")
+    return;
+  }
+  check_rest(*block, s.name_span, *s.block, props.list());
+  if (block->name == "settings" || block->name == "camera")
     builder_.failed_singleton(block->name, s.name_span);
 }
 

@@ -192,6 +192,11 @@ class Evaluator {
   // after any error.
   void eval_props(const BlockInfo& block, const lang::Block& body, lang::Span keyword_span,
                   const std::shared_ptr<Env>& env, std::vector<EvaluatedProp>& out, bool& ok);
+  // §10's independent errors of a block whose properties had errors: the checks
+  // between its properties that involve none of the failed ones (a shape's,
+  // lower_kinds.cpp; the camera's and an area light's, SceneBuilder).
+  void check_rest(const BlockInfo& block, lang::Span kw, const lang::Block& body,
+                  const std::vector<EvaluatedProp>& props);
   // A cleared property list from a pool indexed by nesting (a property's value may
   // call a function that makes items), so an item allocates no list once warm.
   class PropsLease {

@@ -4,6 +4,8 @@
 // outermost level, into the scene through the builder.
 #include <fmt/format.h>
 
+#include <bitset>
+
 #include "compiler/evaluator.hpp"
 #include "compiler/povray_forms.hpp"
 
@@ -120,7 +122,30 @@ Value Evaluator::eval_object(std::string_view keyword, const BlockInfo* block,
     return ok ? Value::of_object(std::move(node)) : Value::error();
   }
   eval_props(*block, body, kw, env, node->props, ok);
+  if (!ok) check_rest(*block, kw, body, node->props);
   return ok ? Value::of_object(std::move(node)) : Value::error();
+}
+
+}  // namespace snell::compile
+
+namespace snell::compile {
+
+void Evaluator::check_rest(const BlockInfo& block, Span kw, const lang::Block& body,
+                           const std::vector<EvaluatedProp>& props) {
+  if (aborted_) return;
+  // Failed: written but refused (a default may stand in), or required and absent.
+  std::bitset<kPropCount> failed;
+  for (const PropInfo* info : block.props) {
+    bool written = false, attempted = false;
+    for (const EvaluatedProp& ep : props)
+      written |= ep.info == info && ep.name_span.begin != kw.begin;
+    for (const lang::Property& p : body.properties) attempted |= p.name == info->name;
+    if (!written && (attempted || info->required())) failed.set(std::size_t(info->id));
+  }
+  if (block.shape_kind >= 0)
+    check_shape_rest(block, builder_, kw, props, failed, diags_);
+  else
+    builder_.check_item_rest(block, kw, props, failed);
 }
 
 }  // namespace snell::compile

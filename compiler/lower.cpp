@@ -261,15 +261,7 @@ void SceneBuilder::add_item(const BlockInfo& block, Span kw,
     l.two_sided = get(props, PropId::area_light_two_sided)->value.truth();
     l.src = ref(kw);
     // Each fault is reported (§10: independent errors), then the light is left out.
-    bool ok = true;
-    if (ir::length(ir::cross(l.edge1, l.edge2)) == 0) {
-      diags_
-          .report(DiagKind::InvalidValue, get(props, PropId::area_light_edge2)->value_span,
-                  "'edge1' and 'edge2' of an area light must span a non-zero area")
-          .note(get(props, PropId::area_light_edge1)->value_span,
-                "edge1 is " + ir::to_string(l.edge1));
-      ok = false;
-    }
+    bool ok = check_light_area(props);
     if (std::uint64_t(l.samples_u) * l.samples_v > 65536) {
       diags_.report(DiagKind::InvalidValue, get(props, PropId::area_light_samples)->value_span,
                     "an area light takes at most 65536 shadow samples per point");
@@ -310,17 +302,59 @@ void SceneBuilder::apply_camera(const std::vector<EvaluatedProp>& props) {
     c.focal_distance = fd->value.n;
     focal_distance_set_ = true;
   }
-  ir::Vec3 fwd = c.look_at - c.location;
+  if (!check_camera_view(props)) {
+    // Reported: a view that ir::validate takes, so it is not said twice (the scene
+    // has an error and is not rendered).
+    c.location = {0, 0, 0}, c.look_at = {0, 0, 1}, c.up = {0, 1, 0};
+  }
+}
+
+bool SceneBuilder::check_camera_view(const std::vector<EvaluatedProp>& props) {
+  const ir::Vec3 location = vec(props, PropId::camera_location),
+                 look_at = vec(props, PropId::camera_look_at), up = vec(props, PropId::camera_up);
+  const ir::Vec3 fwd = look_at - location;
   const EvaluatedProp* at = get(props, PropId::camera_look_at);
   if (ir::length(fwd) == 0) {
     diags_.report(DiagKind::InvalidValue, at->value_span,
                   "the camera's 'look_at' equals its 'location': no view direction");
-  } else if (ir::length(ir::cross(fwd, c.up)) == 0) {
+    return false;
+  }
+  if (ir::length(ir::cross(fwd, up)) == 0) {
     diags_
         .report(DiagKind::InvalidValue, get(props, PropId::camera_up)->value_span,
                 "the camera's 'up' is parallel to its view direction")
         .note(at->value_span, "view direction is " + ir::to_string(ir::normalize(fwd)));
+    return false;
   }
+  return true;
+}
+
+bool SceneBuilder::check_light_area(const std::vector<EvaluatedProp>& props) {
+  const ir::Vec3 e1 = vec(props, PropId::area_light_edge1),
+                 e2 = vec(props, PropId::area_light_edge2);
+  if (ir::length(ir::cross(e1, e2)) != 0) return true;
+  diags_
+      .report(DiagKind::InvalidValue, get(props, PropId::area_light_edge2)->value_span,
+              "'edge1' and 'edge2' of an area light must span a non-zero area")
+      .note(get(props, PropId::area_light_edge1)->value_span, "edge1 is " + ir::to_string(e1));
+  return false;
+}
+
+void SceneBuilder::check_item_rest(const BlockInfo& block, Span kw,
+                                   const std::vector<EvaluatedProp>& props,
+                                   const std::bitset<kPropCount>& failed) {
+  (void)kw;
+  auto judged = [&](std::initializer_list<PropId> ids) {
+    for (PropId id : ids)
+      if (failed.test(static_cast<std::size_t>(id))) return false;
+    return true;
+  };
+  if (block.name == "camera" &&
+      judged({PropId::camera_location, PropId::camera_look_at, PropId::camera_up}))
+    check_camera_view(props);
+  else if (block.name == "area_light" &&
+           judged({PropId::area_light_edge1, PropId::area_light_edge2}))
+    check_light_area(props);
 }
 
 void SceneBuilder::add_object(const BlockInfo& block, Span kw,

@@ -5,7 +5,9 @@
 // materials table and the one-settings/camera/background rule.
 #pragma once
 
+#include <bitset>
 #include <cstdint>
+#include <initializer_list>
 #include <memory>
 #include <string>
 #include <unordered_map>
@@ -56,12 +58,29 @@ struct LowerContext {
   lang::Span keyword;
   const std::vector<EvaluatedProp>& props;
   lang::DiagnosticEngine& diags;
+  // Set when the block had errors of its own (check_shape_rest): the properties
+  // that failed, whose defaults stand in for them in `props`. A check that
+  // involves one of them is not made (it would judge a value nobody wrote).
+  const std::bitset<kPropCount>* failed = nullptr;
   const EvaluatedProp* get(PropId id) const { return find_evaluated(props, id); }
+  bool judged(std::initializer_list<PropId> ids) const {
+    if (failed)
+      for (PropId id : ids)
+        if (failed->test(static_cast<std::size_t>(id))) return false;
+    return true;
+  }
 };
 
 // The object-space geometry of a shape block (its kind struct, filled field by
 // field, then the kind's own checks); false when an error was reported.
 bool lower_shape(const BlockInfo& block, LowerContext& cx, ir::ShapeGeom& out);
+// The checks of §11 that involve several properties, on a shape block whose own
+// properties had errors (`failed`): §10 asks for every independent error at once,
+// and `cylinder { base 0 cap 0 radius -1 }` has two. Nothing is made (a mesh's
+// file is not read).
+void check_shape_rest(const BlockInfo& block, SceneBuilder& builder, lang::Span keyword,
+                      const std::vector<EvaluatedProp>& props,
+                      const std::bitset<kPropCount>& failed, lang::DiagnosticEngine& diags);
 
 inline constexpr std::size_t kMaxSceneObjects = 20'000'000;
 
@@ -88,6 +107,12 @@ class SceneBuilder {
   // errors are still errors (§5). A value found wrong is not placed later, so each
   // error is reported once. Mesh files are read only when a mesh is placed.
   void check_value(const std::shared_ptr<const ObjectNode>& node);
+  // The checks between an item's properties (the camera's view, an area light's
+  // area) on an item whose own properties had errors, leaving out those that
+  // involve a failed one (`failed`); nothing is added (§10: independent errors).
+  void check_item_rest(const BlockInfo& block, lang::Span kw,
+                       const std::vector<EvaluatedProp>& props,
+                       const std::bitset<kPropCount>& failed);
 
   // Settings overrides from the command line (--set, --spp, --res, --seed),
   // applied after the program ran. `value` has passed check_value.
@@ -202,6 +227,8 @@ class SceneBuilder {
   void add_object(const BlockInfo& block, lang::Span kw, const std::vector<EvaluatedProp>& props);
   void apply_settings(const std::vector<EvaluatedProp>& props);
   void apply_camera(const std::vector<EvaluatedProp>& props);
+  bool check_camera_view(const std::vector<EvaluatedProp>& props);
+  bool check_light_area(const std::vector<EvaluatedProp>& props);
   bool first_of_kind(std::string_view kind, lang::Span span);
 
   const lang::SourceManager& sources_;

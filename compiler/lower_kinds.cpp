@@ -60,6 +60,7 @@ bool finish_kind(ir::Plane& p, LowerContext&) {
 }
 
 bool finish_kind(ir::Box& b, LowerContext& cx) {
+  if (!cx.judged({PropId::box_min, PropId::box_max})) return true;
   if (b.min.x <= b.max.x && b.min.y <= b.max.y && b.min.z <= b.max.z) return true;
   cx.diags
       .report(DiagKind::InvalidValue, cx.get(PropId::box_max)->value_span,
@@ -69,6 +70,7 @@ bool finish_kind(ir::Box& b, LowerContext& cx) {
 }
 
 bool finish_kind(ir::Triangle& t, LowerContext& cx) {
+  if (!cx.judged({PropId::triangle_a, PropId::triangle_b, PropId::triangle_c})) return true;
   if (ir::length(ir::cross(t.b - t.a, t.c - t.a)) != 0) return true;
   cx.diags.report(DiagKind::DegenerateGeometry, cx.keyword,
                   "this triangle has no area (its corners are collinear); it is left out");
@@ -83,7 +85,7 @@ lang::Span value_span(const LowerContext& cx, PropId id) {
 }
 bool distinct_ends(ir::Vec3 base, ir::Vec3 cap, const char* what, PropId base_id, PropId cap_id,
                    LowerContext& cx) {
-  if (base != cap) return true;
+  if (base != cap || !cx.judged({base_id, cap_id})) return true;
   cx.diags
       .report(DiagKind::InvalidValue, value_span(cx, cap_id),
               std::string("a ") + what + "'s 'cap' must differ from its 'base' (they set its axis)")
@@ -97,7 +99,8 @@ bool finish_kind(ir::Cylinder& c, LowerContext& cx) {
 
 bool finish_kind(ir::Cone& c, LowerContext& cx) {
   bool ok = distinct_ends(c.base, c.cap, "cone", PropId::cone_base, PropId::cone_cap, cx);
-  if (c.base_radius == 0 && c.cap_radius == 0) {
+  if (c.base_radius == 0 && c.cap_radius == 0 &&
+      cx.judged({PropId::cone_base_radius, PropId::cone_cap_radius})) {
     cx.diags
         .report(DiagKind::InvalidValue, value_span(cx, PropId::cone_cap_radius),
                 "a cone's 'base_radius' and 'cap_radius' cannot both be 0")
@@ -112,7 +115,7 @@ bool finish_kind(ir::Disc& d, LowerContext& cx) {
   ir::Vec3 n = d.normal;
   double m = std::fmax(std::fabs(n.x), std::fmax(std::fabs(n.y), std::fabs(n.z)));
   d.normal = ir::normalize(n / m);  // scaled first: <1e-200, 0, 0> is a direction too
-  if (d.hole < d.radius) return true;
+  if (d.hole < d.radius || !cx.judged({PropId::disc_hole, PropId::disc_radius})) return true;
   cx.diags
       .report(DiagKind::InvalidValue, value_span(cx, PropId::disc_hole),
               "a disc's 'hole' must be < its 'radius'")
@@ -121,7 +124,7 @@ bool finish_kind(ir::Disc& d, LowerContext& cx) {
 }
 
 bool finish_kind(ir::Torus& t, LowerContext& cx) {
-  if (t.minor < t.major) return true;
+  if (t.minor < t.major || !cx.judged({PropId::torus_minor, PropId::torus_major})) return true;
   cx.diags
       .report(DiagKind::InvalidValue, value_span(cx, PropId::torus_minor),
               "a torus's 'minor' must be < its 'major' (major > minor > 0)")
@@ -238,6 +241,15 @@ constexpr MakeFn kPatterns[] = {
 
 bool lower_shape(const BlockInfo& block, LowerContext& cx, ir::ShapeGeom& out) {
   return kShapes[block.shape_kind](out, cx);
+}
+
+void check_shape_rest(const BlockInfo& block, SceneBuilder& builder, lang::Span keyword,
+                      const std::vector<EvaluatedProp>& props,
+                      const std::bitset<kPropCount>& failed, lang::DiagnosticEngine& diags) {
+  if (block.shape_kind < 0 || block.shape_kind == static_cast<int>(ir::ShapeKind::Mesh)) return;
+  LowerContext cx{builder, keyword, props, diags, &failed};
+  ir::ShapeGeom unused;
+  lower_shape(block, cx, unused);
 }
 
 Value make_constructor_value(const BlockInfo& block, const std::vector<EvaluatedProp>& props,

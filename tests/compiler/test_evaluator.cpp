@@ -716,3 +716,30 @@ TEST_CASE("a CSG block whose objects failed gives their errors, not an empty-blo
   REQUIRE(d.size() == 2);
   CHECK(c->sources.file(d[1].span.file).line_col(d[1].span.begin).line == 2);
 }
+
+TEST_CASE("the checks between properties are made beside a block's other errors", "[compiler]") {
+  // §10: every independent error at once. A check that compares two properties
+  // (cap and base, min and max, hole and radius, an area light's edges, the
+  // camera's view) was skipped whenever the block had another error.
+  auto count = [](const std::string& src) {
+    auto c = run(src);
+    INFO(src << "\n" << diag_kinds(*c));
+    return c->diags.error_count();
+  };
+  CHECK(count("cylinder { base 0 cap 0 radius -1 }\n") == 2);
+  CHECK(count("box { min 1 max 0 scale 0 }\n") == 2);
+  CHECK(count("disc { center 0 normal 0 radius 1 hole 2 }\n") == 2);
+  CHECK(count("torus { major 1 minor 2 material diffuse -1 }\n") == 2);
+  CHECK(count("cone { base 0 cap 1 base_radius 0 cap_radius 0 open 3 }\n") == 2);
+  CHECK(count("area_light { corner 0 edge1 <1, 0, 0> edge2 <2, 0, 0> radiance -1 }\n") == 2);
+  CHECK(count("camera { location 0 look_at 0 fov 200 }\n") == 2);
+  // Not where the check would judge a value that failed (or a default standing in
+  // for it): one error each.
+  CHECK(count("cylinder { base 0 cap <0, 0, 1 + true> radius 1 }\n") == 1);
+  CHECK(count("box { min 1 max <0, 0, nope> }\n") == 1);
+  CHECK(count("camera { location <0, 5, 0> look_at <0, 0, nope> }\n") == 1);
+  // One fault of the camera is one error: ir::validate's check of the same view
+  // said it a second time.
+  CHECK(count("camera { location <0, 5, 0> look_at 0 }\n") == 1);
+  CHECK(count("camera { location 0 look_at 0 }\n") == 1);
+}
