@@ -44,7 +44,9 @@ std::string written_kind(const ir::Scene& scene, const ir::Shape& s) {
 std::vector<SceneWarning> scene_warnings(const ir::Scene& scene) {
   std::vector<SceneWarning> out;
   if (scene.shapes.empty()) {
-    out.push_back({"the scene has no object: the image will be the background alone", {}});
+    // An area light is a visible surface (§7): the image is not the background alone.
+    if (scene.area_lights.empty())
+      out.push_back({"the scene has no object: the image will be the background alone", {}});
     return out;
   }
   if (scene.point_lights.empty() && scene.area_lights.empty())

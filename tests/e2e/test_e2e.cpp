@@ -822,6 +822,9 @@ TEST_CASE("warnings: no object, no light for a diffuse surface, the camera insid
   };
   std::string out = check_out("background <0.2, 0.3, 0.4>\n");
   CHECK(out.find("warning: the scene has no object") != std::string::npos);
+  // An area light is a visible surface (§7): the image is not the background alone.
+  out = check_out("area_light { corner <-1, -1, 3> edge1 <2, 0, 0> edge2 <0, 2, 0> radiance 5 }\n");
+  CHECK(out.find("warning") == std::string::npos);
   out = check_out("sphere { center <0, 0, 5> }\n");
   CHECK(out.find("warning: the scene has no light") != std::string::npos);
   CHECK(out.find("w.scn:1:1") != std::string::npos);
