@@ -85,7 +85,17 @@ bool source_colour(const OIIO::ImageSpec& spec, const std::string& ocio_config, 
   const std::string cs = lower(name);
   const float gamma = spec.get_float_attribute("oiio:Gamma", 0);
   std::string why;
-  if (cs.empty()) {
+  // OpenImageIO's own names for what an 8-bit file's header says of its coding:
+  // "sRGB", "Rec709" (every PPM), "Linear" and "GammaG" (a PNG gAMA chunk, which
+  // oiiotool writes as 1.0 when it converts float values to an 8-bit PNG).
+  const bool oiio_name = cs == "srgb" || cs == "rec709" || cs == "linear" ||
+                         (cs.rfind("gamma", 0) == 0 && cs.size() > 5 &&
+                          cs.find_first_not_of("0123456789.", 5) == std::string::npos);
+  const bool eight_bit =
+      spec.format.basetype == OIIO::TypeDesc::UINT8 || spec.format.basetype == OIIO::TypeDesc::INT8;
+  if (cs.empty() || (eight_bit && oiio_name)) {
+    // §17: "8-bit files are taken as sRGB-encoded and linearised", whatever such
+    // a header says (a colour space named in the OCIO config still decides).
     out.kind = spec.format.is_floating_point() ? SourceColour::Linear : SourceColour::Srgb;
   } else if ((out.ocio = snell::rt::ColorTransform::to_scene_linear(ocio_config, name, why))) {
     // A name the config knows means what the config says.

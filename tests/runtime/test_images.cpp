@@ -224,26 +224,40 @@ TEST_CASE("an image's colour space tag decides how it becomes linear", "[images]
         b.push_back(code(i, row, c));
         f.push_back(exr_value(i, row, c));
       }
-  auto write = [&](const std::string& name, const std::string& space, bool floats = false) {
+  std::vector<std::uint16_t> w16;
+  for (unsigned char c : b) w16.push_back(std::uint16_t(c * 257));  // the same fraction
+  auto write = [&](const std::string& name, const std::string& space, bool floats = false,
+                   bool sixteen = false) {
     std::string path = (im.dir / name).string();
     auto out = OIIO::ImageOutput::create(path);
     REQUIRE(out);
-    OIIO::ImageSpec spec(kW, kH, 3, floats ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
+    const OIIO::TypeDesc type = floats    ? OIIO::TypeDesc::FLOAT
+                                : sixteen ? OIIO::TypeDesc::UINT16
+                                          : OIIO::TypeDesc::UINT8;
+    OIIO::ImageSpec spec(kW, kH, 3, type);
     spec.attribute("oiio:ColorSpace", space);
     if (space == "Gamma2.2") spec.attribute("oiio:Gamma", 2.2f);
     REQUIRE(out->open(path, spec));
-    REQUIRE(out->write_image(spec.format, floats ? (const void*)f.data() : b.data()));
+    const void* data = floats    ? (const void*)f.data()
+                       : sixteen ? (const void*)w16.data()
+                                 : b.data();
+    REQUIRE(out->write_image(spec.format, data));
     REQUIRE(out->close());
     return path;
   };
   ir::Scene s = base_scene(1, 1, 1);
-  s.images.push_back({write("gamma.png", "Gamma2.2", false), {}});
+  // 16-bit: a gAMA chunk's power and OIIO's "Linear" mean what they say.
+  s.images.push_back({write("gamma.png", "Gamma2.2", false, true), {}});
   s.images.push_back({write("ocio-gamma.png", "Gamma 2.2 Encoded", false), {}});
   // (Not an EXR: OIIO 2.4 reads every EXR as "Linear", whatever it was tagged.)
   s.images.push_back({write("x2.png", "Scaled Linear x2", false), {}});
-  s.images.push_back({write("linear.png", "Linear", false), {}});
+  s.images.push_back({write("linear.png", "Linear", false, true), {}});
   // OIIO's tag for a PPM, carried into a PNG by oiiotool: §17's 8-bit sRGB.
   s.images.push_back({write("rec709.png", "Rec709", false), {}});
+  // §17: 8-bit files are sRGB whatever OIIO's own names in their header say (oiiotool
+  // writes an 8-bit PNG of float values with a gAMA of 1.0, "Linear").
+  s.images.push_back({write("linear8.png", "Linear", false), {}});
+  s.images.push_back({write("gamma8.png", "Gamma2.2", false), {}});
   std::string err;
   auto tex = rt::ImageTextures::open(s, SNELL_STUDIO_OCIO, err);
   INFO(err);
@@ -256,6 +270,8 @@ TEST_CASE("an image's colour space tag decides how it becomes linear", "[images]
       Color x = at(*tex, image_texture(2, ir::ImageMapping::Planar), q);
       Color l = at(*tex, image_texture(3, ir::ImageMapping::Planar), q);
       Color r709 = at(*tex, image_texture(4, ir::ImageMapping::Planar), q);
+      Color l8 = at(*tex, image_texture(5, ir::ImageMapping::Planar), q);
+      Color g8 = at(*tex, image_texture(6, ir::ImageMapping::Planar), q);
       for (int c = 0; c < 3; ++c) {
         INFO("texel " << i << "," << row << " channel " << c);
         float v = code(i, row, c) / 255.0f;
@@ -266,6 +282,8 @@ TEST_CASE("an image's colour space tag decides how it becomes linear", "[images]
         CHECK(l[c] == Approx(v).epsilon(1e-3));
         float srgb = v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
         CHECK(r709[c] == Approx(srgb).epsilon(1e-3).margin(1e-6));
+        CHECK(l8[c] == Approx(srgb).epsilon(1e-3).margin(1e-6));
+        CHECK(g8[c] == Approx(srgb).epsilon(1e-3).margin(1e-6));
       }
     }
   // A colour space the config does not have: an error naming the file, the space
