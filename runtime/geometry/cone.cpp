@@ -1,6 +1,7 @@
 #include "runtime/geometry/cone.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <utility>
 
 namespace snell::rt::geom {
@@ -9,6 +10,8 @@ TruncatedCone::TruncatedCone(Vec3 base, double r0, Vec3 cap, double r1, bool ope
     : h_(ir::length(cap - base)), r0_(r0), r1_(r1), open_(open) {
   object_from_local = ir::axis_frame(base, (cap - base) / h_);
   k_ = (r1 - r0) / h_;
+  // Once here: hypot is slow, and intersect was computing it on every call.
+  ball_ = std::hypot(0.5 * h_, std::fmax(r0_, r1_)) * (1 + 1e-9);
 }
 
 // The gradient of ρ² − r(z)²: outward, and along the axis at the apex of a cone.
@@ -28,8 +31,7 @@ Vec3 TruncatedCone::side_normal(Vec3 p) const {
 bool TruncatedCone::intersect(Vec3 o, Vec3 d, double tnear, double tfar, double& t_out,
                               Vec3& n_out) const {
   double lo = tnear, hi = tfar;
-  double ball = std::hypot(0.5 * h_, std::fmax(r0_, r1_)) * (1 + 1e-9);
-  if (!clip_to_ball(o, d, {0, 0, 0.5 * h_}, ball, lo, hi)) return false;
+  if (!clip_to_ball(o, d, {0, 0, 0.5 * h_}, ball_, lo, hi)) return false;
   const double ts = lo;
   const Vec3 os = o + d * ts;
   // g(s) = a s² + 2 b s + c along os + s·d.

@@ -35,6 +35,7 @@ class TruncatedCone {
   TruncatedCone(Vec3 base, double r0, Vec3 cap, double r1, bool open);
   Vec3 side_normal(Vec3 p) const;
   double h_ = 1, r0_ = 1, r1_ = 1, k_ = 0;  // k: dr/dz
+  double ball_ = 1;                         // the bounding ball's radius about (0, 0, h/2), padded
   bool open_ = false;
 };
 

@@ -73,6 +73,16 @@ Spans leaf_spans(const ir::ShapeGeom& g, Vec3 o, Vec3 d, double lo, double hi) {
       g);
 }
 
+}  // namespace
+
+Spans CsgProgram::leaf_spans(const Leaf& l, Vec3 o, Vec3 d, double lo, double hi) {
+  if (const auto* c = std::get_if<TruncatedCone>(&l.surface)) return walk_surface(*c, o, d, lo, hi);
+  if (const auto* t = std::get_if<TorusSurface>(&l.surface)) return walk_surface(*t, o, d, lo, hi);
+  return geom::leaf_spans(l.geom, o, d, lo, hi);
+}
+
+namespace {
+
 struct Event {
   double t;
   std::uint32_t leaf, seq;  // seq: the order pushed (a leaf's events in its order)
@@ -163,6 +173,12 @@ std::uint32_t CsgProgram::compile(const ir::Scene& scene, std::uint32_t index, b
     const ir::Shape& part = scene.parts[node.part];
     Leaf l;
     l.geom = part.geom;
+    if (const ir::Cylinder* c = part.as<ir::Cylinder>(); c && !c->open)
+      l.surface.emplace<TruncatedCone>(*c);
+    else if (const ir::Cone* k = part.as<ir::Cone>(); k && !k->open)
+      l.surface.emplace<TruncatedCone>(*k);
+    else if (const ir::Torus* t = part.as<ir::Torus>())
+      l.surface.emplace<TorusSurface>(*t);
     l.leaf_from_csg = part.world_from_object().inv;
     if (motion && part.motion().moves()) l.moves = &part;
     l.material = part.material;
@@ -296,7 +312,7 @@ bool CsgProgram::intersect(Vec3 o, Vec3 d, double tnear, double tfar, double& t_
       }
       return;
     }
-    Spans sp = leaf_spans(l.geom, ol, dl, tnear, tfar);
+    Spans sp = leaf_spans(l, ol, dl, tnear, tfar);
     for (int k = 0; k < sp.count; ++k) {
       const Span& s = sp.span[k];
       // Normals to CSG space (inverse transpose of csg_from_leaf).
@@ -355,7 +371,7 @@ double CsgProgram::leaf_crossing(std::uint32_t leaf, Vec3 o, Vec3 d, double t, s
       }
     return best;
   }
-  Spans sp = leaf_spans(l.geom, ol, dl, -INFINITY, INFINITY);
+  Spans sp = leaf_spans(l, ol, dl, -INFINITY, INFINITY);
   for (int k = 0; k < sp.count; ++k)
     for (double c : {sp.span[k].t_in, sp.span[k].t_out})
       if (std::isfinite(c) && std::fabs(c - t) < dist) best = c, dist = std::fabs(c - t);

@@ -30,8 +30,10 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <variant>
 #include <vector>
 
+#include "runtime/geometry/intervals.hpp"
 #include "runtime/geometry/mesh_solid.hpp"
 #include "runtime/geometry/motion.hpp"
 #include "runtime/geometry/ray.hpp"
@@ -76,6 +78,9 @@ class CsgProgram {
  private:
   struct Leaf {
     ir::ShapeGeom geom;
+    // A cylinder's, cone's or torus's local surface, made once: it was made on
+    // every ray (its frame, an inverse, a hypot), 5 % of a glass of water.
+    std::variant<std::monostate, TruncatedCone, TorusSurface> surface;
     ir::Mat4 leaf_from_csg;            // at shutter open
     const ir::Shape* moves = nullptr;  // the part, when it moves (its motion, its placement)
     Box3 box;  // in CSG space (swept over the shutter when it moves); infinite for a plane
@@ -104,6 +109,8 @@ class CsgProgram {
   static constexpr std::uint32_t kNone = ~0u;
   std::uint32_t compile(const ir::Scene& scene, std::uint32_t node, bool motion, Box3& box);
   std::uint32_t build_bvh(std::uint32_t begin, std::uint32_t end);
+  // A leaf's spans along o + t·d in its own space (intervals.hpp).
+  static Spans leaf_spans(const Leaf& l, Vec3 o, Vec3 d, double lo, double hi);
   // leaf_from_csg at shutter fraction u.
   const ir::Mat4& leaf_at(const Leaf& l, double u, ir::Mat4& scratch) const;
   // Visits the leaves whose boxes the ray may meet within [lo, hi].
