@@ -31,6 +31,7 @@
 #include <OpenImageIO/imageio.h>
 #include <OpenImageIO/texture.h>
 #include <fmt/format.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -141,6 +142,21 @@ bool source_colour(const OIIO::ImageSpec& spec, const std::string& ocio_config, 
   return true;
 }
 
+// Bytes the address-space limit (RLIMIT_AS) leaves this process: the limit less
+// what is mapped now (/proc/self/statm); infinite without a limit.
+double address_space_left() {
+  struct rlimit rl {};
+  if (getrlimit(RLIMIT_AS, &rl) != 0 || rl.rlim_cur == RLIM_INFINITY) return INFINITY;
+  double mapped = 0;
+  if (std::FILE* f = std::fopen("/proc/self/statm", "r")) {
+    unsigned long long pages = 0;
+    if (std::fscanf(f, "%llu", &pages) == 1)
+      mapped = double(pages) * double(sysconf(_SC_PAGE_SIZE));
+    std::fclose(f);
+  }
+  return double(rl.rlim_cur) - mapped;
+}
+
 // The linear .tx made from a file that needs decoding, made once (reused while
 // the source's size and time and the decoding are unchanged). Empty, with
 // `error`, on failure.
@@ -161,6 +177,16 @@ std::string linear_texture(const std::string& path, const SourceColour& colour,
         "machine's {:.1f} GB (store it as a linear EXR, which is read in tiles as needed, or "
         "make it smaller)",
         file_spec.width, file_spec.height, bytes / 1e9, memory / 1e9);
+    return {};
+  }
+  // The process's own address-space limit (ulimit -v, a batch system's): past it an
+  // allocation inside OpenImageIO's texture maker aborted the process with no word.
+  if (const double room = address_space_left(); bytes > room) {
+    error = fmt::format(
+        "it is {}x{} pixels: decoding it to linear would take {:.1f} GB, more than the {:.1f} GB "
+        "this process's address-space limit (ulimit -v) leaves (store it as a linear EXR, "
+        "which is read in tiles as needed, make it smaller, or raise the limit)",
+        file_spec.width, file_spec.height, bytes / 1e9, std::max(room, 0.0) / 1e9);
     return {};
   }
   std::error_code ec;

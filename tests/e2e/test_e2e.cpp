@@ -1089,6 +1089,38 @@ TEST_CASE("a large image is encoded in this process", "[e2e]") {
   CHECK(in->spec().height == 2400);
 }
 
+TEST_CASE("an image too large to decode under the address-space limit is an error, not an abort",
+          "[e2e]") {
+#if defined(__SANITIZE_ADDRESS__)
+  SKIP("AddressSanitizer reserves terabytes of address space: no ulimit -v fits it");
+#endif
+  // A 10000 x 10000 8-bit PNG is decoded to linear once (about 7.2 GB by the
+  // decoder's estimate); under `ulimit -v 4000000` an allocation inside the
+  // texture maker aborted the process with no message. Now: exit 3, the file's
+  // place and why, and nothing left in the cache.
+  Scratch tmp;
+  REQUIRE(std::system(("oiiotool --pattern checker:width=64:height=64 10000x10000 3 -d uint8 -o " +
+                       (tmp / "big.png"))
+                          .c_str()) == 0);
+  std::ofstream(tmp / "s.scn")
+      << "settings { resolution <8, 6> }\n"
+         "plane { normal <0, 1, 0> distance 0 material diffuse image { file \"big.png\" } }\n";
+  const std::string log = tmp / "log.txt";
+  int status = std::system(("ulimit -v 4000000; SNELL_TEXTURE_CACHE=" + (tmp / "cache") + " " +
+                            kSnell + " check " + (tmp / "s.scn") + " > " + log + " 2>&1")
+                               .c_str());
+  std::ifstream in(log);
+  const std::string out((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  INFO(out);
+  CHECK((WIFEXITED(status) ? WEXITSTATUS(status) : -1) == 3);
+  CHECK(out.find("s.scn:2:") != std::string::npos);
+  CHECK(out.find("address-space limit") != std::string::npos);
+  std::size_t files = 0;
+  if (fs::exists(tmp / "cache"))
+    for ([[maybe_unused]] const auto& e : fs::directory_iterator(tmp / "cache")) ++files;
+  CHECK(files == 0);
+}
+
 TEST_CASE("the image helper process writes what the in-process writer writes", "[e2e]") {
   // The same renders with the image module loaded in a helper process (the
   // default) and here (SNELL_IMAGE_HELPER=0): the same pixels, for linear EXR and
