@@ -14,6 +14,8 @@ namespace {
 
 // A max_depth past which the scene is warned of its time (scene_warnings).
 constexpr std::uint32_t kDeepTree = 1000;
+// Split trees deeper than this without pruning: 2^24 rays a camera ray at most.
+constexpr std::uint32_t kSplitDepth = 24;
 
 bool black(const ir::Texture& t) {
   const ir::Constant* c = std::get_if<ir::Constant>(&t.pattern);
@@ -91,6 +93,22 @@ std::vector<SceneWarning> scene_warnings(const ir::Scene& scene) {
                                "proportion; scenes seldom need more than 100",
                                scene.settings.max_depth),
                    scene.settings.src});
+  // Without min_weight nothing prunes a split tree: each dielectric hit traces both
+  // the reflection and the refraction, so nested or facing glass makes up to 2^D
+  // rays per camera ray (30 glass shells at max_depth 50 ran for years).
+  if (scene.settings.min_weight == 0 && scene.settings.branching == ir::Branching::Split &&
+      scene.settings.max_depth > kSplitDepth && scene.settings.max_depth <= kDeepTree) {
+    bool glass = false;
+    for (const ir::Material& m : scene.materials) glass = glass || m.as<ir::Dielectric>();
+    if (glass)
+      out.push_back({fmt::format("min_weight 0 prunes no ray: at every dielectric hit a ray splits "
+                                 "in two, so max_depth {} lets a camera ray make up to 2^{} rays "
+                                 "and a render may not end; min_weight 0.001 (the default) drops "
+                                 "only what cannot be seen, or branching \"stochastic\" follows "
+                                 "one branch",
+                                 scene.settings.max_depth, scene.settings.max_depth),
+                     scene.settings.src});
+  }
   // Boxes, triangles, meshes and instances move in linear steps (at most 128, each
   // turning at most 90°); spheres and the other shapes are placed exactly per ray.
   for (const ir::Shape& s : scene.shapes) {

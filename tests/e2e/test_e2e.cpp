@@ -843,6 +843,24 @@ TEST_CASE("warnings: no object, no light for a diffuse surface, the camera insid
       "settings { max_depth 1000 }\npoint_light { position <0, 5, -5> intensity 10 }"
       "\nsphere { center <0, 0, 5> }\n");
   CHECK(out.find("warning") == std::string::npos);
+  // Glass with min_weight 0 and a deep split tree: up to 2^D rays a camera ray.
+  const std::string glass =
+      "\npoint_light { position <0, 5, -5> intensity 10 }"
+      "\nsphere { center <0, 0, 5> material dielectric 1.5 }\n";
+  out = check_out("settings { max_depth 50 min_weight 0 }" + glass);
+  CHECK(out.find("warning: min_weight 0 prunes no ray") != std::string::npos);
+  CHECK(out.find("2^50") != std::string::npos);
+  // Not with pruning, a shallow tree, one branch at a time, or no glass.
+  for (const std::string settings : {"max_depth 50", "max_depth 20 min_weight 0",
+                                     "max_depth 50 min_weight 0 branching "
+                                     "\"stochastic\""}) {
+    out = check_out("settings { " + settings + " }" + glass);
+    CHECK(out.find("warning") == std::string::npos);
+  }
+  out = check_out(
+      "settings { max_depth 50 min_weight 0 }\npoint_light { position <0, 5, -5> intensity 10 }"
+      "\nsphere { center <0, 0, 5> material mirror 1 }\n");
+  CHECK(out.find("warning") == std::string::npos);
   // The camera inside a big sphere, a rotated box and a closed cylinder, not inside
   // an open one.
   out = check_out(
