@@ -1048,6 +1048,23 @@ TEST_CASE("a render estimated to need more memory than the limit fails before it
   CHECK(run_capture("render " + scene + " --quiet --max-memory 1G --crop 0,0,64,64 -o " +
                         (tmp / "crop.exr"),
                     err, tmp) == 0);
+  // 400 boxes turning 90° in the shutter: 129 time steps of each, ~170 KB a box
+  // (about 66 MB in all), where 512 bytes each were counted.
+  std::ofstream(tmp / "spin.scn")
+      << "settings { resolution <8, 6> }\ncamera { shutter <0, 1> }\n"
+         "for i in 0 .. 400 { box { min -0.05 max 0.05 translate <i * 0.01, 0, 5> "
+         "motion { rotate <0, 90, 0> } } }\n";
+  CHECK(run_capture("render " + (tmp / "spin.scn") + " --max-memory 200M -o " + (tmp / "spin.exr"),
+                    err, tmp) == 1);
+  CHECK(err.find("the render needs about 2") != std::string::npos);
+  // Still, it is not counted.
+  std::ofstream(tmp / "still.scn")
+      << "settings { resolution <8, 6> }\n"
+         "for i in 0 .. 400 { box { min -0.05 max 0.05 translate <i * 0.01, 0, 5> "
+         "motion { rotate <0, 90, 0> } } }\n";
+  CHECK(run_capture("render " + (tmp / "still.scn") + " --quiet --max-memory 200M -o " +
+                        (tmp / "still.exr"),
+                    err, tmp) == 0);
 }
 
 TEST_CASE("sobol renders the same pixels on every SIMD path", "[e2e]") {
