@@ -72,6 +72,26 @@ void each_visible(std::string_view s, F&& f) {
   }
 }
 
+// The columns a character takes in a terminal: 2 for East Asian wide and
+// fullwidth characters and emoji (the common blocks of Unicode's
+// EastAsianWidth W and F), 1 for the rest; combining marks are not told apart.
+int columns(std::string_view t) {
+  if (t.size() < 3) return 1;
+  const auto b = [&](std::size_t i) { return static_cast<unsigned char>(t[i]); };
+  const std::uint32_t cp =
+      t.size() == 3
+          ? (b(0) & 0x0Fu) << 12 | (b(1) & 0x3Fu) << 6 | (b(2) & 0x3Fu)
+          : (b(0) & 0x07u) << 18 | (b(1) & 0x3Fu) << 12 | (b(2) & 0x3Fu) << 6 | (b(3) & 0x3Fu);
+  const bool wide = (cp >= 0x1100 && cp <= 0x115F) || (cp >= 0x2E80 && cp <= 0x303E) ||
+                    (cp >= 0x3041 && cp <= 0x33FF) || (cp >= 0x3400 && cp <= 0x4DBF) ||
+                    (cp >= 0x4E00 && cp <= 0x9FFF) || (cp >= 0xA000 && cp <= 0xA4CF) ||
+                    (cp >= 0xAC00 && cp <= 0xD7A3) || (cp >= 0xF900 && cp <= 0xFAFF) ||
+                    (cp >= 0xFE30 && cp <= 0xFE4F) || (cp >= 0xFF00 && cp <= 0xFF60) ||
+                    (cp >= 0xFFE0 && cp <= 0xFFE6) || (cp >= 0x1F300 && cp <= 0x1F64F) ||
+                    (cp >= 0x1F900 && cp <= 0x1F9FF) || (cp >= 0x20000 && cp <= 0x3FFFD);
+  return wide ? 2 : 1;
+}
+
 std::string visible(std::string_view s) {
   std::string out;
   each_visible(s, [&](std::string_view t, bool) { out += t; });
@@ -177,15 +197,20 @@ void DiagnosticEngine::snippet(std::string& out, Span span, bool color) const {
   out += " " + num + " | ";
   each_visible(shown, [&](std::string_view t, bool) { out += t; });
   out += "\n " + pad + " | ";
-  // One column per character up to the caret (col is in bytes), tabs kept.
+  // The columns of each character up to the caret (col is in bytes: a wide
+  // character takes two), tabs kept.
   if (start < col0 && start < line.size())
-    each_visible(line.substr(start, col0 - start),
-                 [&](std::string_view, bool tab) { out += tab ? '\t' : ' '; });
+    each_visible(line.substr(start, col0 - start), [&](std::string_view t, bool tab) {
+      if (tab)
+        out += '\t';
+      else
+        out.append(std::size_t(columns(t)), ' ');
+    });
   std::size_t bytes = span.end > span.begin ? span.end - span.begin : 1;
   std::size_t len = 0;
   if (col0 < line.size())
     each_visible(line.substr(col0, std::min(bytes, kMaxShown)),
-                 [&](std::string_view, bool) { ++len; });
+                 [&](std::string_view t, bool) { len += std::size_t(columns(t)); });
   len = std::max<std::size_t>(1, std::min(len, kMaxShown));
   if (color) out += "\x1b[1;32m";
   out += '^';

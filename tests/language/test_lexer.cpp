@@ -253,6 +253,27 @@ TEST_CASE("diagnostics: a source line or message shows as text, the caret under 
         std::string::npos);
 }
 
+TEST_CASE("diagnostics: the caret counts two columns for a wide character", "[diagnostics]") {
+  // A terminal shows CJK and fullwidth characters two columns wide: the caret was
+  // one column per character, so it stood two columns left of 'x' after "日本".
+  SourceManager sm;
+  FileId f = sm.add("w.scn", "let s = \"\xe6\x97\xa5\xe6\x9c\xac\xc3\xa9\"; let t = x;\n");
+  DiagnosticEngine diags(sm);
+  std::size_t x = sm.file(f).text().find(" x;") + 1;
+  diags.report(DiagKind::UndefinedName,
+               Span{f, static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(x + 1)},
+               "'x' is not defined");
+  std::string shown = diags.format(diags.diagnostics()[0]);
+  INFO(shown);
+  // "let s = \"" (9) + two wide characters (4) + é (1) + "\"; let t = " (11).
+  CHECK(shown.find("\n   | " + std::string(9 + 4 + 1 + 11, ' ') + "^\n") != std::string::npos);
+  // An underline under wide characters is as wide as they are.
+  diags.report(DiagKind::InvalidValue, Span{f, 9, 15}, "wide");
+  shown = diags.format(diags.diagnostics()[1]);
+  INFO(shown);
+  CHECK(shown.find("\n   | " + std::string(9, ' ') + "^~~~\n") != std::string::npos);
+}
+
 TEST_CASE("POV-Ray's # directives say what to write instead", "[lexer]") {
   for (auto [text, hint] : {std::pair{"#include \"colors.inc\"", "import \"file.scn\";"},
                             std::pair{"#declare R = 1;", "let NAME = VALUE;"},
