@@ -277,9 +277,9 @@ StmtPtr Parser::parse_statement() {
       return nullptr;  // stray ';' is harmless
     case TokenKind::Identifier:
       if (peek_.kind == TokenKind::LBrace) return parse_item();
-      if (cur_.text == "background" && peek_.kind != TokenKind::LParen &&
-          peek_.kind != TokenKind::Equal)
-        return parse_background();
+      // §4 `background EXPR`, EXPR any expression: `background (0.5)` too (it was
+      // read as a call of a function named background).
+      if (cur_.text == "background" && peek_.kind != TokenKind::Equal) return parse_background();
       return parse_expr_stmt();
     default:
       break;

@@ -743,3 +743,20 @@ TEST_CASE("the checks between properties are made beside a block's other errors"
   CHECK(count("camera { location <0, 5, 0> look_at 0 }\n") == 1);
   CHECK(count("camera { location 0 look_at 0 }\n") == 1);
 }
+
+TEST_CASE("background takes any expression, a parenthesised one too", "[compiler]") {
+  // §4: `background EXPR`. `background (0.5)` was read as a call of a function
+  // named background: "expected ';' after the call", or "'background' is not
+  // defined" with the ';'.
+  for (const char* src :
+       {"background (0.5)\nsphere { radius 1 }\n",
+        "background (0.2 + 0.05) * 2;\nsphere { radius 1 }\n", "background(0.5);\n"}) {
+    auto c = run(src);
+    INFO(src << diag_kinds(*c));
+    REQUIRE(c->status == compile::CompileStatus::Ok);
+    const ir::Constant* k = std::get_if<ir::Constant>(&c->scene.background.pattern);
+    REQUIRE(k);
+    CHECK(k->color.x == 0.5);
+    CHECK(k->color.z == 0.5);
+  }
+}

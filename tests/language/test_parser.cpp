@@ -199,7 +199,7 @@ TEST_CASE("statement forms", "[parser]") {
   CHECK(s[8]->name == "sphere");
   CHECK(s[8]->block->properties.size() == 1);
   CHECK(s[9]->kind == StmtKind::Background);
-  CHECK(s[10]->kind == StmtKind::ExprStmt);  // a call of a function named background
+  CHECK(s[10]->kind == StmtKind::Background);  // §4: background EXPR, EXPR = (1)
   CHECK(s[11]->kind == StmtKind::Item);
 }
 
