@@ -384,7 +384,10 @@ void Evaluator::exec_item(const Stmt& s, const std::shared_ptr<Env>& env) {
       return;
     }
     Value v = eval_object(s.name, instance ? nullptr : block, *s.block, s.name_span, env);
-    if (v.type == Type::Object) emit(v.object());
+    if (v.type == Type::Object)
+      emit(v.object());
+    else if (!collectors_.empty())
+      collectors_.back().failed = true;
     return;
   }
   if (block && block->kind == BlockKind::Item && !block->is_object &&

@@ -306,6 +306,7 @@ class Evaluator {
     std::vector<std::shared_ptr<const ObjectNode>>* children;
     const BlockInfo* block;
     lang::Span keyword;
+    bool failed = false;  // an object statement in the body failed (its error said)
   };
   std::vector<Collector> collectors_;
   std::deque<std::vector<EvaluatedProp>> props_pool_;  // see PropsLease

@@ -109,14 +109,18 @@ Value Evaluator::eval_object(std::string_view keyword, const BlockInfo* block,
     Frame frame;
     const std::size_t errors = diags_.error_count();
     exec_block(body.statements, scope, frame);
+    const bool child_failed = collectors_.back().failed;
     collectors_.pop_back();
     eval_props(*block, body, kw, scope, node->props, ok);
-    if (node->children.empty() && !aborted_ && diags_.error_count() == errors) {
+    if (node->children.empty()) {
       // A warning, as POV-Ray's: a loop that made no children (a generated scene)
       // leaves nothing here, and the scene renders without it. Not where the body
-      // had errors: its objects that failed were there (no warning cascades).
-      error(DiagKind::EmptyCsg, kw,
-            "this '" + std::string(block->name) + "' holds no object: it adds nothing");
+      // had errors or an object in it failed (a value whose error was said where
+      // it was made): those objects were there (no warning cascades). Either way
+      // the block is left out: an empty CSG node is no object.
+      if (!aborted_ && !child_failed && diags_.error_count() == errors)
+        error(DiagKind::EmptyCsg, kw,
+              "this '" + std::string(block->name) + "' holds no object: it adds nothing");
       ok = false;
     }
     return ok ? Value::of_object(std::move(node)) : Value::error();

@@ -715,6 +715,16 @@ TEST_CASE("a CSG block whose objects failed gives their errors, not an empty-blo
   const auto& d = c->diags.diagnostics();
   REQUIRE(d.size() == 2);
   CHECK(c->sources.file(d[1].span.file).line_col(d[1].span.begin).line == 2);
+  // A merge, intersection or difference whose objects all failed is left out: it
+  // was placed empty ("csg node #0 is empty or out of range" at line 1, col 1).
+  CHECK(diag_kinds(*run("sphere { radius 1 }\nmerge { sphere { radius -1 } }\n")) ==
+        "InvalidValue ");
+  CHECK(diag_kinds(*run("intersection { for i in 0 .. 2 { sphere { radius -1 } } }\n")) ==
+        "InvalidValue ");
+  // Nor a warning where the object that failed is a value whose error was said at
+  // its `let`.
+  CHECK(diag_kinds(*run("let s = sphere { radius -1 };\nmerge { object { s } }\n")) ==
+        "InvalidValue ");
 }
 
 TEST_CASE("the checks between properties are made beside a block's other errors", "[compiler]") {
