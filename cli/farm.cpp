@@ -13,6 +13,8 @@
 #include "cli/animation.hpp"
 #include "cli/commands.hpp"
 #include "cli/split.hpp"
+#include "runtime/color.hpp"
+#include "runtime/image_format.hpp"
 
 namespace snell::cli {
 
@@ -267,23 +269,69 @@ int run_farm(const CliArgs& o) {
     std::cout << "# submitted with:\nARRAY=$(" << submit_array << ")\n" << submit_merge << "\n";
     return kExitOk;
   }
+  // What the farm writes (the pieces, the results, its two scripts) never replaces
+  // a file the scene reads (exit 2, as render and merge), a result is no piece, and
+  // the results can be written: their folders, and the display transform of a
+  // display-referred one (exit 3). All before anything is written or submitted: a
+  // task or merge job that fails for it would fail only after the whole run.
+  std::vector<std::string> written = plan.results;
+  written.push_back(plan.array_script_path());
+  written.push_back(plan.merge_script_path());
+  std::vector<std::string> pieces;
+  for (const FarmTask& t : plan.tasks)
+    for (const std::string& out : t.outputs) pieces.push_back(out), written.push_back(out);
+  if (int code = check_not_an_input(written, scene_inputs(c->scene)); code >= 0) return code;
+  if (!plan.merges.empty())
+    for (const std::string& r : plan.results)
+      for (const std::string& piece : pieces)
+        if (fs::path(r).lexically_normal() == fs::path(piece).lexically_normal())
+          return usage_error("the output " + r +
+                             " is one of the render's pieces: the merge would read and replace "
+                             "it; choose another name");
   std::error_code ec;
   for (const char* sub : {"", "/logs", "/pieces"}) fs::create_directories(plan.dir + sub, ec);
   if (ec) {
     std::cerr << "snell: error: cannot create " << plan.dir << ": " << ec.message() << "\n";
     return kExitIo;
   }
+  for (const std::string& r : plan.results) {
+    if (int code = check_output_folder(r); code >= 0) return code;
+    if (rt::lower_extension(r) != ".exr")
+      if (std::string err = rt::check_display_transform(o.display_view()); !err.empty()) {
+        std::cerr << "snell: error: cannot write " << r << ": " << err << "\n";
+        return kExitIo;
+      }
+  }
   // A stale output of an earlier run would pass the merge job's check, and a stale
-  // final image would sit where a failed merge leaves none.
-  for (const FarmTask& t : plan.tasks)
-    for (const std::string& out : t.outputs) fs::remove(out, ec);
-  for (const std::string& out : plan.results) fs::remove(out, ec);
+  // final image would sit where a failed merge leaves none: they are set aside
+  // (renamed beside themselves) now, removed once both jobs are submitted, and put
+  // back when a submission fails, so a failing command leaves every file as it was.
+  std::vector<std::pair<fs::path, fs::path>> aside;
+  auto put_back = [&] {
+    for (const auto& [was, now] : aside) fs::rename(now, was, ec);
+  };
+  for (const std::string& out : written) {
+    if (out == plan.array_script_path() || out == plan.merge_script_path()) continue;
+    const fs::path p(out);
+    if (!fs::exists(fs::symlink_status(p, ec))) continue;
+    const fs::path stale =
+        p.parent_path() / fmt::format(".{}.farm-stale-{}", p.filename().string(), ::getpid());
+    fs::rename(p, stale, ec);
+    if (ec) {
+      std::cerr << "snell: error: cannot set aside the earlier " << out << ": " << ec.message()
+                << "\n";
+      put_back();
+      return kExitIo;
+    }
+    aside.emplace_back(p, stale);
+  }
   for (const auto& [path, text] :
        {std::pair{plan.array_script_path(), array}, std::pair{plan.merge_script_path(), merge}}) {
     std::ofstream f(path);
     f << text;
     if (!f) {
       std::cerr << "snell: error: cannot write " << path << "\n";
+      put_back();
       return kExitIo;
     }
   }
@@ -291,6 +339,7 @@ int run_farm(const CliArgs& o) {
   int code = capture(submit_array, out);
   std::string array_id = job_id(out);
   if (code != 0 || array_id.empty()) {
+    put_back();
     std::cerr << "snell: error: farm: `" << submit_array << "` failed (exit " << code << ")"
               << (out.empty() ? "" : ": " + out) << "; is Slurm installed and running?\n";
     return kExitIo;
@@ -299,6 +348,8 @@ int run_farm(const CliArgs& o) {
   merge_cmd.replace(merge_cmd.find("$ARRAY"), 6, array_id);
   code = capture(merge_cmd, out);
   std::string merge_id = job_id(out);
+  // The array job is submitted: its tasks may be writing their pieces now.
+  for (const auto& [was, now] : aside) fs::remove(now, ec);
   if (code != 0 || merge_id.empty()) {
     std::cerr << "snell: error: farm: `" << merge_cmd << "` failed (exit " << code << ")"
               << (out.empty() ? "" : ": " + out) << "; the array job " << array_id

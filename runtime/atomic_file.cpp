@@ -157,6 +157,10 @@ void remove_temporaries_on_signals() {
     if (::sigaction(sig, nullptr, &prev) == 0 && prev.sa_handler == SIG_IGN) continue;
     ::sigaction(sig, &sa, nullptr);
   }
+  // A file-size limit (ulimit -f) is an I/O error, not a signal: with SIGXFSZ's
+  // default the write killed the process (exit 153) and left the temporary; ignored,
+  // the write fails with EFBIG, the temporary is removed, the old file kept, exit 3.
+  ::signal(SIGXFSZ, SIG_IGN);
 }
 
 }  // namespace snell::rt

@@ -31,7 +31,8 @@ std::string write_target(const std::string& path);
 // Installs handlers for SIGINT, SIGTERM, SIGHUP and SIGQUIT that remove the
 // temporaries being written at that moment, then end the process by the same
 // signal (its default action, so the exit status says which). Call once, early,
-// from main. Without it a signal during a write leaves a hidden temporary.
+// from main. Without it a signal during a write leaves a hidden temporary. Also
+// ignores SIGXFSZ, so a file-size limit is an I/O error of the write (EFBIG).
 void remove_temporaries_on_signals();
 
 }  // namespace snell::rt

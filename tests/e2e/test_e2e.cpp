@@ -293,6 +293,32 @@ TEST_CASE("a failed write leaves an existing output untouched", "[e2e]") {
   for (const auto& e : fs::directory_iterator(tmp / "ro")) CHECK(e.path().filename() == "keep.png");
 }
 
+TEST_CASE("a file-size limit is exit 3, the old file kept, the later outputs tried", "[e2e]") {
+  // ulimit -f: SIGXFSZ killed the process (exit 153) mid-write, leaving its
+  // temporary and never reaching the next output.
+  Scratch tmp;
+  std::ofstream(tmp / "b.scn") << "settings { resolution <64, 48> }\n"
+                                  "point_light { position <0, 5, -5> intensity 20 }\n"
+                                  "sphere { center <0, 0, 5> }\n";
+  std::ofstream(tmp / "big.exr") << "previous contents";
+  const std::string log = tmp / "log.txt";
+  int status =
+      std::system(("cd " + tmp.dir.string() + " && (ulimit -f 2; " + kSnell +
+                   " render b.scn -q --threads 1 -o big.exr -o small.png) > " + log + " 2>&1")
+                      .c_str());
+  std::ifstream in(log);
+  const std::string out((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  INFO(out);
+  CHECK((WIFEXITED(status) ? WEXITSTATUS(status) : -1) == 3);
+  CHECK(out.find("cannot write big.exr: File too large") != std::string::npos);
+  std::ifstream old(tmp / "big.exr");
+  CHECK(std::string((std::istreambuf_iterator<char>(old)), {}) == "previous contents");
+  // The next output is tried (and fails on its own, or is written when it fits).
+  CHECK((out.find("cannot write small.png") != std::string::npos || fs::exists(tmp / "small.png")));
+  for (const auto& e : fs::directory_iterator(tmp.dir))
+    CHECK(e.path().filename().string().find("snell-tmp") == std::string::npos);
+}
+
 TEST_CASE("snell check lists the effects a scene uses", "[e2e]") {
   Scratch tmp;
   std::ofstream(tmp / "fx.scn")

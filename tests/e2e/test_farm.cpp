@@ -156,6 +156,50 @@ TEST_CASE("farm: a failed task fails the merge job, naming it, nothing is merged
   CHECK(!fs::exists(tmp / "shared/out.exr"));
 }
 
+TEST_CASE(
+    "farm: never replaces what the scene reads, checks its outputs first, and a failed "
+    "submission leaves every file as it was",
+    "[e2e][farm]") {
+  Scratch tmp;
+  fs::create_directories(tmp / "s");
+  const std::string scene = tmp / "s/a.scn";
+  std::ofstream(scene) << "settings { resolution <16, 12> }\n"
+                          "point_light { position <0, 5, -5> intensity 20 }\n"
+                          "sphere { center <0, 0, 5> }\n";
+  const std::string kept = slurp(scene);
+  auto calls = [&] { return fs::exists(tmp / "calls.txt") ? slurp(tmp / "calls.txt") : ""; };
+  // The scene as the result (a scene file named sc.png), or as a script's path:
+  // exit 2, nothing submitted, the scene whole (it was deleted, or overwritten by
+  // the script).
+  std::ofstream(tmp / "s/sc.png") << kept;
+  CHECK(tmp.farm(tmp / "s/sc.png" + std::string(" --tiles 2 --dir ") + (tmp / "d1") + " -o " +
+                 (tmp / "s/sc.png")) == 2);
+  CHECK(slurp(tmp / "farm.out").find("a file this command reads") != std::string::npos);
+  CHECK(slurp(tmp / "s/sc.png") == kept);
+  std::ofstream(tmp / "s/render.sbatch") << slurp(scene);
+  CHECK(tmp.farm(tmp / "s/render.sbatch" + std::string(" --tiles 2 --dir ") + (tmp / "s")) == 2);
+  CHECK(slurp(tmp / "s/render.sbatch") == kept);
+  CHECK(slurp(scene) == kept);
+  // A result that is one of the pieces, a result in a folder that does not exist,
+  // a display the config lacks: refused before anything is submitted.
+  CHECK(tmp.farm(scene + " --tiles 2 --dir " + (tmp / "d2") + " -o pieces/piece_0000.exr") == 2);
+  CHECK(tmp.farm(scene + " --tiles 2 --dir " + (tmp / "d3") + " -o nodir/x.png") == 3);
+  CHECK(tmp.farm(scene + " --tiles 2 --dir " + (tmp / "d4") + " -o x.png --display nosuch") == 3);
+  CHECK(calls().empty());
+  // sbatch fails: the earlier run's result and pieces are as they were.
+  fs::create_directories(tmp / "d5/pieces");
+  std::ofstream(tmp / "d5/out.exr") << "earlier";
+  std::ofstream(tmp / "d5/pieces/piece_0000.exr") << "earlier piece";
+  fs::remove(tmp / "bin/sbatch");
+  std::ofstream(tmp / "bin/sbatch") << "#!/bin/bash\necho refused >&2\nexit 1\n";
+  fs::permissions(tmp / "bin/sbatch", fs::perms::owner_all);
+  CHECK(tmp.farm(scene + " --tiles 2 --dir " + (tmp / "d5") + " -o out.exr") == 3);
+  CHECK(slurp(tmp / "d5/out.exr") == "earlier");
+  CHECK(slurp(tmp / "d5/pieces/piece_0000.exr") == "earlier piece");
+  for (const auto& e : fs::directory_iterator(tmp / "d5"))
+    CHECK(e.path().filename().string().find("farm-stale") == std::string::npos);
+}
+
 TEST_CASE("farm: the merge job prints a folder named like a command, never runs it",
           "[e2e][farm]") {
   // The merge script's messages name the shared folder; in double quotes a name
