@@ -509,8 +509,7 @@ bool Evaluator::eval_pair(const PropInfo& info, const Expr& expr, const std::sha
 void Evaluator::eval_props(const BlockInfo& block, const lang::Block& body, Span keyword_span,
                            const std::shared_ptr<Env>& env, std::vector<EvaluatedProp>& out,
                            bool& ok) {
-  const std::size_t first = out.size();
-  std::bitset<kPropCount> given;  // the properties in out[first..] (by id)
+  std::bitset<kPropCount> given;  // the properties given and good (by id)
   if (!body.positional.empty()) [[unlikely]] {
     // POV-Ray's positional values: one error that shows the named form, and no
     // "needs 'radius'" errors after it (they would say the same thing again).
@@ -541,7 +540,8 @@ void Evaluator::eval_props(const BlockInfo& block, const lang::Block& body, Span
     error(DiagKind::PositionalValues, body.positional[0]->span, hint.message).note(hint.note);
     ok = false;
   }
-  std::vector<std::string> guessed;  // what misspelt properties were taken for
+  std::vector<std::string> guessed;                  // what misspelt properties were taken for
+  std::vector<std::pair<std::int32_t, Span>> named;  // each property met, and where
   for (const lang::Property& p : body.properties) {
     // A Block is always checked against the same table (its keyword's), so the
     // property it names can be remembered on the node.
@@ -572,16 +572,20 @@ void Evaluator::eval_props(const BlockInfo& block, const lang::Block& body, Span
       ok = false;
       continue;
     }
-    if (!info->repeats() && given.test(static_cast<std::size_t>(info->id))) {
-      for (std::size_t k = first; k < out.size(); ++k)
-        if (const EvaluatedProp& q = out[k]; q.info == info) {
-          error(DiagKind::DuplicateProperty, p.name_span,
-                "'" + p.name + "' is given twice in '" + std::string(block.name) + "'")
-              .note(q.name_span, "first given here");
-          break;
-        }
-      ok = false;
-      continue;
+    // Twice is an error whether or not the first one's value was good (§5): the
+    // first's place is remembered as it is met.
+    if (!info->repeats()) {
+      const Span* first_at = nullptr;
+      for (const auto& [id, at] : named)
+        if (id == info->id) first_at = &at;
+      if (first_at) {
+        error(DiagKind::DuplicateProperty, p.name_span,
+              "'" + p.name + "' is given twice in '" + std::string(block.name) + "'")
+            .note(*first_at, "first given here");
+        ok = false;
+        continue;
+      }
+      named.emplace_back(info->id, p.name_span);
     }
     if (info->type == PropType::Block) {
       if (!p.block) {

@@ -87,16 +87,21 @@ Value Evaluator::eval_object(std::string_view keyword, const BlockInfo* block,
   if (!block) {
     // object { EXPR ... }: EXPR is the object value placed.
     if (!body.subject) return Value::error();  // reported by the parser
+    static const BlockInfo* const object_props = find_block("object");
     Value v = eval(*body.subject, env);
-    if (v.is_error()) return v;
-    if (v.type != Type::Object) {
+    if (!v.is_error() && v.type != Type::Object) {
       error(DiagKind::TypeMismatch, body.subject->span,
             "'" + std::string(keyword) + " { }' places an object value, not " + a_type(v.type))
           .note("an object value is an object block used as a value: let w = union { ... };");
+      v = Value::error();
+    }
+    if (v.is_error()) {
+      // The instance's own properties are still checked (§10: independent errors).
+      PropsLease props(*this);
+      eval_props(*object_props, body, kw, env, props.list(), ok);
       return Value::error();
     }
     node->children.push_back(v.object());
-    static const BlockInfo* const object_props = find_block("object");
     eval_props(*object_props, body, kw, env, node->props, ok);
     return ok ? Value::of_object(std::move(node)) : Value::error();
   }

@@ -262,11 +262,7 @@ void SceneBuilder::add_item(const BlockInfo& block, Span kw,
     l.src = ref(kw);
     // Each fault is reported (§10: independent errors), then the light is left out.
     bool ok = check_light_area(props);
-    if (std::uint64_t(l.samples_u) * l.samples_v > 65536) {
-      diags_.report(DiagKind::InvalidValue, get(props, PropId::area_light_samples)->value_span,
-                    "an area light takes at most 65536 shadow samples per point");
-      ok = false;
-    }
+    ok = check_light_samples(props) && ok;
     if (ok) scene_.area_lights.push_back(l);
   }
 }
@@ -309,7 +305,7 @@ void SceneBuilder::apply_camera(const std::vector<EvaluatedProp>& props) {
   }
 }
 
-bool SceneBuilder::check_camera_view(const std::vector<EvaluatedProp>& props) {
+bool SceneBuilder::check_camera_view(const std::vector<EvaluatedProp>& props, bool with_up) {
   const ir::Vec3 location = vec(props, PropId::camera_location),
                  look_at = vec(props, PropId::camera_look_at), up = vec(props, PropId::camera_up);
   const ir::Vec3 fwd = look_at - location;
@@ -319,7 +315,7 @@ bool SceneBuilder::check_camera_view(const std::vector<EvaluatedProp>& props) {
                   "the camera's 'look_at' equals its 'location': no view direction");
     return false;
   }
-  if (ir::length(ir::cross(fwd, up)) == 0) {
+  if (with_up && ir::length(ir::cross(fwd, up)) == 0) {
     diags_
         .report(DiagKind::InvalidValue, get(props, PropId::camera_up)->value_span,
                 "the camera's 'up' is parallel to its view direction")
@@ -327,6 +323,14 @@ bool SceneBuilder::check_camera_view(const std::vector<EvaluatedProp>& props) {
     return false;
   }
   return true;
+}
+
+bool SceneBuilder::check_light_samples(const std::vector<EvaluatedProp>& props) {
+  const ir::Vec3 s = vec(props, PropId::area_light_samples);
+  if (std::uint64_t(s.x) * std::uint64_t(s.y) <= 65536) return true;
+  diags_.report(DiagKind::InvalidValue, get(props, PropId::area_light_samples)->value_span,
+                "an area light takes at most 65536 shadow samples per point");
+  return false;
 }
 
 bool SceneBuilder::check_light_area(const std::vector<EvaluatedProp>& props) {
@@ -349,12 +353,12 @@ void SceneBuilder::check_item_rest(const BlockInfo& block, Span kw,
       if (failed.test(static_cast<std::size_t>(id))) return false;
     return true;
   };
-  if (block.name == "camera" &&
-      judged({PropId::camera_location, PropId::camera_look_at, PropId::camera_up}))
-    check_camera_view(props);
-  else if (block.name == "area_light" &&
-           judged({PropId::area_light_edge1, PropId::area_light_edge2}))
-    check_light_area(props);
+  if (block.name == "camera" && judged({PropId::camera_location, PropId::camera_look_at})) {
+    check_camera_view(props, judged({PropId::camera_up}));
+  } else if (block.name == "area_light") {
+    if (judged({PropId::area_light_edge1, PropId::area_light_edge2})) check_light_area(props);
+    if (judged({PropId::area_light_samples})) check_light_samples(props);
+  }
 }
 
 void SceneBuilder::add_object(const BlockInfo& block, Span kw,

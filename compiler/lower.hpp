@@ -227,8 +227,9 @@ class SceneBuilder {
   void add_object(const BlockInfo& block, lang::Span kw, const std::vector<EvaluatedProp>& props);
   void apply_settings(const std::vector<EvaluatedProp>& props);
   void apply_camera(const std::vector<EvaluatedProp>& props);
-  bool check_camera_view(const std::vector<EvaluatedProp>& props);
+  bool check_camera_view(const std::vector<EvaluatedProp>& props, bool with_up = true);
   bool check_light_area(const std::vector<EvaluatedProp>& props);
+  bool check_light_samples(const std::vector<EvaluatedProp>& props);
   bool first_of_kind(std::string_view kind, lang::Span span);
 
   const lang::SourceManager& sources_;

@@ -748,6 +748,17 @@ TEST_CASE("the checks between properties are made beside a block's other errors"
   CHECK(count("cylinder { base 0 cap <0, 0, 1 + true> radius 1 }\n") == 1);
   CHECK(count("box { min 1 max <0, 0, nope> }\n") == 1);
   CHECK(count("camera { location <0, 5, 0> look_at <0, 0, nope> }\n") == 1);
+  CHECK(count("camera { location 0 look_at 0 up 0 }\n") == 2);
+  CHECK(count("area_light { corner 0 edge1 <1, 0, 0> edge2 <0, 0, 1> radiance -1 "
+              "samples <300, 300> }\n") == 2);
+  // A property given twice whose first value was refused (the duplicate was lost).
+  CHECK(count("sphere { radius -1 radius 2 }\n") == 2);
+  CHECK(count("camera { fov 0 fov 30 }\n") == 2);
+  CHECK(count("sphere { material diffuse { color (-1) color 2 } }\n") == 2);
+  // An instance whose value failed: its own properties are still checked.
+  CHECK(count("object { sphere { radius -1 } scale 0 translate \"x\" }\n") == 3);
+  CHECK(count("let q = sphere { radius -1 };\nobject { q scale 0 bogus 3 }\n") == 3);
+  CHECK(count("object { 3 scale 0 }\n") == 2);
   // One fault of the camera is one error: ir::validate's check of the same view
   // said it a second time.
   CHECK(count("camera { location <0, 5, 0> look_at 0 }\n") == 1);
