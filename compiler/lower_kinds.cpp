@@ -246,8 +246,16 @@ bool lower_shape(const BlockInfo& block, LowerContext& cx, ir::ShapeGeom& out) {
 void check_shape_rest(const BlockInfo& block, SceneBuilder& builder, lang::Span keyword,
                       const std::vector<EvaluatedProp>& props,
                       const std::bitset<kPropCount>& failed, lang::DiagnosticEngine& diags) {
-  if (block.shape_kind < 0 || block.shape_kind == static_cast<int>(ir::ShapeKind::Mesh)) return;
+  if (block.shape_kind < 0) return;
   LowerContext cx{builder, keyword, props, diags, &failed};
+  if (block.shape_kind == static_cast<int>(ir::ShapeKind::Mesh)) {
+    // Its file is read (once; a missing or malformed one is an error at `file`).
+    if (const EvaluatedProp* f = cx.get(PropId::mesh_file); f && cx.judged({PropId::mesh_file})) {
+      ir::Mesh unused;
+      builder.load_mesh(f->value.str(), f->value_span, unused.mesh);
+    }
+    return;
+  }
   ir::ShapeGeom unused;
   lower_shape(block, cx, unused);
 }

@@ -755,6 +755,8 @@ TEST_CASE("the checks between properties are made beside a block's other errors"
   CHECK(count("sphere { radius -1 radius 2 }\n") == 2);
   CHECK(count("camera { fov 0 fov 30 }\n") == 2);
   CHECK(count("sphere { material diffuse { color (-1) color 2 } }\n") == 2);
+  // A mesh's file is read beside its other errors (a missing one was not said).
+  CHECK(count("mesh { file \"no-such-file.obj\" bogus 1 }\n") == 2);
   // An instance whose value failed: its own properties are still checked.
   CHECK(count("object { sphere { radius -1 } scale 0 translate \"x\" }\n") == 3);
   CHECK(count("let q = sphere { radius -1 };\nobject { q scale 0 bogus 3 }\n") == 3);
