@@ -43,10 +43,13 @@ const CLI::Validator kDecimal(
 
 // A number option takes finite values only: CLI11 reads "nan", "inf" and 1e400
 // as doubles, and a NaN clock reached the scene as its own expression's error.
-// Text that is no number at all is left to CLI11's conversion and its message.
+// Text that is no number at all is said in the words of the other options (CLI11's
+// own was "Could not convert: --clock = abc").
 const CLI::Validator kFinite(
     [](std::string& s) -> std::string {
-      const double v = std::strtod(s.c_str(), nullptr);
+      char* end = nullptr;
+      const double v = std::strtod(s.c_str(), &end);
+      if (end == s.c_str() || *end != '\0') return "needs a number, not " + s;
       return std::isfinite(v) ? "" : "needs a finite number, not " + s;
     },
     "FINITE");

@@ -363,6 +363,12 @@ TEST_CASE("a shorthand option's bad value is reported under its own name", "[e2e
             "render " + (tmp / "ok.scn") + " --quiet --set resolution=0 -o " + (tmp / "x.exr"), err,
             tmp) == 2);
   CHECK(err.find("--set resolution=0: 'resolution' must be >= 1") != std::string::npos);
+  // A number option given no number says so in the same words (CLI11's own was
+  // "Could not convert: --clock = abc").
+  CHECK(run_capture("render " + (tmp / "ok.scn") + " --quiet --clock abc", err, tmp) == 2);
+  CHECK(err.find("--clock: needs a number, not abc") != std::string::npos);
+  CHECK(run_capture("render " + (tmp / "ok.scn") + " --quiet --clock 1e400", err, tmp) == 2);
+  CHECK(err.find("--clock: needs a finite number, not 1e400") != std::string::npos);
 }
 
 // §10: "all independent errors are reported, not just the first": by default
