@@ -492,7 +492,8 @@ Value Evaluator::eval_constructor(const Expr& e, const std::shared_ptr<Env>& env
   }
   if (!ok) {
     // A colour map's own errors are independent of the other properties' (§10), and
-    // so is an image's missing file (`image { file "nope.png" mapping "planer" }`).
+    // so are an image's missing file (`image { file "nope.png" mapping "planer" }`)
+    // and a shading function's faults.
     if (block->pattern_kind >= 0) {
       for (const EvaluatedProp& p : props) {
         if (p.info->name == "color_map") {
@@ -501,6 +502,11 @@ Value Evaluator::eval_constructor(const Expr& e, const std::shared_ptr<Env>& env
         } else if (p.info->name == "file" && p.value.type == Type::String) {
           std::uint32_t unused = 0;
           builder_.add_image(p.value.str(), p.value_span, unused);
+        } else if (p.info->type == PropType::Function) {
+          // `pattern { function f octaves 0 }`: f's own faults (its parameters,
+          // its result, a scene item it makes) are said too.
+          ir::Program unused;
+          compile_shading_function(*this, p.value, p.value_span, e.span, unused);
         }
       }
     }

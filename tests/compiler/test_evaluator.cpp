@@ -755,6 +755,10 @@ TEST_CASE("the checks between properties are made beside a block's other errors"
   CHECK(count("sphere { radius -1 radius 2 }\n") == 2);
   CHECK(count("camera { fov 0 fov 30 }\n") == 2);
   CHECK(count("sphere { material diffuse { color (-1) color 2 } }\n") == 2);
+  // A shading function's faults beside its pattern's other errors.
+  CHECK(count("fn two(a, b, c) = 1;\nlet p = pattern { function two octaves 0 };\n") == 2);
+  CHECK(count("fn bad(p) { sphere { } return 0.5; }\n"
+              "let p = pattern { function bad turbulence -1 };\n") == 2);
   // A mesh's file is read beside its other errors (a missing one was not said).
   CHECK(count("mesh { file \"no-such-file.obj\" bogus 1 }\n") == 2);
   // An instance whose value failed: its own properties are still checked.
