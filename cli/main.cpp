@@ -96,6 +96,21 @@ int main(int argc, char** argv) {
   cli::CliArgs o;
   cli::add_commands(app, o);  // every subcommand and its options: cli/options.def
 
+  // A first word that is no command is said as such: CLI11 reports "A subcommand
+  // is required" for `snell rendr scene.scn`.
+  bool command = argc <= 1 || argv[1][0] == '-';
+  if (!command) try {
+      command = app.get_subcommand(argv[1]) != nullptr;
+    } catch (const CLI::OptionNotFound&) {
+    }
+  if (!command) {
+    std::cerr << "snell: error: '" << argv[1] << "' is not a snell command (render, check, "
+              << "sweep, dump-ast, farm, merge, lsp, watch)\n";
+    if (std::string hint = cli::did_you_mean(app, std::vector<std::string>(argv + 1, argv + argc));
+        !hint.empty())
+      std::cerr << "snell: note: " << hint << "\n";
+    return kExitUsage;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -157,6 +157,14 @@ std::string did_you_mean(CLI::App& app, const std::vector<std::string>& args) {
     std::vector<std::string_view> names(spelt.begin(), spelt.end());
     std::string guess = lang::closest_match(word, names);
     if (!guess.empty()) return "did you mean '" + guess + "'?";
+    // The start of one option's name (`--sample` of `--sample-range`): too far for
+    // an edit distance, plainly meant.
+    std::string only;
+    int starts = 0;
+    if (word.size() >= 5)
+      for (const std::string& n : spelt)
+        if (n.size() > word.size() && n.compare(0, word.size(), word) == 0) only = n, ++starts;
+    if (starts == 1) return "did you mean '" + only + "'?";
   }
   return "";
 }

@@ -369,6 +369,9 @@ TEST_CASE("a misspelt option or subcommand gets a did-you-mean note", "[cli][opt
   CHECK(cli::did_you_mean(line.app, {"render", "w.scn", "--spp=4", "--sed", "3"}) ==
         "did you mean '--seed'?");
   CHECK(cli::did_you_mean(line.app, {"rendr", "w.scn"}) == "did you mean 'snell render'?");
+  // The start of one option's name, too far for an edit distance.
+  CHECK(cli::did_you_mean(line.app, {"render", "w.scn", "--sample", "2"}) ==
+        "did you mean '--sample-range'?");
   // A negative value is no option: `-1` is not a misspelt `-h`.
   CHECK(cli::did_you_mean(line.app, {"render", "w.scn", "--seed", "-1"}).empty());
   CHECK(cli::did_you_mean(line.app, {"render", "w.scn", "--seed", "-.5"}).empty());

@@ -371,6 +371,18 @@ TEST_CASE("a shorthand option's bad value is reported under its own name", "[e2e
   CHECK(err.find("--clock: needs a finite number, not 1e400") != std::string::npos);
 }
 
+TEST_CASE("a first word that is no command is said to be none", "[e2e]") {
+  // CLI11 said "A subcommand is required" for `snell rendr a.scn` and `snell a.scn`.
+  Scratch tmp;
+  std::string err;
+  CHECK(run_capture("rendr a.scn", err, tmp) == 2);
+  CHECK(err.find("'rendr' is not a snell command") != std::string::npos);
+  CHECK(err.find("did you mean 'snell render'?") != std::string::npos);
+  CHECK(run_capture("a.scn", err, tmp) == 2);
+  CHECK(err.find("'a.scn' is not a snell command") != std::string::npos);
+  CHECK(run_capture("--version", err, tmp) == 0);
+}
+
 // §10: "all independent errors are reported, not just the first": by default
 // every one (the limit is --max-errors, an opt-in).
 TEST_CASE("every independent error is printed by default, --max-errors caps them", "[e2e]") {
