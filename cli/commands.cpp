@@ -572,6 +572,14 @@ int run_merge(const CliArgs& o) {
   std::vector<Piece> pieces(o.pieces.size());
   for (std::size_t i = 0; i < pieces.size(); ++i) {
     pieces[i].path = o.pieces[i];
+    // Said as such (OpenImageIO's word for them is "Could not open file").
+    std::error_code ec;
+    if (const fs::file_status st = fs::status(o.pieces[i], ec);
+        !fs::exists(st) || fs::is_directory(st)) {
+      std::cerr << "snell: error: cannot read " << o.pieces[i] << ": "
+                << (fs::is_directory(st) ? "it is a folder" : "it does not exist") << "\n";
+      return kExitIo;
+    }
     if (std::string err = rt::read_image(o.pieces[i], pieces[i].file); !err.empty()) {
       std::cerr << "snell: error: " << err << "\n";
       return kExitIo;

@@ -138,7 +138,12 @@ class Sweeper {
   // Compiles the scene with a configuration's settings; prints diagnostics.
   bool compile(const Config& c, ir::Scene& out, int& code) {
     compile::CompileOptions copts = o_.compile;
-    for (const auto& kv : c.settings) copts.overrides.push_back(kv);
+    // Its errors name the sweep's own option (the user wrote no --set).
+    copts.override_labels.resize(copts.overrides.size());
+    for (const auto& kv : c.settings) {
+      copts.overrides.push_back(kv);
+      copts.override_labels.push_back("--vary " + kv.first + "=" + kv.second);
+    }
     auto comp = compile::compile_file(o_.scene, copts);
     comp->diags.print(std::cerr);
     switch (comp->status) {

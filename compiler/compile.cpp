@@ -266,7 +266,8 @@ class Driver {
         std::string keys;
         for (std::string_view k : setting_keys())
           keys += (keys.empty() ? "" : ", ") + std::string(k);
-        fail("--set: unknown settings key '" + key + "'" +
+        const bool labelled = i < opts_.override_labels.size() && !opts_.override_labels[i].empty();
+        fail((labelled ? written : std::string("--set")) + ": unknown settings key '" + key + "'" +
              (guess.empty() ? "" : " (did you mean '" + guess + "'?)") + "; keys are " + keys);
         return false;
       }

@@ -482,6 +482,11 @@ TEST_CASE("sweep checks every configuration before it renders anything", "[e2e]"
     CHECK(!fs::exists(out));
     CHECK(err.find("reference:") == std::string::npos);  // no reference rendered
   }
+  // The errors name the option the user gave, not a --set they never wrote.
+  CHECK(run_capture("sweep " + (tmp / "s.scn") + " --vary nosuch=1 --out " + (tmp / "o2"), err,
+                    tmp) == 2);
+  CHECK(err.find("--vary nosuch=1: unknown settings key 'nosuch'") != std::string::npos);
+  CHECK(err.find("--set") == std::string::npos);
 }
 
 // The Markdown links its plots and images from its own folder: written outside

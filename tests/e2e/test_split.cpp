@@ -394,7 +394,13 @@ TEST_CASE("merge refuses pieces that do not make one image, and writes nothing",
   }
   // Not a piece: a PNG (usage, 2), a missing file (3), an EXR without metadata (1).
   CHECK(run("merge " + (tmp / "n.exr") + " " + (tmp / "whole.png")) == 2);
-  CHECK(run("merge " + (tmp / "n.exr") + " " + (tmp / "left.exr") + " " + (tmp / "gone.exr")) == 3);
+  CHECK(run("merge " + (tmp / "n.exr") + " " + (tmp / "left.exr") + " " + (tmp / "gone.exr"),
+            tmp / "log.txt") == 3);
+  CHECK(slurp(tmp / "log.txt").find("gone.exr: it does not exist") != std::string::npos);
+  // A folder is said to be one (OpenImageIO: "Could not open file").
+  fs::create_directories(tmp / "dir.exr");
+  CHECK(run("merge " + (tmp / "n.exr") + " " + (tmp / "dir.exr"), tmp / "log.txt") == 3);
+  CHECK(slurp(tmp / "log.txt").find("dir.exr: it is a folder") != std::string::npos);
   {
     OIIO::ImageSpec spec(4, 4, 3, OIIO::TypeDesc::FLOAT);
     auto out = OIIO::ImageOutput::create(tmp / "plain.exr");
