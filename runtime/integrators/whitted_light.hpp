@@ -267,6 +267,10 @@ void WhittedIntegrator::direct_lanes(std::uint32_t lanes_in, const DirectQuery* 
   // The lanes' points in SoA for area_lanes, once for every cell of every light.
   [[maybe_unused]] Uninit<PointLanes, 1> pts;
   [[maybe_unused]] bool pts_made = false;
+  // The jitter of kMaxStrataDims cells at a time (area_lanes' path), zeroed once:
+  // like ju and jv, the lanes past `lanes` are read, masked, and never written.
+  [[maybe_unused]] alignas(64) float gu[kMaxStrataDims][kJitter] = {},
+                                     gv[kMaxStrataDims][kJitter] = {};
   for (std::size_t li = 0; li < lights_.areas.size(); ++li) {
     const AreaLightF& l = lights_.areas[li];
     if (l.dark()) continue;
@@ -289,7 +293,6 @@ void WhittedIntegrator::direct_lanes(std::uint32_t lanes_in, const DirectQuery* 
         Uninit<ShadowLanes, 1> sh_store;
         ShadowLanes& sh = sh_store.v[0];
         // The cells in row order, their jitter drawn kMaxStrataDims at a time.
-        alignas(64) float gu[kMaxStrataDims][kJitter] = {}, gv[kMaxStrataDims][kJitter] = {};
         std::uint32_t iu = 0, iv = 0;
         while (iv < l.nv) {
           std::uint64_t cells[kMaxStrataDims];
