@@ -37,11 +37,18 @@ std::uint64_t bits(float f) {
 // One round: `pixels` pixels of `spp` samples, each with 2 + 1 fixed draws and
 // `node_dims` per-node 2-D draws. Keyed: the draws as the render loop makes them,
 // the fixed dimensions' keys once per pixel (dim_key), the per-node ones through
-// the pixel's DimCache; its checksum must equal the plain round's (the keys change
-// the cost, never the numbers).
-template <bool keyed>
+// the pixel's DimCache; its checksum, and Point's, must equal the plain round's (the
+// keys and lanes change the cost, never the numbers).
+// Point: the keyed draws, with the per-node dimensions of a sample drawn as SIMD
+// lanes, one lane per dimension (what one shading point's light cells do,
+// draw2_dims in render/tile.hpp); independent ones stay lane by lane.
+enum class Mode { Plain, Keyed, Point };
+template <Mode mode>
 Result round(const SamplerSpec& spec, std::uint32_t spp, std::uint32_t pixels,
              std::uint32_t node_dims) {
+  constexpr bool keyed = mode != Mode::Plain;
+  constexpr std::uint32_t L = StrataLanes::kLanes;
+  const bool point = mode == Mode::Point && spec.kind != ir::SamplerKind::Independent;
   auto t0 = std::chrono::steady_clock::now();
   std::uint64_t sum = 0, draws = 0;
   for (std::uint32_t p = 0; p < pixels; ++p) {
@@ -55,6 +62,26 @@ Result round(const SamplerSpec& spec, std::uint32_t spp, std::uint32_t pixels,
       Sample2 b = keyed ? sample2(spec, lens, s) : sample2(spec, pixel, s, kDimLens);
       float t = keyed ? sample1(spec, time, s) : sample1(spec, pixel, s, kDimTime);
       sum = sum * 31 + bits(a.u) + 3 * bits(a.v) + 5 * bits(b.u) + 7 * bits(b.v) + 11 * bits(t);
+      if (point) {
+        for (std::uint32_t d0 = 0; d0 < node_dims; d0 += L) {
+          const std::uint32_t n = std::min(L, node_dims - d0);
+          alignas(64) float u[L], v[L];
+          if (spec.kind == ir::SamplerKind::Stratified) {
+            StrataLanes k;
+            for (std::uint32_t d = 0; d < n; ++d)
+              k.set(d, cache.get<false>(spec, pixel, 0x9e3779b9u * (d0 + d + 17)));
+            stratified2_lanes(spec, k, n, s, u, v);
+          } else {
+            SobolLanes k;
+            for (std::uint32_t d = 0; d < n; ++d)
+              k.set(d, cache.get<false>(spec, pixel, 0x9e3779b9u * (d0 + d + 17)));
+            sobol2_lanes(k, n, s, u, v);
+          }
+          for (std::uint32_t d = 0; d < n; ++d) sum = sum * 31 + bits(u[d]) + 3 * bits(v[d]);
+        }
+        draws += 3 + node_dims;
+        continue;
+      }
       for (std::uint32_t d = 0; d < node_dims; ++d) {
         std::uint32_t dim = 0x9e3779b9u * (d + 17);
         Sample2 c = keyed ? sample2(spec, cache.get<false>(spec, pixel, dim), s)
@@ -181,28 +208,32 @@ int main(int argc, char** argv) {
   }
   const ir::SamplerKind kinds[] = {ir::SamplerKind::Independent, ir::SamplerKind::Stratified,
                                    ir::SamplerKind::Sobol};
-  std::printf("%-6s %-11s %10s %9s %12s %9s  %s\n", "spp", "sampler", "ns/draw", "÷indep",
-              "keyed ns", "÷indep", "checksum");
+  std::printf("%-6s %-11s %10s %9s %12s %9s %12s %9s  %s\n", "spp", "sampler", "ns/draw",
+              "÷indep", "keyed ns", "÷indep", "point ns", "÷indep", "checksum");
   for (std::uint32_t spp : {1u, 4u, 16u, 64u, 100u}) {
     // Fewer pixels at high counts, so every row draws about as many numbers.
     std::uint32_t px = std::max<std::uint32_t>(1, pixels * 16 / spp);
-    std::vector<double> ns[3], keyed[3];
-    std::uint64_t sums[3] = {}, keyed_sums[3] = {};
+    std::vector<double> ns[3], keyed[3], point[3];
+    std::uint64_t sums[3] = {}, keyed_sums[3] = {}, point_sums[3] = {};
     for (int r = 0; r < rounds; ++r)
       for (int k = 0; k < 3; ++k) {
-        Result res = round<false>(SamplerSpec{kinds[k], 7, spp}, spp, px, 16);
+        Result res = round<Mode::Plain>(SamplerSpec{kinds[k], 7, spp}, spp, px, 16);
         ns[k].push_back(res.ns_per_draw);
         sums[k] = res.checksum;
-        res = round<true>(SamplerSpec{kinds[k], 7, spp}, spp, px, 16);
+        res = round<Mode::Keyed>(SamplerSpec{kinds[k], 7, spp}, spp, px, 16);
         keyed[k].push_back(res.ns_per_draw);
         keyed_sums[k] = res.checksum;
+        res = round<Mode::Point>(SamplerSpec{kinds[k], 7, spp}, spp, px, 16);
+        point[k].push_back(res.ns_per_draw);
+        point_sums[k] = res.checksum;
       }
-    double base = median(ns[0]), keyed_base = median(keyed[0]);
+    double base = median(ns[0]), keyed_base = median(keyed[0]), point_base = median(point[0]);
     for (int k = 0; k < 3; ++k) {
-      std::printf("%-6u %-11s %10.2f %9.2f %12.2f %9.2f  %016llx\n", spp,
+      std::printf("%-6u %-11s %10.2f %9.2f %12.2f %9.2f %12.2f %9.2f  %016llx\n", spp,
                   std::string(ir::to_string(kinds[k])).c_str(), median(ns[k]), median(ns[k]) / base,
-                  median(keyed[k]), median(keyed[k]) / keyed_base, (unsigned long long)sums[k]);
-      if (keyed_sums[k] != sums[k]) {
+                  median(keyed[k]), median(keyed[k]) / keyed_base, median(point[k]),
+                  median(point[k]) / point_base, (unsigned long long)sums[k]);
+      if (keyed_sums[k] != sums[k] || point_sums[k] != sums[k]) {
         std::fprintf(stderr, "bench_sampler: keyed draws differ from the plain ones\n");
         return 1;
       }

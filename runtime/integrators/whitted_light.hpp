@@ -33,6 +33,24 @@ inline std::uint64_t light_cell(std::size_t li, std::uint32_t iu, std::uint32_t 
   return (std::uint64_t(li + 1) << 40) | (iv << 20) | iu;
 }
 
+// One point's jitter of a light's cells, taken in cell order (row by row) and
+// drawn kDrawLanes cells at a time (draw2_dims): what draw2 gives each cell.
+// `dim_of(c)` is the node's dimension of the light's c-th cell.
+struct CellJitter {
+  alignas(64) float u[kDrawLanes], v[kDrawLanes];
+  std::uint32_t first = 0, count = 0;  // the cells held: [first, first + count)
+  template <class DimOf>
+  Sample2 get(const SampleContext& sc, std::uint32_t c, std::uint32_t cells, DimOf dim_of) {
+    if (c < first || c >= first + count) {
+      std::uint32_t dims[kDrawLanes];
+      first = c, count = std::min(kDrawLanes, cells - c);
+      for (std::uint32_t j = 0; j < count; ++j) dims[j] = dim_of(c + j);
+      draw2_dims(sc, dims, count, u, v);
+    }
+    return {u[c - first], v[c - first]};
+  }
+};
+
 }  // namespace whitted_detail
 
 // Irradiance-like sum E so that a Lambertian surface of albedo ρ reflects ρ/π · E:
@@ -236,6 +254,7 @@ void WhittedIntegrator::direct_lanes(std::uint32_t lanes_in, const DirectQuery* 
     // so they are traced as one packet (up to kCells at a time), then added in
     // cell order, the order and the sums of tracing them one by one.
     constexpr std::uint32_t kCells = 16;
+    static_assert(kCells <= kDrawLanes && kJitter >= kDrawLanes);
     Uninit<LightSample, kCells> cs;
     Uninit<Ray, kCells> cr;
     std::uint8_t has[kCells], cblocked[kCells];
@@ -243,14 +262,20 @@ void WhittedIntegrator::direct_lanes(std::uint32_t lanes_in, const DirectQuery* 
       const AreaLightF& l = lights_.areas[li];
       if (l.dark()) continue;
       // Row by row, as the one-by-one loop goes; a batch may end inside a row.
+      // The batch's jitter is drawn first, all cells at once (draw2_dims).
       for (std::uint32_t iu = 0, iv = 0; iv < l.nv;) {
         std::uint32_t n = 0, m = 0;
+        std::uint32_t cu[kCells], cv[kCells], dims[kCells];
         for (; iv < l.nv && n < kCells; ++n) {
-          draw_cell(whitted_detail::light_cell(li, iu, iv));
-          has[n] = l.sample_li(q(0).p, q(0).o, q(0).n, q(0).time, iu, iv, ju[0], jv[0],
-                               offset_scale_, cs.v[n]);
-          if (has[n]) cr.v[m++] = cs.v[n].shadow;
+          cu[n] = iu, cv[n] = iv;
+          dims[n] = whitted_detail::node_dim(q(0).key, whitted_detail::light_cell(li, iu, iv));
           if (++iu == l.nu) iu = 0, ++iv;
+        }
+        draw2_dims(*sc[0], dims, n, ju, jv);
+        for (std::uint32_t j = 0; j < n; ++j) {
+          has[j] = l.sample_li(q(0).p, q(0).o, q(0).n, q(0).time, cu[j], cv[j], ju[j], jv[j],
+                               offset_scale_, cs.v[j]);
+          if (has[j]) cr.v[m++] = cs.v[j].shadow;
         }
         stats.shadow_rays += m;
         if (m == 1)
@@ -321,10 +346,20 @@ void WhittedIntegrator::direct_lanes(std::uint32_t lanes_in, const DirectQuery* 
         continue;
       }
     }
+    // One point (through interiors): its cells' jitter drawn as lanes (CellJitter);
+    // lanes: each cell's jitter of every lane.
+    [[maybe_unused]] whitted_detail::CellJitter point;
     for (std::uint32_t iv = 0; iv < l.nv; ++iv)
       for (std::uint32_t iu = 0; iu < l.nu; ++iu) {
-        const std::uint64_t cell = whitted_detail::light_cell(li, iu, iv);
-        draw_cell(cell);
+        if constexpr (kLanes == 1) {
+          const Sample2 j = point.get(*sc[0], iv * l.nu + iu, l.nu * l.nv, [&](std::uint32_t c) {
+            return whitted_detail::node_dim(q(0).key,
+                                            whitted_detail::light_cell(li, c % l.nu, c / l.nu));
+          });
+          ju[0] = j.u, jv[0] = j.v;
+        } else {
+          draw_cell(whitted_detail::light_cell(li, iu, iv));
+        }
         for (std::uint32_t i = 0; i < lanes; ++i)
           lit[i] = l.sample_li(q(i).p, q(i).o, q(i).n, q(i).time, iu, iv, ju[i], jv[i],
                                offset_scale_, ls[i]);
@@ -351,10 +386,13 @@ Color WhittedIntegrator::glossy_lights(const GlossySquare& lobe, Vec3f wo, Vec3f
     if (!lobe_meets_ball(r, nf, lobe.blur, l.corner + half - p,
                          0.5 * double(std::fmax(length(l.e1 + l.e2), length(l.e1 - l.e2)))))
       continue;
+    whitted_detail::CellJitter jitter;
     for (std::uint32_t iv = 0; iv < l.nv; ++iv)
       for (std::uint32_t iu = 0; iu < l.nu; ++iu) {
-        const std::uint64_t cell = whitted_detail::light_cell(li, iu, iv);
-        Sample2 j = draw2(sc, whitted_detail::node_dim(key, cell | (std::uint64_t(1) << 63)));
+        const Sample2 j = jitter.get(sc, iv * l.nu + iu, l.nu * l.nv, [&](std::uint32_t c) {
+          const std::uint64_t cell = whitted_detail::light_cell(li, c % l.nu, c / l.nu);
+          return whitted_detail::node_dim(key, cell | (std::uint64_t(1) << 63));
+        });
         float u = (float(iu) + j.u) / float(l.nu), v = (float(iv) + j.v) / float(l.nv);
         LightSample ls;
         float cos_s, cos_l, d2;

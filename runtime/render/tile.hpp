@@ -87,6 +87,37 @@ std::string to_string(const SampleContext& c);
   return sample1(sc.spec, sc.pixel, sc.index, dim);
 }
 
+// Up to kDrawLanes 2-D dimensions of one sample at once (a shading point's light
+// cells): u[j], v[j] what draw2(sc, dims[j]) gives, the stratified and sobol draws
+// as SIMD lanes (one lane per dimension, the sample index shared), where draw2 one
+// by one pays the scalar permutation or scramble per cell. u and v need room for
+// kDrawLanes floats (a path may write every lane).
+inline constexpr std::uint32_t kDrawLanes = StrataLanes::kLanes;
+static_assert(SobolLanes::kLanes == kDrawLanes);
+inline void draw2_dims(const SampleContext& sc, const std::uint32_t* dims, std::uint32_t n,
+                       float* u, float* v) {
+  switch (sc.spec.kind) {
+    case ir::SamplerKind::Stratified: {
+      StrataLanes k;  // lanes past n stay 0: read by the SIMD paths, never used
+      for (std::uint32_t j = 0; j < n; ++j) k.set(j, key2(sc, dims[j]));
+      stratified2_lanes(sc.spec, k, n, sc.index, u, v);
+      return;
+    }
+    case ir::SamplerKind::Sobol: {
+      SobolLanes k;
+      for (std::uint32_t j = 0; j < n; ++j) k.set(j, key2(sc, dims[j]));
+      sobol2_lanes(k, n, sc.index, u, v);
+      return;
+    }
+    case ir::SamplerKind::Independent:
+      break;
+  }
+  for (std::uint32_t j = 0; j < n; ++j) {
+    const Sample2 s = draw2(sc, dims[j]);
+    u[j] = s.u, v[j] = s.v;
+  }
+}
+
 // A pixel's keys of the camera's fixed dimensions (film, lens, time).
 struct CameraKeys {
   DimKey film, lens, time;
