@@ -208,8 +208,8 @@ int main(int argc, char** argv) {
   }
   const ir::SamplerKind kinds[] = {ir::SamplerKind::Independent, ir::SamplerKind::Stratified,
                                    ir::SamplerKind::Sobol};
-  std::printf("%-6s %-11s %10s %9s %12s %9s %12s %9s  %s\n", "spp", "sampler", "ns/draw",
-              "÷indep", "keyed ns", "÷indep", "point ns", "÷indep", "checksum");
+  std::printf("%-6s %-11s %10s %9s %12s %9s %12s %9s  %s\n", "spp", "sampler", "ns/draw", "÷indep",
+              "keyed ns", "÷indep", "point ns", "÷indep", "checksum");
   for (std::uint32_t spp : {1u, 4u, 16u, 64u, 100u}) {
     // Fewer pixels at high counts, so every row draws about as many numbers.
     std::uint32_t px = std::max<std::uint32_t>(1, pixels * 16 / spp);
