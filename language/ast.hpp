@@ -230,10 +230,12 @@ bool is_constructor_name(std::string_view name);
 bool is_block_only_constructor(std::string_view name);
 // Every constructor name (constructors.def), for "did you mean" notes.
 std::vector<std::string_view> constructor_names();
-// groups.def: CSG blocks, the instance block, and the object properties.
+// groups.def: CSG blocks, the instance block, the object properties, and the
+// statement blocks.
 bool is_group_name(std::string_view name);
 bool is_instance_name(std::string_view name);
 bool is_object_property(std::string_view name);
+bool is_item_name(std::string_view name);
 
 // A stable, indented, human-readable dump; tests/lang compares against it.
 std::string dump_ast(const Program& program);

@@ -100,6 +100,19 @@ bool Scanner::newline_between(std::uint32_t from, std::uint32_t to) const {
   return from < to && src_.substr(from, to - from).find('\n') != std::string_view::npos;
 }
 
+std::uint32_t Scanner::column(std::uint32_t offset) const {
+  if (offset > src_.size()) offset = static_cast<std::uint32_t>(src_.size());
+  if (offset == 0) return 0;
+  const std::size_t nl = src_.rfind('\n', offset - 1);
+  return static_cast<std::uint32_t>(nl == std::string_view::npos ? offset : offset - (nl + 1));
+}
+
+std::uint32_t Scanner::indent_of_line(std::uint32_t offset) const {
+  std::uint32_t start = offset - column(offset), i = start;
+  while (i < src_.size() && (src_[i] == ' ' || src_[i] == '\t')) ++i;
+  return i - start;
+}
+
 bool Scanner::unterminated_string_ends_at(std::uint32_t end) const {
   return std::binary_search(unterminated_ends_.begin(), unterminated_ends_.end(), end);
 }

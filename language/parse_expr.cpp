@@ -75,6 +75,13 @@ bool is_instance_name(std::string_view name) {
   return false;
 }
 
+bool is_item_name(std::string_view name) {
+#define SNELL_ITEM(item) \
+  if (name == #item) return true;
+#include "language/groups.def"
+  return false;
+}
+
 bool is_object_property(std::string_view name) {
 #define SNELL_OBJECT_PROP(prop) \
   if (name == #prop) return true;
@@ -450,8 +457,15 @@ BlockPtr Parser::parse_block_rest(const Token& open, std::string_view owner) {
   }
   for (;;) {
     if (accept(TokenKind::RBrace)) break;
-    if (at(TokenKind::EndOfFile) || starts_statement(cur_.kind)) {
-      // A statement keyword here means the block's '}' is missing.
+    // A statement keyword here means the block's '}' is missing; so does an item
+    // block on a later line indented no deeper than the block's first line (no
+    // block takes an item as a property, and a nested item would be indented):
+    // `sphere { radius 1` then `box { ... }` below it is two items, and reading
+    // the box as the sphere's property lost the errors of everything after it.
+    if (at(TokenKind::EndOfFile) || starts_statement(cur_.kind) ||
+        (at(TokenKind::Identifier) && peek_.kind == TokenKind::LBrace &&
+         is_item_name(cur_.text) && scanner_.newline_between(open.span.end, cur_.span.begin) &&
+         scanner_.column(cur_.span.begin) <= scanner_.indent_of_line(open.span.begin))) {
       panic_ = false;
       missing_closer(open, "}", "the '" + std::string(owner) + "' block");
       break;

@@ -32,6 +32,11 @@ class Scanner {
   // True when the text between two offsets contains a newline (the parser's
   // "first token on its line" recovery heuristic).
   bool newline_between(std::uint32_t from, std::uint32_t to) const;
+  // The byte column (0-based) of `offset`, and of the first character that is no
+  // space or tab on its line: how far a line is indented (the parser's hint of a
+  // block's missing '}').
+  std::uint32_t column(std::uint32_t offset) const;
+  std::uint32_t indent_of_line(std::uint32_t offset) const;
 
   // True when the rest of the line from `from` has a '>' before any brace: what is
   // left of a vector literal a comparison closed early (`<1, a > b, 2>`).

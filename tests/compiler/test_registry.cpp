@@ -383,6 +383,22 @@ TEST_CASE("registry: groups.def's CSG blocks, instance block and object properti
   CHECK(listed == obj_rows);
   for (const std::string& p : listed) CHECK(lang::is_object_property(p));
   CHECK_FALSE(lang::is_object_property("radius"));
+  // The statement blocks are properties.def's Item rows and the instance keyword,
+  // and no block has a property of their names (the parser's missing-'}' hint).
+  std::set<std::string> items, item_rows = {"object"};
+#define SNELL_ITEM(name) items.insert(#name);
+#include "language/groups.def"
+  for (std::string_view b : block_names(BlockKind::Item)) item_rows.insert(std::string(b));
+  CHECK(items == item_rows);
+  for (const std::string& i : items) CHECK(lang::is_item_name(i));
+  CHECK_FALSE(lang::is_item_name("material"));
+  for (BlockKind k : {BlockKind::Item, BlockKind::Constructor, BlockKind::Nested})
+    for (std::string_view b : block_names(k))
+      if (const BlockInfo* info = find_block(b))
+        for (std::string_view p : prop_names(*info)) {
+          INFO(b << "." << p);
+          CHECK(items.count(std::string(p)) == 0);
+        }
 }
 
 // povray_words.def's notes stand in for "did you mean" only where the word is none
