@@ -463,8 +463,8 @@ BlockPtr Parser::parse_block_rest(const Token& open, std::string_view owner) {
     // `sphere { radius 1` then `box { ... }` below it is two items, and reading
     // the box as the sphere's property lost the errors of everything after it.
     if (at(TokenKind::EndOfFile) || starts_statement(cur_.kind) ||
-        (at(TokenKind::Identifier) && peek_.kind == TokenKind::LBrace &&
-         is_item_name(cur_.text) && scanner_.newline_between(open.span.end, cur_.span.begin) &&
+        (at(TokenKind::Identifier) && peek_.kind == TokenKind::LBrace && is_item_name(cur_.text) &&
+         scanner_.newline_between(open.span.end, cur_.span.begin) &&
          scanner_.column(cur_.span.begin) <= scanner_.indent_of_line(open.span.begin))) {
       panic_ = false;
       missing_closer(open, "}", "the '" + std::string(owner) + "' block");
