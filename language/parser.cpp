@@ -218,6 +218,24 @@ Program Parser::parse_program() {
   return program;
 }
 
+// Whether an error since (kept, errors) lies in the statement just read. The
+// parser's own errors set panic_; the lexer's are reported as it scans the
+// lookahead, so an error past the statement's last token (a '/*' never closed
+// after it) is the next statement's, and does not make this one's names unsure.
+// An error dropped past --max-errors cannot be placed, so it counts.
+bool Parser::errors_within(std::size_t kept, std::size_t errors) const {
+  const std::size_t now = diags_.error_count();
+  if (now == errors) return false;
+  const auto& all = diags_.diagnostics();
+  std::size_t placed = 0;
+  for (std::size_t i = kept; i < all.size(); ++i) {
+    if (all[i].severity != Severity::Error) continue;
+    ++placed;
+    if (all[i].span.file != file_ || all[i].span.begin < last_end_) return true;
+  }
+  return placed < now - errors;
+}
+
 void Parser::make_unsure(std::size_t mark) {
   for (std::size_t i = mark; i < names_seen_.size(); ++i) unsure_.emplace_back(names_seen_[i]);
   names_seen_.resize(mark);  // each once, however deep the statement
@@ -244,11 +262,12 @@ void Parser::parse_statements(std::vector<StmtPtr>& out, bool nested) {
     }
     std::uint64_t before = consumed_;
     std::size_t mark = names_seen_.size(), errors = diags_.error_count();
+    std::size_t kept = diags_.diagnostics().size();
     broke_ = false;
     StmtPtr s = parse_statement();
     if (s && !broke_) out.push_back(std::move(s));
     if (consumed_ == before) advance();  // always make progress
-    if (panic_ || diags_.error_count() > errors)
+    if (panic_ || errors_within(kept, errors))
       make_unsure(mark);
     else if (!nested)
       names_seen_.resize(mark);  // a whole statement: its names are sure

@@ -106,6 +106,7 @@ class Parser {
   std::vector<std::string_view> names_seen_;
   std::vector<std::string> unsure_;
   void make_unsure(std::size_t mark);
+  bool errors_within(std::size_t kept, std::size_t errors) const;
   bool in_vector_ = false;  // parsing an element of a vector literal at its top level
   // The '>' that closed the last vector literal (a hint when a comparison in a
   // vector closed it early: `<1, a > b, 2>`).
