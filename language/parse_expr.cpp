@@ -336,7 +336,14 @@ ExprPtr Parser::parse_paren() {
   ExprPtr inner = parse_expr();
   in_vector_ = saved_vector;
   no_object_ = saved_object;
-  if (!accept(TokenKind::RParen)) missing_closer(open, ")", "the parenthesised expression");
+  if (!accept(TokenKind::RParen)) {
+    missing_closer(open, ")", "the parenthesised expression");
+    return inner;
+  }
+  // An operation spans its parentheses, so an error's caret under an operand
+  // `(1 > 2)` covers what was written; a name or literal keeps its own span.
+  if (inner && (inner->kind == ExprKind::Binary || inner->kind == ExprKind::Unary))
+    inner->span = from(open.span);
   return inner;
 }
 
