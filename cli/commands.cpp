@@ -95,6 +95,22 @@ bool build_compile_options(const CliArgs& o, compile::CompileOptions& c, std::st
   return true;
 }
 
+void warn_overridden_overrides(const compile::CompileOptions& c) {
+  auto label = [&](std::size_t i) {
+    if (i < c.override_labels.size() && !c.override_labels[i].empty())
+      return c.override_labels[i];
+    return "--set " + c.overrides[i].first + "=" + c.overrides[i].second;
+  };
+  for (std::size_t i = 0; i < c.overrides.size(); ++i) {
+    std::size_t last = i;  // the one that takes effect
+    for (std::size_t j = i + 1; j < c.overrides.size(); ++j)
+      if (c.overrides[j].first == c.overrides[i].first) last = j;
+    if (c.overrides[last].second != c.overrides[i].second)
+      std::cerr << "snell: warning: '" << c.overrides[i].first << "' is set twice: " << label(last)
+                << " wins over " << label(i) << "\n";
+  }
+}
+
 namespace {
 
 // Compiles and prints diagnostics; returns an exit code, or -1 to go on.
@@ -135,6 +151,7 @@ int compile_scene(const CliArgs& o, std::unique_ptr<compile::Compilation>& out) 
   compile::CompileOptions copts;
   std::string error;
   if (!build_compile_options(o, copts, error)) return usage_error(error);
+  warn_overridden_overrides(copts);
   if (o.clock) copts.clock = *o.clock;
   return compile_scene(o, copts, out);
 }
@@ -488,11 +505,30 @@ int run_render(const CliArgs& o) {
     if (!rt::is_supported_image_extension(out))
       return usage_error("cannot tell the image format of '" + out +
                          "': use .exr, .png, .jpg, .jpeg, .tif or .tiff");
+  // The same file named twice (`-o a.exr -o ./a.exr`, or by a link) is written once.
+  {
+    std::vector<std::string> distinct;
+    for (const std::string& out : outputs) {
+      std::error_code ec;
+      auto same = [&](const std::string& d) {
+        return fs::absolute(d, ec).lexically_normal() == fs::absolute(out, ec).lexically_normal() ||
+               (fs::exists(d, ec) && fs::equivalent(d, out, ec));
+      };
+      auto it = std::find_if(distinct.begin(), distinct.end(), same);
+      if (it == distinct.end())
+        distinct.push_back(out);
+      else
+        std::cerr << "snell: warning: -o " << out << " is the same file as -o " << *it
+                  << "; it is written once\n";
+    }
+    outputs = std::move(distinct);
+  }
   if (o.features != "auto" && o.features != "all")
     return usage_error("--features takes 'auto' or 'all', not '" + o.features + "'");
   compile::CompileOptions copts;
   std::string error;
   if (!build_compile_options(o, copts, error)) return usage_error(error);
+  warn_overridden_overrides(copts);
   // §18: one frame (clock from --clock, default 0), or --frames A..B. Checked with
   // the other options, before any work (and for --dump-ast too, which takes them).
   if (o.frames.empty() && o.frame)

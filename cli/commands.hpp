@@ -20,6 +20,9 @@ int usage_error(const std::string& message);  // prints it, returns kExitUsage
 // Turns the shorthand flags into settings overrides (--set first, then --spp, --res,
 // --seed, which are more specific); false with `error` set on a malformed value.
 bool build_compile_options(const CliArgs& o, compile::CompileOptions& c, std::string& error);
+// Warns of a settings key the command line sets twice to different values (`--spp 3
+// --set samples=2`): the last one wins, which the user may not have meant.
+void warn_overridden_overrides(const compile::CompileOptions& c);
 
 // An output never replaces a file the work reads (§10: nothing is lost): the
 // scene, an import, a mesh, an image, a piece being merged. The same file by any

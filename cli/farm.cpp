@@ -238,6 +238,7 @@ int run_farm(const CliArgs& o) {
   compile::CompileOptions copts;
   std::string error;
   if (!build_compile_options(o, copts, error)) return usage_error(error);
+  warn_overridden_overrides(copts);
   if (o.clock) copts.clock = *o.clock;
   if (!o.frames.empty()) {  // the first frame: the resolution and spp for the plan
     IntRange f;

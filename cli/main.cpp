@@ -58,6 +58,7 @@ int dispatch(unsigned command, const cli::CliArgs& o) {
       so.quiet = o.quiet;
       std::string error;
       if (!cli::build_compile_options(o, so.compile, error)) return cli::usage_error(error);
+      cli::warn_overridden_overrides(so.compile);
       for (const std::string& v : o.vary) {
         cli::SweepAxis axis;
         if (!cli::parse_axis(v, axis))

@@ -13,33 +13,22 @@
 #include <filesystem>
 #include <fstream>
 
+#include "tests/e2e/e2e_util.hpp"
+
 namespace fs = std::filesystem;
+using snell::e2e::kSnell;
+using snell::e2e::kSrc;
+using snell::e2e::run;
+using snell::e2e::slurp;
 
 namespace {
 
-const std::string kSnell = SNELL_EXE;
-const std::string kSrc = SNELL_SOURCE_DIR;
 const std::string kShowcase = kSrc + "/examples/showcase.scn";
 
-struct Scratch {
-  fs::path dir;
-  Scratch() {
-    dir = fs::temp_directory_path() / ("snell_split_" + std::to_string(::getpid()));
-    fs::create_directories(dir);
-  }
-  ~Scratch() { fs::remove_all(dir); }
-  std::string operator/(const std::string& name) const { return (dir / name).string(); }
+// Each test's own folder.
+struct Scratch : snell::e2e::Scratch {
+  Scratch() : snell::e2e::Scratch("snell_split_") {}
 };
-
-int run(const std::string& args, const std::string& log = "/dev/null") {
-  int status = std::system((kSnell + " " + args + " > " + log + " 2>&1").c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
-std::string slurp(const std::string& path) {
-  std::ifstream in(path);
-  return std::string((std::istreambuf_iterator<char>(in)), {});
-}
 
 struct Exr {
   OIIO::ImageSpec spec;
