@@ -97,8 +97,7 @@ bool build_compile_options(const CliArgs& o, compile::CompileOptions& c, std::st
 
 void warn_overridden_overrides(const compile::CompileOptions& c) {
   auto label = [&](std::size_t i) {
-    if (i < c.override_labels.size() && !c.override_labels[i].empty())
-      return c.override_labels[i];
+    if (i < c.override_labels.size() && !c.override_labels[i].empty()) return c.override_labels[i];
     return "--set " + c.overrides[i].first + "=" + c.overrides[i].second;
   };
   for (std::size_t i = 0; i < c.overrides.size(); ++i) {
