@@ -14,6 +14,8 @@
 #include "cli/commands.hpp"
 #include "cli/metrics.hpp"
 #include "cli/plot_svg.hpp"
+#include "compiler/compile.hpp"
+#include "language/diagnostics.hpp"
 #include "runtime/atomic_file.hpp"
 #include "runtime/render.hpp"
 
@@ -70,6 +72,16 @@ bool apply(Config& c, const std::string& key, const std::string& value, std::str
     }
     c.general_kernel = value == "general";
   } else {
+    // Checked here, not by the compiler, so the message lists sweep's own knobs.
+    std::vector<std::string_view> keys = compile::setting_keys();
+    if (std::find(keys.begin(), keys.end(), key) == keys.end()) {
+      keys.push_back("area_samples"), keys.push_back("kernel");
+      const std::string guess = lang::closest_match(key, keys);
+      error = "--vary " + key + "=" + value + ": unknown key '" + key + "'" +
+              (guess.empty() ? "" : " (did you mean '" + guess + "'?)") + "; keys are ";
+      for (std::size_t i = 0; i < keys.size(); ++i) error += (i ? ", " : "") + std::string(keys[i]);
+      return false;
+    }
     c.settings.push_back({key, value});
   }
   return true;

@@ -229,8 +229,13 @@ TEST_CASE("sweep checks every configuration before it renders anything", "[e2e]"
   // The errors name the option the user gave, not a --set they never wrote.
   CHECK(run_capture("sweep " + (tmp / "s.scn") + " --vary nosuch=1 --out " + (tmp / "o2"), err,
                     tmp) == 2);
-  CHECK(err.find("--vary nosuch=1: unknown settings key 'nosuch'") != std::string::npos);
+  CHECK(err.find("--vary nosuch=1: unknown key 'nosuch'") != std::string::npos);
   CHECK(err.find("--set") == std::string::npos);
+  // The keys listed are every knob --vary takes, sweep's own among them.
+  CHECK(err.find("integrator, area_samples, kernel") != std::string::npos);
+  CHECK(run_capture("sweep " + (tmp / "s.scn") + " --vary area_sample=1 --out " + (tmp / "o3"), err,
+                    tmp) == 2);
+  CHECK(err.find("did you mean 'area_samples'?") != std::string::npos);
 }
 
 // The Markdown links its plots and images from its own folder: written outside
