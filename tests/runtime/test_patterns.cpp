@@ -133,6 +133,40 @@ TEST_CASE("colour map: linear between the stops around the value, held outside",
   CHECK(pat::map_color({{0.5, {0.3, 0.2, 0.1}}}, 0.9) == Vec3{0.3, 0.2, 0.1});
 }
 
+TEST_CASE("colour map: a long map finds the stops a scan finds, equal stops and all",
+          "[patterns]") {
+  // 3000 stops, every third position doubled (a step), searched at random values,
+  // at every stop and just around it, against the scan the rule describes.
+  std::vector<ir::ColorStop> map;
+  std::uint64_t h = 0x1234;
+  auto next = [&] {
+    h = h * 6364136223846793005ull + 1442695040888963407ull;
+    return double(h >> 11) * 0x1p-53;
+  };
+  double at = -0.5;
+  for (int i = 0; i < 3000; ++i) {
+    if (i % 3 != 1) at += next() * 1e-3;
+    map.push_back({at, {next(), next(), next()}});
+  }
+  auto scan = [&](double v) {
+    if (!(v >= map.front().at)) return map.front().color;
+    if (v >= map.back().at) return map.back().color;
+    std::size_t i = 1;
+    while (map[i].at <= v) ++i;
+    const ir::ColorStop &a = map[i - 1], &b = map[i];
+    return a.color + (b.color - a.color) * ((v - a.at) / (b.at - a.at));
+  };
+  std::vector<double> vs;
+  for (int i = 0; i < 20000; ++i)
+    vs.push_back(map.front().at - 0.1 + next() * (at + 0.2 - map.front().at));
+  for (const ir::ColorStop& s : map)
+    vs.insert(vs.end(), {s.at, std::nextafter(s.at, -1.0), std::nextafter(s.at, 2.0)});
+  std::size_t differ = 0;
+  for (double v : vs) differ += !(pat::map_color(map, v) == scan(v));
+  INFO(vs.size() << " values");
+  CHECK(differ == 0);
+}
+
 TEST_CASE("patterns: the hit point moved inward, through transforms and object space",
           "[patterns]") {
   ir::Texture t;
