@@ -610,6 +610,7 @@ void Evaluator::eval_props(const BlockInfo& block, const lang::Block& body, Span
     ep.name_span = p.name_span;
     if (info->type == PropType::Block) {
       ep.value_span = p.block->span;
+      ep.written = std::uint32_t(p.block->properties.size() + (p.block->broken ? 1 : 0));
       const BlockInfo* nested = find_block(info->name);  // only `motion`: rare
       eval_props(*nested, *p.block, p.name_span, env, ep.nested, ok);
     } else {

@@ -27,6 +27,9 @@ struct EvaluatedProp {
   lang::Span value_span;
   Value value;
   std::vector<EvaluatedProp> nested;  // a Block property (motion { ... })
+  // A Block property: how many properties its block holds as written, those that
+  // failed (left out of `nested`) and one a syntax error cut short included.
+  std::uint32_t written = 0;
 };
 
 // Builds an ir::Material or ir::Texture value from a constructor's properties
@@ -36,7 +39,8 @@ struct EvaluatedProp {
 // §15 `color_map { stop <at, color> … }` into `map`: false, with the errors
 // reported, when its stops are out of order or (`need_stops`) it has none.
 // Checked also when another property of the pattern is wrong (§10: independent
-// errors), then for order alone: a map whose stops were all wrong has none left.
+// errors), then (need_stops false) for order, and for stops only where none was
+// written: a map whose stops were all wrong has none left, but said so already.
 bool color_map_of(const EvaluatedProp& p, lang::DiagnosticEngine& diags,
                   std::vector<ir::ColorStop>& map, bool need_stops = true);
 

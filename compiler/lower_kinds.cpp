@@ -186,7 +186,7 @@ bool color_map_of(const EvaluatedProp& p, lang::DiagnosticEngine& diags,
     map.push_back(s);
     prev = &stop;
   }
-  if (need_stops && p.nested.empty()) {
+  if (p.nested.empty() && (need_stops || p.written == 0)) {
     diags.report(DiagKind::InvalidValue, p.value_span,
                  "a colour map needs at least one 'stop <at, color>'");
     ok = false;
