@@ -384,10 +384,17 @@ void Evaluator::exec_item(const Stmt& s, const std::shared_ptr<Env>& env) {
       return;
     }
     Value v = eval_object(s.name, instance ? nullptr : block, *s.block, s.name_span, env);
-    if (v.type == Type::Object)
+    if (v.type == Type::Object) {
       emit(v.object());
-    else if (!collectors_.empty())
-      collectors_.back().failed = true;
+    } else if (!collectors_.empty()) {
+      Collector& c = collectors_.back();
+      c.failed = true;
+      // A disc or triangle is no solid whatever else is wrong with it (§10:
+      // independent errors); placed children are judged when the CSG is lowered.
+      if (block && c.block->csg_op != static_cast<int>(ir::CsgOp::Union))
+        if (std::string why = no_inside_of_kind(*block); !why.empty())
+          report_no_inside(*block, s.name_span, *c.block, c.keyword, why, diags_);
+    }
     return;
   }
   if (block && block->kind == BlockKind::Item && !block->is_object &&

@@ -47,6 +47,12 @@ bool color_map_of(const EvaluatedProp& p, lang::DiagnosticEngine& diags,
 Value make_constructor_value(const BlockInfo& block, const std::vector<EvaluatedProp>& props,
                              lang::DiagnosticEngine& diags);
 
+// §12: why a shape of this kind has no inside whatever its properties (a disc, a
+// triangle), or ""; and the NotASolid error of a child `why` in CSG block `csg`.
+std::string no_inside_of_kind(const BlockInfo& shape);
+void report_no_inside(const BlockInfo& child, lang::Span child_kw, const BlockInfo& csg,
+                      lang::Span csg_kw, const std::string& why, lang::DiagnosticEngine& diags);
+
 class SceneBuilder;
 struct ObjectNode;
 // An object's own transform (its translate/rotate/scale in the order written) and

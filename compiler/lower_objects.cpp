@@ -39,6 +39,30 @@ ir::CsgOp op_of(const ObjectNode& n) {
   return static_cast<ir::CsgOp>(n.block->csg_op);
 }
 
+}  // namespace
+
+void report_no_inside(const BlockInfo& child, lang::Span child_kw, const BlockInfo& csg,
+                      lang::Span csg_kw, const std::string& why, lang::DiagnosticEngine& diags) {
+  std::string_view csg_name = csg.name;
+  diags
+      .report(DiagKind::NotASolid, child_kw,
+              "this " + std::string(child.name) + " cannot be part of the '" +
+                  std::string(csg_name) + "': " + why)
+      .note(csg_kw, "the '" + std::string(csg_name) +
+                        "' is here; its objects must be solids: sphere, box, cylinder, "
+                        "cone, torus, plane, closed mesh or CSG of them ('union' takes "
+                        "any object)");
+}
+
+std::string no_inside_of_kind(const BlockInfo& shape) {
+  if (shape.shape_kind == static_cast<int>(ir::ShapeKind::Disc)) return "a disc has no inside";
+  if (shape.shape_kind == static_cast<int>(ir::ShapeKind::Triangle))
+    return "a triangle has no inside";
+  return "";
+}
+
+namespace {
+
 // Why a CSG child has no inside (§12), or "" when it is a solid (a mesh is one when
 // its file's triangles are closed: MeshData::closed, checked at load).
 std::string no_inside(const ir::ShapeGeom& g, const ir::Scene& scene) {
@@ -49,8 +73,12 @@ std::string no_inside(const ir::ShapeGeom& g, const ir::Scene& scene) {
                      [](const ir::Cone& c) -> std::string {
                        return c.open ? "an open cone has no inside" : "";
                      },
-                     [](const ir::Disc&) -> std::string { return "a disc has no inside"; },
-                     [](const ir::Triangle&) -> std::string { return "a triangle has no inside"; },
+                     [](const ir::Disc&) -> std::string {
+                       return no_inside_of_kind(*find_block("disc"));
+                     },
+                     [](const ir::Triangle&) -> std::string {
+                       return no_inside_of_kind(*find_block("triangle"));
+                     },
                      [&](const ir::Mesh& m) -> std::string {
                        if (m.mesh >= scene.meshes.size()) return "the mesh has no data";
                        const ir::MeshData& d = scene.meshes[m.mesh];
@@ -68,15 +96,7 @@ bool report_not_solid(const ObjectNode& c, const ir::ShapeGeom& geom, const Obje
                       const ir::Scene& scene, lang::DiagnosticEngine& diags) {
   std::string why = no_inside(geom, scene);
   if (why.empty()) return true;
-  std::string_view csg_name = csg.block->name;
-  diags
-      .report(DiagKind::NotASolid, c.keyword,
-              "this " + std::string(c.block->name) + " cannot be part of the '" +
-                  std::string(csg_name) + "': " + why)
-      .note(csg.keyword, "the '" + std::string(csg_name) +
-                             "' is here; its objects must be solids: sphere, box, cylinder, "
-                             "cone, torus, plane, closed mesh or CSG of them ('union' takes "
-                             "any object)");
+  report_no_inside(*c.block, c.keyword, *csg.block, csg.keyword, why, diags);
   return false;
 }
 
