@@ -67,26 +67,25 @@ namespace {
 // its file's triangles are closed: MeshData::closed, checked at load).
 std::string no_inside(const ir::ShapeGeom& g, const ir::Scene& scene) {
   return std::visit(
-      ir::Overloaded{[](const ir::Cylinder& c) -> std::string {
-                       return c.open ? "an open cylinder has no inside" : "";
-                     },
-                     [](const ir::Cone& c) -> std::string {
-                       return c.open ? "an open cone has no inside" : "";
-                     },
-                     [](const ir::Disc&) -> std::string {
-                       return no_inside_of_kind(*find_block("disc"));
-                     },
-                     [](const ir::Triangle&) -> std::string {
-                       return no_inside_of_kind(*find_block("triangle"));
-                     },
-                     [&](const ir::Mesh& m) -> std::string {
-                       if (m.mesh >= scene.meshes.size()) return "the mesh has no data";
-                       const ir::MeshData& d = scene.meshes[m.mesh];
-                       if (d.closed) return "";
-                       return "mesh '" + d.path + "' is not closed" +
-                              (d.open_reason.empty() ? std::string() : ": it " + d.open_reason);
-                     },
-                     [](const auto&) -> std::string { return ""; }},
+      ir::Overloaded{
+          [](const ir::Cylinder& c) -> std::string {
+            return c.open ? "an open cylinder has no inside" : "";
+          },
+          [](const ir::Cone& c) -> std::string {
+            return c.open ? "an open cone has no inside" : "";
+          },
+          [](const ir::Disc&) -> std::string { return no_inside_of_kind(*find_block("disc")); },
+          [](const ir::Triangle&) -> std::string {
+            return no_inside_of_kind(*find_block("triangle"));
+          },
+          [&](const ir::Mesh& m) -> std::string {
+            if (m.mesh >= scene.meshes.size()) return "the mesh has no data";
+            const ir::MeshData& d = scene.meshes[m.mesh];
+            if (d.closed) return "";
+            return "mesh '" + d.path + "' is not closed" +
+                   (d.open_reason.empty() ? std::string() : ": it " + d.open_reason);
+          },
+          [](const auto&) -> std::string { return ""; }},
       g);
 }
 
