@@ -234,23 +234,29 @@ int dump_ast(const std::string& path) {
 }
 
 decltype(compile::CompileOptions::unreadable_images) cached_image_check(std::string ocio_config) {
+  using Verdict = compile::CompileOptions::ImageVerdict;
   struct Seen {
     std::uintmax_t size = 0;
     fs::file_time_type time;
-    std::string why;  // "" readable
+    std::string why;   // "" readable
+    std::string note;  // of a readable image
   };
   auto seen = std::make_shared<std::unordered_map<std::string, Seen>>();
   return [seen, ocio = std::move(ocio_config)](const std::vector<ir::ImageFile>& images) {
-    std::vector<std::pair<std::size_t, std::string>> bad;
+    std::vector<Verdict> out;
+    auto say = [&](std::size_t i, const Seen& s) {
+      if (!s.why.empty()) out.push_back({i, s.why, false});
+      if (!s.note.empty()) out.push_back({i, s.note, true});
+    };
     std::vector<ir::ImageFile> fresh;
     std::vector<std::size_t> fresh_index;
     std::vector<Seen> fresh_seen;
     for (std::size_t i = 0; i < images.size(); ++i) {
       std::error_code ec;
-      Seen now{fs::file_size(images[i].path, ec), fs::last_write_time(images[i].path, ec), {}};
+      Seen now{fs::file_size(images[i].path, ec), fs::last_write_time(images[i].path, ec), {}, {}};
       auto it = seen->find(images[i].path);
       if (!ec && it != seen->end() && it->second.size == now.size && it->second.time == now.time) {
-        if (!it->second.why.empty()) bad.emplace_back(i, it->second.why);
+        say(i, it->second);
         continue;
       }
       fresh.push_back(images[i]);
@@ -259,18 +265,22 @@ decltype(compile::CompileOptions::unreadable_images) cached_image_check(std::str
     }
     if (!fresh.empty()) {
       std::string err;
-      auto found = rt::unreadable_images(fresh, ocio, err);
+      std::vector<std::pair<std::size_t, std::string>> notes;
+      auto found = rt::unreadable_images(fresh, ocio, err, &notes);
       for (auto& [k, why] : found) fresh_seen[k].why = why;
+      for (auto& [k, note] : notes) fresh_seen[k].note = note;
       if (!err.empty())  // the image module itself: nothing is remembered
-        for (std::size_t k = 0; k < fresh.size(); ++k) bad.emplace_back(fresh_index[k], err);
+        for (std::size_t k = 0; k < fresh.size(); ++k) out.push_back({fresh_index[k], err, false});
       else
         for (std::size_t k = 0; k < fresh.size(); ++k) {
-          if (!fresh_seen[k].why.empty()) bad.emplace_back(fresh_index[k], fresh_seen[k].why);
+          say(fresh_index[k], fresh_seen[k]);
           (*seen)[fresh[k].path] = fresh_seen[k];
         }
-      std::sort(bad.begin(), bad.end());
     }
-    return bad;
+    std::sort(out.begin(), out.end(), [](const Verdict& a, const Verdict& b) {
+      return a.image != b.image ? a.image < b.image : a.readable < b.readable;
+    });
+    return out;
   };
 }
 

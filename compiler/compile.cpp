@@ -339,8 +339,9 @@ void report_runtime_limits(Compilation& c) {
 // An image the texture system could not read, as an error at its `file` (the caret
 // under the whole "name" when the place is the string), the reader's reason on one
 // line (libpng's come as several).
+// (`readable`: `why` is a note on an image that can be read, said as a warning.)
 void report_unreadable_image(Compilation& c, const std::vector<ir::ImageFile>& images,
-                             std::size_t image, const std::string& why) {
+                             std::size_t image, const std::string& why, bool readable) {
   if (image >= images.size()) return;
   const ir::ImageFile& f = images[image];
   std::string reason = why;
@@ -358,8 +359,11 @@ void report_unreadable_image(Compilation& c, const std::vector<ir::ImageFile>& i
         end = std::uint32_t(close + 1);
     span = {f.src.file, at, end};
   }
-  c.diags.report(lang::DiagKind::FileUnreadable, span,
-                 "cannot read image '" + f.path + "': " + reason);
+  if (readable)
+    c.diags.report(lang::DiagKind::MendedImage, span, "image '" + f.path + "': " + reason);
+  else
+    c.diags.report(lang::DiagKind::FileUnreadable, span,
+                   "cannot read image '" + f.path + "': " + reason);
 }
 
 }  // namespace
@@ -400,8 +404,8 @@ std::unique_ptr<Compilation> compile_source(const std::string& path, std::string
     // The main file counts as imported: importing it again is a cycle.
     eval.run_file(*program);
     if (options.unreadable_images && !builder.images().empty())
-      for (const auto& [image, why] : options.unreadable_images(builder.images()))
-        report_unreadable_image(*c, builder.images(), image, why);
+      for (const CompileOptions::ImageVerdict& v : options.unreadable_images(builder.images()))
+        report_unreadable_image(*c, builder.images(), v.image, v.why, v.readable);
     if (c->diags.has_errors()) {
       // The runtime's limits (ir::validate: reach from the camera, an instance's
       // scale, ...) of what was placed are independent errors too (§10): they were

@@ -37,13 +37,18 @@ struct CompileOptions {
   // §18: the predeclared names' values (--clock, --frames: one compilation a frame).
   double clock = 0;
   double frame = 0;
-  // §17: the images the texture system cannot read (each one's index in `images`
-  // and the reader's reason), asked of every image the scene names once it has
-  // been evaluated, beside its other errors (§10); each becomes a FileUnreadable
-  // error at the image's `file`. Null: images are only checked for existence and
-  // signature (the runtime opens them; the compiler does not load the image module).
-  std::function<std::vector<std::pair<std::size_t, std::string>>(
-      const std::vector<ir::ImageFile>& images)>
+  // §17: what the texture system finds of each image the scene names, asked once
+  // it has been evaluated, beside its other errors (§10): an image it cannot read
+  // becomes a FileUnreadable error at the image's `file`, a note on a readable one
+  // (NaN texels mended) a MendedImage warning there. Null: images are only checked
+  // for existence and signature (the runtime opens them; the compiler does not
+  // load the image module).
+  struct ImageVerdict {
+    std::size_t image = 0;  // index in `images`
+    std::string why;        // the reader's reason, or the note
+    bool readable = false;  // why is a note on an image that can be read
+  };
+  std::function<std::vector<ImageVerdict>(const std::vector<ir::ImageFile>& images)>
       unreadable_images;
 };
 

@@ -168,9 +168,11 @@ std::string check_images(const ir::Scene& scene, const std::string& ocio_config 
 
 // §10's "all independent errors": every image that cannot be read, as (index into
 // `images`, the reader's reason), in order; empty when all can. `error` is set
-// instead when the image module itself cannot load.
+// instead when the image module itself cannot load. `notes`, when given, gets
+// what a readable image's reading says of it (NaN texels mended), likewise.
 std::vector<std::pair<std::size_t, std::string>> unreadable_images(
-    const std::vector<ir::ImageFile>& images, const std::string& ocio_config, std::string& error);
+    const std::vector<ir::ImageFile>& images, const std::string& ocio_config, std::string& error,
+    std::vector<std::pair<std::size_t, std::string>>* notes = nullptr);
 
 // One-line descriptions for logs and test failures.
 std::string to_string(const Image& image);

@@ -37,6 +37,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <deque>
 #include <filesystem>
 #include <functional>
@@ -157,7 +159,12 @@ double address_space_left() {
   return double(rl.rlim_cur) - mapped;
 }
 
-// The linear .tx made from a file that needs decoding, made once (reused while
+// The .tx's count of pixels whose NaN or infinite values were mended, in a TIFF
+// tag the texture maker keeps (a name of Snell's own is dropped): "snell:mended=N".
+constexpr const char* kMendedAttribute = "DocumentName";
+constexpr const char* kMendedPrefix = "snell:mended=";
+
+// The linear .tx made from a file that needs decoding (or mending), made once (reused while
 // the source's size and time and the decoding are unchanged). Empty, with
 // `error`, on failure.
 std::string linear_texture(const std::string& path, const SourceColour& colour,
@@ -210,7 +217,7 @@ std::string linear_texture(const std::string& path, const SourceColour& colour,
   // "straight": the texels' colours are read without alpha's premultiplication
   // (.tx files made before are not reused).
   std::size_t key = std::hash<std::string>{}(
-      fmt::format("{}|{}|{}|{}|{:016x}|straight", path, size, time, colour.key, content));
+      fmt::format("{}|{}|{}|{}|{:016x}|straight|mended", path, size, time, colour.key, content));
   const fs::path dir = texture_cache_dir(error);
   if (dir.empty()) return {};
   fs::path out = dir / fmt::format("{:016x}.tx", key);
@@ -273,6 +280,16 @@ std::string linear_texture(const std::string& path, const SourceColour& colour,
     }
   }
   OIIO::ImageBuf lin(spec, px.data());
+  // NaN and infinite values (a float file's, or a decoding's) become the mean of
+  // their finite neighbours, as maketx --fixnan box3 does: filtering spread one
+  // NaN texel over every lookup near it, and each such sample was dropped. How
+  // many were mended rides in the .tx, so a reused one says it too.
+  int mended = 0;
+  if (!OIIO::ImageBufAlgo::fixNonFinite(lin, lin, OIIO::ImageBufAlgo::NONFINITE_BOX3, &mended)) {
+    error = lin.geterror();
+    return {};
+  }
+  lin.specmod().attribute(kMendedAttribute, kMendedPrefix + std::to_string(mended));
   OIIO::ImageSpec config;
   // Half holds 8- and 16-bit codes decoded exactly enough; float sources stay float.
   config.set_format(was_float ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::HALF);
@@ -340,8 +357,9 @@ extern "C" __attribute__((visibility("default"))) void snell_texture_destroy_v1(
 // Opens `path` (decoding it to linear first when it is not linear; colour spaces
 // by name from the OCIO config `ocio_config`, as resolve_ocio_config takes it) and
 // returns its handle, or null with `error`.
-extern "C" __attribute__((visibility("default"))) void* snell_texture_open_v2(
-    void* tp, const std::string& path, const std::string& ocio_config, std::string& error) {
+extern "C" __attribute__((visibility("default"))) void* snell_texture_open_v3(
+    void* tp, const std::string& path, const std::string& ocio_config, std::string& error,
+    std::string& note) {
   try {
     Textures& t = *static_cast<Textures*>(tp);
     OIIO::TextureSystem* ts = t.ts;
@@ -371,6 +389,7 @@ extern "C" __attribute__((visibility("default"))) void* snell_texture_open_v2(
     // itself (a float EXR) is read once here, through its cache in bands of rows,
     // so a damaged one is refused now (§17: exit 3 at its `file`) rather than
     // rendering black where its lookups fail.
+    std::size_t nonfinite = 0;
     if (file == path) {
       const int channels = spec.nchannels > 0 ? spec.nchannels : 1;
       const std::size_t row = std::size_t(std::max(res[0], 1)) * std::size_t(channels);
@@ -387,11 +406,31 @@ extern "C" __attribute__((visibility("default"))) void* snell_texture_open_v2(
           if (error.empty()) error = "its pixels cannot be read";
           return nullptr;
         }
+        const std::size_t n = row * std::size_t(std::min(rows, res[1] - y));
+        for (std::size_t i = 0; i < n; ++i) nonfinite += !std::isfinite(band[i]);
+      }
+    }
+    if (nonfinite > 0) {  // mended in a .tx of its own (linear_texture)
+      file = linear_texture(path, colour, spec, error);
+      if (file.empty()) return nullptr;
+      h = ts->get_texture_handle(OIIO::ustring(file));
+      if (!h) {
+        error = ts->geterror();
+        return nullptr;
       }
     }
     Opened o;
     o.handle = h;
     if (const OIIO::ImageSpec* tx = ts->imagespec(h, nullptr)) {
+      const std::string tag = tx->get_string_attribute(kMendedAttribute);
+      const int mended = tag.rfind(kMendedPrefix, 0) == 0
+                             ? std::atoi(tag.c_str() + std::strlen(kMendedPrefix))
+                             : 0;
+      if (mended > 0)
+        note = fmt::format(
+            "{} pixel{} of it hold{} NaN or infinite values: each is read as the mean of its "
+            "finite neighbours",
+            mended, mended == 1 ? "" : "s", mended == 1 ? "s" : "");
       const int alpha = tx->alpha_channel;
       const int colours = tx->nchannels - (alpha >= 0 && alpha < tx->nchannels ? 1 : 0);
       o.grey = colours == 1;

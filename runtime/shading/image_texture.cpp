@@ -49,7 +49,7 @@ const ImageTextures::Api& api() {
     };
     sym(r.create, "snell_texture_create_v1");
     sym(r.destroy, "snell_texture_destroy_v1");
-    sym(r.open, "snell_texture_open_v2");
+    sym(r.open, "snell_texture_open_v3");
     sym(r.lookup, "snell_texture_lookup_v2");
     sym(r.stats, "snell_texture_stats_v1");
     return r;
@@ -79,8 +79,8 @@ std::unique_ptr<ImageTextures> ImageTextures::open(const ir::Scene& scene,
   t->api_ = &a;
   t->ts_ = a.create(kTextureCacheMB);
   for (const ir::ImageFile& f : scene.images) {
-    std::string why;
-    void* h = a.open(t->ts_, f.path, ocio_config, why);
+    std::string why, note;  // the note was said when the scene was checked
+    void* h = a.open(t->ts_, f.path, ocio_config, why, note);
     if (!h) {
       error = image_error(scene, std::size_t(&f - scene.images.data()), why);
       if (failed) *failed = std::size_t(&f - scene.images.data());
@@ -113,7 +113,8 @@ std::string check_images(const ir::Scene& scene, const std::string& ocio_config,
 }
 
 std::vector<std::pair<std::size_t, std::string>> unreadable_images(
-    const std::vector<ir::ImageFile>& images, const std::string& ocio_config, std::string& error) {
+    const std::vector<ir::ImageFile>& images, const std::string& ocio_config, std::string& error,
+    std::vector<std::pair<std::size_t, std::string>>* notes) {
   std::vector<std::pair<std::size_t, std::string>> bad;
   if (images.empty()) return bad;
   const ImageTextures::Api& a = api();
@@ -124,8 +125,11 @@ std::vector<std::pair<std::size_t, std::string>> unreadable_images(
   void* ts = a.create(kTextureCacheMB);
   QuietStderr quiet;
   for (std::size_t i = 0; i < images.size(); ++i) {
-    std::string why;
-    if (!a.open(ts, images[i].path, ocio_config, why)) bad.emplace_back(i, why);
+    std::string why, note;
+    if (!a.open(ts, images[i].path, ocio_config, why, note))
+      bad.emplace_back(i, why);
+    else if (notes && !note.empty())
+      notes->emplace_back(i, note);
   }
   a.destroy(ts);
   return bad;

@@ -100,7 +100,10 @@ class ImageTextures {
   struct Api {
     void* (*create)(int) = nullptr;
     void (*destroy)(void*) = nullptr;
-    void* (*open)(void*, const std::string&, const std::string&, std::string&) = nullptr;
+    // (module, path, OCIO config, error, note): a handle, or null with error;
+    // `note` what a readable image's reading says of it.
+    void* (*open)(void*, const std::string&, const std::string&, std::string&,
+                  std::string&) = nullptr;
     void (*lookup)(void*, void*, int, const float*, float*) = nullptr;
     void (*stats)(void*, std::string&) = nullptr;
     std::string error;

@@ -1,5 +1,6 @@
 // The command line end to end (spec §10): exit codes, usage errors under the
 // option's own name, what check and render print, outputs that cannot be written.
+#include <OpenImageIO/imageio.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
 
@@ -7,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "tests/e2e/e2e_util.hpp"
 
@@ -267,4 +269,35 @@ TEST_CASE("a settings key set twice on the command line says which one wins", "[
   // The same value twice is no conflict.
   REQUIRE(run_capture(base + " --set samples=3 --spp 3", err, tmp) == 0);
   CHECK(err.find("set twice") == std::string::npos);
+}
+
+TEST_CASE("an image with NaN texels is a MendedImage warning at its file, and renders finite",
+          "[e2e]") {
+  Scratch tmp;
+  const std::string exr = tmp / "nan.exr";
+  {
+    std::vector<float> f(8 * 8 * 3, 0.5f);
+    f[3 * 9] = NAN;  // texel (1, 1), red
+    auto out = OIIO::ImageOutput::create(exr);
+    REQUIRE(out);
+    REQUIRE(out->open(exr, OIIO::ImageSpec(8, 8, 3, OIIO::TypeDesc::FLOAT)));
+    REQUIRE(out->write_image(OIIO::TypeDesc::FLOAT, f.data()));
+    REQUIRE(out->close());
+  }
+  std::ofstream(tmp / "s.scn") << "settings { resolution <8, 8> samples 1 }\n"
+                                  "background image { file \"nan.exr\" mapping \"latlong\" }\n";
+  std::string err;
+  REQUIRE(run_capture("check " + (tmp / "s.scn"), err, tmp) == 0);
+  INFO(err);
+  CHECK(err.find("s.scn:2:25: warning: image '" + exr +
+                 "': 1 pixel of it holds NaN or infinite values") != std::string::npos);
+  CHECK(err.find("[MendedImage]") != std::string::npos);
+  REQUIRE(run_capture("render " + (tmp / "s.scn") + " --stats -o " + (tmp / "o.exr"), err, tmp) ==
+          0);
+  CHECK(err.find("non-finite samples dropped: 0") != std::string::npos);
+  auto in = OIIO::ImageInput::open(tmp / "o.exr");
+  REQUIRE(in);
+  std::vector<float> px(8 * 8 * 3);
+  REQUIRE(in->read_image(0, 0, 0, 3, OIIO::TypeDesc::FLOAT, px.data()));
+  for (float v : px) CHECK(v == Approx(0.5f).margin(1e-6));
 }

@@ -603,3 +603,57 @@ TEST_CASE("a file replaced by one of the same size and time is decoded again", "
   CHECK(blue.x == Approx(0).margin(1e-3));
   CHECK(blue.z == Approx(1).margin(1e-3));
 }
+
+TEST_CASE("NaN and infinite texels are mended to their finite neighbours' mean, and said",
+          "[images]") {
+  // A float EXR is otherwise read by the texture system as it is: one NaN texel
+  // made every lookup whose filter touched it NaN, so those samples were dropped
+  // (a whole image of them black). A PNG has no such values: no note.
+  Images im;
+  const std::string bad = (im.dir / "nan.exr").string();
+  std::vector<float> f;
+  for (int row = 0; row < kH; ++row)
+    for (int i = 0; i < kW; ++i)
+      for (int c = 0; c < 3; ++c) f.push_back(exr_value(i, row, c));
+  auto texel = [&](int i, int row, int c) -> float& { return f[3 * (row * kW + i) + c]; };
+  texel(1, 1, 0) = NAN;
+  texel(2, 1, 2) = INFINITY;
+  {
+    auto out = OIIO::ImageOutput::create(bad);
+    REQUIRE(out);
+    OIIO::ImageSpec spec(kW, kH, 3, OIIO::TypeDesc::FLOAT);
+    REQUIRE(out->open(bad, spec));
+    REQUIRE(out->write_image(OIIO::TypeDesc::FLOAT, f.data()));
+    REQUIRE(out->close());
+  }
+  ir::Scene s = scene_with(im);
+  s.images.push_back({bad, {}});
+  std::string err;
+  std::vector<std::pair<std::size_t, std::string>> notes;
+  CHECK(rt::unreadable_images(s.images, "", err, &notes).empty());
+  CHECK(err.empty());
+  REQUIRE(notes.size() == 1);
+  CHECK(notes[0].first == 2);
+  CHECK(notes[0].second.find("2 pixels of it hold NaN or infinite values") != std::string::npos);
+  // The mended texel is the mean of the finite values of its 3x3 box (the texel
+  // itself excluded), in that channel; the others are as written.
+  auto mean3 = [&](int i0, int row0, int c) {
+    double sum = 0;
+    int n = 0;
+    for (int row = std::max(0, row0 - 1); row <= std::min(kH - 1, row0 + 1); ++row)
+      for (int i = std::max(0, i0 - 1); i <= std::min(kW - 1, i0 + 1); ++i)
+        if (std::isfinite(texel(i, row, c))) sum += texel(i, row, c), ++n;
+    return float(sum / n);
+  };
+  auto tex = opened(s);
+  const ir::Texture t = image_texture(2, ir::ImageMapping::Planar);
+  for (int row = 0; row < kH; ++row)
+    for (int i = 0; i < kW; ++i) {
+      Color got = at(*tex, t, {u_of(i), v_of(row), 0});
+      for (int c = 0; c < 3; ++c) {
+        const float want = std::isfinite(texel(i, row, c)) ? texel(i, row, c) : mean3(i, row, c);
+        INFO("texel " << i << "," << row << " channel " << c);
+        CHECK(got[c] == Approx(want).epsilon(1e-5).margin(1e-4));
+      }
+    }
+}
