@@ -498,7 +498,7 @@ Value Evaluator::eval_constructor(const Expr& e, const std::shared_ptr<Env>& env
       for (const EvaluatedProp& p : props) {
         if (p.info->name == "color_map") {
           std::vector<ir::ColorStop> map;
-          color_map_of(p, diags_, map, false);
+          color_map_of(p, diags_, map);
         } else if (p.info->name == "file" && p.value.type == Type::String) {
           std::uint32_t unused = 0;
           builder_.add_image(p.value.str(), p.value_span, unused);

@@ -36,13 +36,12 @@ struct EvaluatedProp {
 // (lower_kinds.cpp: the block's kind struct, filled field by field).
 // Problems only the whole block shows (a colour map's stops out of order) are
 // reported to `diags` and give an error value.
-// §15 `color_map { stop <at, color> … }` into `map`: false, with the errors
-// reported, when its stops are out of order or (`need_stops`) it has none.
-// Checked also when another property of the pattern is wrong (§10: independent
-// errors), then (need_stops false) for order, and for stops only where none was
-// written: a map whose stops were all wrong has none left, but said so already.
+// §15 `color_map { stop <at, color> … }` into `map`: false when its stops are out
+// of order or none was written (both reported here), or none was read (each stop's
+// error, or the block's syntax error, said already). Checked also when another
+// property of the pattern is wrong (§10: independent errors).
 bool color_map_of(const EvaluatedProp& p, lang::DiagnosticEngine& diags,
-                  std::vector<ir::ColorStop>& map, bool need_stops = true);
+                  std::vector<ir::ColorStop>& map);
 
 Value make_constructor_value(const BlockInfo& block, const std::vector<EvaluatedProp>& props,
                              lang::DiagnosticEngine& diags);

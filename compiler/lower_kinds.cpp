@@ -169,7 +169,7 @@ Value make_material(const std::vector<EvaluatedProp>& props, lang::DiagnosticEng
 }  // namespace
 
 bool color_map_of(const EvaluatedProp& p, lang::DiagnosticEngine& diags,
-                  std::vector<ir::ColorStop>& map, bool need_stops) {
+                  std::vector<ir::ColorStop>& map) {
   bool ok = true;
   const EvaluatedProp* prev = nullptr;
   for (const EvaluatedProp& stop : p.nested) {
@@ -186,12 +186,12 @@ bool color_map_of(const EvaluatedProp& p, lang::DiagnosticEngine& diags,
     map.push_back(s);
     prev = &stop;
   }
-  if (p.nested.empty() && (need_stops || p.written == 0)) {
+  if (p.written == 0) {
     diags.report(DiagKind::InvalidValue, p.value_span,
                  "a colour map needs at least one 'stop <at, color>'");
     ok = false;
   }
-  return ok;
+  return ok && !map.empty();  // a map whose stops all failed said so already
 }
 
 namespace {

@@ -475,6 +475,9 @@ BlockPtr Parser::parse_block_rest(const Token& open, std::string_view owner) {
          scanner_.column(cur_.span.begin) <= scanner_.indent_of_line(open.span.begin))) {
       panic_ = false;
       missing_closer(open, "}", "the '" + std::string(owner) + "' block");
+      // Cut short by the end of the file (a truncated file, a '/*' never closed),
+      // its properties were not all written: none is asked for as missing.
+      if (at(TokenKind::EndOfFile)) block->broken = true;
       break;
     }
     if (at(TokenKind::Identifier)) {

@@ -122,7 +122,7 @@ DiagBuilder Parser::error_here(DiagKind kind, std::string message) {
 // end of a line points at that line, not at the next statement.
 void Parser::expect_semicolon(std::string_view after) {
   if (accept(TokenKind::Semicolon)) return;
-  if (at(TokenKind::Error) ||
+  if (at(TokenKind::Error) || (at(TokenKind::EndOfFile) && scanner_.ate_rest_of_file()) ||
       (prev_kind_ == TokenKind::String && scanner_.unterminated_string_ends_at(last_end_))) {
     panic_ = true;
     return;
@@ -236,6 +236,28 @@ bool Parser::errors_within(std::size_t kept, std::size_t errors) const {
   return placed < now - errors;
 }
 
+// A body (or CSG body) still open at the end of the file swallowed what followed
+// it: its statements from the first that starts a later line indented no deeper
+// than the body's opening line are taken out of it, to follow the statement that
+// holds the body in the list around it (take_hoisted), so they run and their own
+// errors are said (a `fn` missing its '}' hid every error after it).
+void Parser::hoist_unclosed(std::vector<StmtPtr>& body, const Token& open) {
+  const std::uint32_t indent = scanner_.indent_of_line(open.span.begin);
+  std::size_t k = 0;
+  while (k < body.size() &&
+         !(scanner_.newline_between(open.span.end, body[k]->span.begin) &&
+           scanner_.column(body[k]->span.begin) <= indent &&
+           scanner_.indent_of_line(body[k]->span.begin) == scanner_.column(body[k]->span.begin)))
+    ++k;
+  for (std::size_t i = k; i < body.size(); ++i) hoisted_.push_back(std::move(body[i]));
+  body.resize(k);
+}
+
+void Parser::take_hoisted(std::vector<StmtPtr>& out) {
+  for (StmtPtr& s : hoisted_) out.push_back(std::move(s));
+  hoisted_.clear();
+}
+
 void Parser::make_unsure(std::size_t mark) {
   for (std::size_t i = mark; i < names_seen_.size(); ++i) unsure_.emplace_back(names_seen_[i]);
   names_seen_.resize(mark);  // each once, however deep the statement
@@ -266,6 +288,7 @@ void Parser::parse_statements(std::vector<StmtPtr>& out, bool nested) {
     broke_ = false;
     StmtPtr s = parse_statement();
     if (s && !broke_) out.push_back(std::move(s));
+    take_hoisted(out);
     if (consumed_ == before) advance();  // always make progress
     if (panic_ || errors_within(kept, errors))
       make_unsure(mark);
@@ -296,6 +319,36 @@ StmtPtr Parser::parse_statement() {
       return nullptr;  // stray ';' is harmless
     case TokenKind::Identifier:
       if (peek_.kind == TokenKind::LBrace) return parse_item();
+      if (peek_.kind == TokenKind::Identifier || peek_.kind == TokenKind::String) {
+        // IDENT IDENT and IDENT STRING start no statement. A keyword one slip off
+        // (`lett a = 1;`, `improt "x.scn";`, `fro i in ...`) is read as that
+        // keyword's statement after an error naming it, so what it binds is bound
+        // (its names were all "not defined" after it).
+        if (TokenKind k = keyword_slip(); k != TokenKind::Error) {
+          diags_.report(DiagKind::ExpectedStatement, here(),
+                        "'" + std::string(cur_.text) + "' is not a keyword")
+              .note("did you mean '" + std::string(token_spelling(k)) + "'?");
+          cur_.kind = k;
+          return parse_statement();
+        }
+        // An item's '{' left out (`sphere center <0, 1, 0> radius 1 }`): its
+        // properties are read as its block's, to the '}'.
+        if (peek_.kind == TokenKind::Identifier && is_item_name(cur_.text) &&
+            !is_group_name(cur_.text) && !is_instance_name(cur_.text)) {
+          auto stmt = std::make_unique<Stmt>();
+          stmt->kind = StmtKind::Item;
+          stmt->name = std::string(cur_.text);
+          stmt->name_span = stmt->span = here();
+          Token keyword = take();
+          diags_.report(DiagKind::ExpectedToken, {file_, last_end_, last_end_},
+                        "expected '{' after '" + stmt->name + "', found " + describe(cur_));
+          stmt->block = parse_block_rest(keyword, stmt->name);
+          stmt->block->broken = true;  // its required properties are not asked for
+          accept(TokenKind::Semicolon);
+          stmt->span = from(stmt->span);
+          return stmt;
+        }
+      }
       // §4 `background EXPR`, EXPR any expression: `background (0.5)` too (it was
       // read as a call of a function named background).
       if (cur_.text == "background" && peek_.kind != TokenKind::Equal) return parse_background();
@@ -312,6 +365,23 @@ StmtPtr Parser::parse_statement() {
     error_here(DiagKind::ExpectedStatement, "expected a statement, found " + describe(cur_));
   advance();
   return stmt;
+}
+
+// The statement keyword the current identifier is one slip from, given what follows
+// it (a file name: `import`; a name: `let`, `fn`, `for`, `if`, `return`), else
+// TokenKind::Error.
+TokenKind Parser::keyword_slip() const {
+  std::vector<std::string_view> words;
+  if (peek_.kind == TokenKind::String)
+    words = {"import"};
+  else
+    words = {"let", "fn", "for", "if", "return"};
+  const std::string guess = closest_match(cur_.text, words);
+  if (guess.empty()) return TokenKind::Error;
+  for (TokenKind k : {TokenKind::KwImport, TokenKind::KwLet, TokenKind::KwFn, TokenKind::KwFor,
+                      TokenKind::KwIf, TokenKind::KwReturn})
+    if (token_spelling(k) == guess) return k;
+  return TokenKind::Error;
 }
 
 bool Parser::expect_name(std::string& name, Span& span, const char* what) {
@@ -557,6 +627,7 @@ BlockPtr Parser::parse_group_body(std::string_view owner) {
     if (at(TokenKind::EndOfFile)) {
       panic_ = false;
       missing_closer(open, "}", "the '" + std::string(owner) + "' block");
+      hoist_unclosed(block->statements, open);
       break;
     }
     if (panic_) {
@@ -573,6 +644,7 @@ BlockPtr Parser::parse_group_body(std::string_view owner) {
     } else if (StmtPtr st = parse_statement()) {
       if (!broke_) block->statements.push_back(std::move(st));
     }
+    take_hoisted(block->statements);
     broke_ = outer;                      // what broke was dropped
     if (consumed_ == before) advance();  // always make progress
   }
@@ -661,6 +733,7 @@ bool Parser::parse_body(std::vector<StmtPtr>& out, const char* owner) {
   if (accept(TokenKind::RBrace)) return true;
   panic_ = false;  // an unclosed body is worth reporting even after an inner error
   missing_closer(open, "}", owner);
+  if (at(TokenKind::EndOfFile)) hoist_unclosed(out, open);
   return false;
 }
 

@@ -46,6 +46,7 @@ class Parser {
   // ---- statements (parser.cpp)
   void parse_statements(std::vector<StmtPtr>& out, bool nested);
   StmtPtr parse_statement();
+  TokenKind keyword_slip() const;
   StmtPtr parse_let();
   StmtPtr parse_fn();
   StmtPtr parse_return();
@@ -107,7 +108,10 @@ class Parser {
   std::vector<std::string> unsure_;
   void make_unsure(std::size_t mark);
   bool errors_within(std::size_t kept, std::size_t errors) const;
-  bool in_vector_ = false;  // parsing an element of a vector literal at its top level
+  void hoist_unclosed(std::vector<StmtPtr>& body, const Token& open);
+  void take_hoisted(std::vector<StmtPtr>& out);
+  std::vector<StmtPtr> hoisted_;  // see hoist_unclosed
+  bool in_vector_ = false;        // parsing an element of a vector literal at its top level
   // The '>' that closed the last vector literal (a hint when a comparison in a
   // vector closed it early: `<1, a > b, 2>`).
   Span vector_close_{0, 0, 0};
