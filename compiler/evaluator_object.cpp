@@ -142,13 +142,20 @@ namespace snell::compile {
 void Evaluator::check_rest(const BlockInfo& block, Span kw, const lang::Block& body,
                            const std::vector<EvaluatedProp>& props) {
   if (aborted_) return;
-  // Failed: written but refused (a default may stand in), or required and absent.
+  // Failed: written but refused (a default may stand in), or required and absent,
+  // or misspelt (`locaton`: its did-you-mean names it; the default in its place
+  // is not what was meant, so no check across properties judges it).
   std::bitset<kPropCount> failed;
+  const auto names = prop_names(block);
+  std::vector<std::string> guessed;
+  for (const lang::Property& p : body.properties)
+    if (!find_prop(block, p.name)) guessed.push_back(lang::closest_match(p.name, names));
   for (const PropInfo* info : block.props) {
     bool written = false, attempted = false;
     for (const EvaluatedProp& ep : props)
       written |= ep.info == info && ep.name_span.begin != kw.begin;
     for (const lang::Property& p : body.properties) attempted |= p.name == info->name;
+    for (const std::string& g : guessed) attempted |= g == info->name;
     if (!written && (attempted || info->required())) failed.set(std::size_t(info->id));
   }
   if (block.shape_kind >= 0)
