@@ -325,8 +325,9 @@ StmtPtr Parser::parse_statement() {
         // keyword's statement after an error naming it, so what it binds is bound
         // (its names were all "not defined" after it).
         if (TokenKind k = keyword_slip(); k != TokenKind::Error) {
-          diags_.report(DiagKind::ExpectedStatement, here(),
-                        "'" + std::string(cur_.text) + "' is not a keyword")
+          diags_
+              .report(DiagKind::ExpectedStatement, here(),
+                      "'" + std::string(cur_.text) + "' is not a keyword")
               .note("did you mean '" + std::string(token_spelling(k)) + "'?");
           cur_.kind = k;
           return parse_statement();
