@@ -469,6 +469,13 @@ BlockPtr Parser::parse_block_rest(const Token& open, std::string_view owner) {
     // block takes an item as a property, and a nested item would be indented):
     // `sphere { radius 1` then `box { ... }` below it is two items, and reading
     // the box as the sphere's property lost the errors of everything after it.
+    // After a string missing its closing quote (it ate the rest of its line, '}'
+    // and all) the block ends here without a word: the string's error says it.
+    if (prev_kind_ == TokenKind::String && scanner_.unterminated_string_ends_at(last_end_) &&
+        !at(TokenKind::RBrace)) {
+      block->broken = true;
+      break;
+    }
     if (at(TokenKind::EndOfFile) || starts_statement(cur_.kind) ||
         (at(TokenKind::Identifier) && peek_.kind == TokenKind::LBrace && is_item_name(cur_.text) &&
          scanner_.newline_between(open.span.end, cur_.span.begin) &&
@@ -484,7 +491,10 @@ BlockPtr Parser::parse_block_rest(const Token& open, std::string_view owner) {
       Property prop;
       broke_ = false;
       parse_property(prop);
-      // A value a syntax error cut short is dropped, not checked as read.
+      // A value a syntax error cut short is dropped, not checked as read; so is
+      // one that ends in a string missing its closing quote.
+      if (prev_kind_ == TokenKind::String && scanner_.unterminated_string_ends_at(last_end_))
+        broke_ = true;
       if (broke_)
         block->broken = true;
       else
@@ -514,13 +524,17 @@ BlockPtr Parser::parse_block_rest(const Token& open, std::string_view owner) {
       // 1, 0>` read as <1, 2>): dropped, not checked as read.
       scratch_properties_.pop_back();
     }
-    // Skip the stray tokens (with any groups they open) up to the next name.
+    // Skip the stray tokens (with any groups they open) up to the next name that
+    // a value follows, as a property's does: `r * 3>` left of a vector cut short
+    // (`<r * 2 0.1, r * 3>`) is its rest, not a property 'r', and `sin(a)` a call.
     int level = 0;
     while (!at(TokenKind::EndOfFile)) {
       TokenKind k = cur_.kind;
-      if (level == 0 &&
-          (k == TokenKind::Identifier || k == TokenKind::RBrace || starts_statement(k)))
-        break;
+      const bool name_with_value =
+          k == TokenKind::Identifier &&
+          ((starts_operand(peek_.kind) && peek_.kind != TokenKind::LParen) ||
+           peek_.kind == TokenKind::LBrace || scanner_.newline_between(last_end_, cur_.span.begin));
+      if (level == 0 && (name_with_value || k == TokenKind::RBrace || starts_statement(k))) break;
       if (k == TokenKind::LParen || k == TokenKind::LBrace) ++level;
       if ((k == TokenKind::RParen || k == TokenKind::RBrace) && level > 0) --level;
       advance();

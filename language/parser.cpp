@@ -6,6 +6,7 @@
 // property block reaches its next property name). So every independent error is
 // reported once and none is a consequence of another.
 #include <algorithm>
+#include <cctype>
 
 #include "language/parser_impl.hpp"
 
@@ -58,6 +59,24 @@ Parser::Parser(const SourceManager& sources, FileId file, DiagnosticEngine& diag
 
 void Parser::advance() {
   if (cur_.kind == TokenKind::Identifier) names_seen_.push_back(cur_.text);
+  // A string missing its closing quote ran to the end of its line: the names it
+  // swallowed (`let "angle = 30;`) count as seen, so a statement it broke makes
+  // them unsure rather than "not defined" at every later use.
+  if (cur_.kind == TokenKind::String && scanner_.unterminated_string_ends_at(cur_.span.end))
+    for (std::size_t i = 0; i < cur_.text.size();) {
+      auto word = [&](char c, bool first) {
+        return c == '_' || std::isalpha(static_cast<unsigned char>(c)) ||
+               (!first && std::isdigit(static_cast<unsigned char>(c)));
+      };
+      if (!word(cur_.text[i], true)) {
+        ++i;
+        continue;
+      }
+      std::size_t j = i + 1;
+      while (j < cur_.text.size() && word(cur_.text[j], false)) ++j;
+      names_seen_.push_back(cur_.text.substr(i, j - i));
+      i = j;
+    }
   prev_kind_ = cur_.kind;
   last_end_ = cur_.span.end;
   ++consumed_;
@@ -110,7 +129,8 @@ DiagBuilder Parser::error(DiagKind kind, Span span, std::string message) {
 }
 
 DiagBuilder Parser::error_here(DiagKind kind, std::string message) {
-  if (at(TokenKind::Error) || (at(TokenKind::EndOfFile) && scanner_.ate_rest_of_file())) {
+  if (at(TokenKind::Error) || (at(TokenKind::EndOfFile) && scanner_.ate_rest_of_file()) ||
+      (at(TokenKind::String) && scanner_.unterminated_string_ends_at(cur_.span.end))) {
     panic_ = true;
     broke_ = true;
     return dropped();
