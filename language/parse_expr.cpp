@@ -1,4 +1,6 @@
 // Expressions (§3) with a Pratt table, and property blocks (§5).
+#include <utility>
+
 #include "language/parser_impl.hpp"
 
 namespace snell::lang {
@@ -395,6 +397,12 @@ bool Parser::parse_property(Property& prop) {
       d.note(vector_close_,
              "this '>' closed the vector (§3); a comparison inside a vector literal must be "
              "parenthesised: <(a > b), ...>");
+    // `object { s s }`: the second 's' reads as a property.
+    if (in_instance_ && !is_object_property(prop.name))
+      d.note(prop.name_span,
+             "an 'object { }' holds one object value, then its properties (material, "
+             "translate, rotate, scale, motion): '" +
+                 prop.name + "' was read as a property");
     prop.value = error_expr(here());
     return false;
   }
@@ -441,6 +449,10 @@ BlockPtr Parser::parse_block(std::string_view owner) {
 // The properties of a block after its '{' (`open`), up to its '}'.
 BlockPtr Parser::parse_block_rest(const Token& open, std::string_view owner) {
   auto block = std::make_unique<Block>();
+  // An instance body's own properties (a nested block's are not).
+  const bool instance = std::exchange(instance_body_, false);
+  const bool late = std::exchange(late_subject_, false);
+  const bool saved_instance = std::exchange(in_instance_, instance);
   const bool outer = broke_;  // a block read to its '}' breaks nothing around it
   bool saved_vector = in_vector_, saved_object = no_object_;
   in_vector_ = false;
@@ -486,6 +498,14 @@ BlockPtr Parser::parse_block_rest(const Token& open, std::string_view owner) {
       // its properties were not all written: none is asked for as missing.
       if (at(TokenKind::EndOfFile)) block->broken = true;
       break;
+    }
+    // The value of an instance written after its properties (reported where the
+    // first property stood): a lone name before the '}' is that value.
+    if (late && at(TokenKind::Identifier) && peek_.kind == TokenKind::RBrace && !block->subject) {
+      block->subject = make(ExprKind::Name, here());
+      block->subject->text = std::string(cur_.text);
+      advance();
+      continue;
     }
     if (at(TokenKind::Identifier)) {
       Property prop;
@@ -542,6 +562,7 @@ BlockPtr Parser::parse_block_rest(const Token& open, std::string_view owner) {
   }
   in_vector_ = saved_vector;
   no_object_ = saved_object;
+  in_instance_ = saved_instance;
   take_scratch(block->properties, mark);
   block->span = from(open.span);
   broke_ = outer;

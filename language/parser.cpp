@@ -700,11 +700,26 @@ BlockPtr Parser::parse_instance_body(std::string_view owner) {
     block->span = from(begin);
     return block;
   }
+  // A property first (`object { translate <1, 0, 0> s }`): read as the block's
+  // properties, after an error saying the value comes first (it was read as the
+  // value `translate < 1`, and then `, 0>` as a stray).
+  if (at(TokenKind::Identifier) && is_object_property(cur_.text) &&
+      (starts_operand(peek_.kind) || peek_.kind == TokenKind::LBrace)) {
+    error_here(DiagKind::ExpectedExpression,
+               "'" + std::string(owner) + " { }' takes its object value first: write " +
+                   std::string(owner) + " { NAME " + std::string(cur_.text) + " ... }");
+    panic_ = false;  // the properties are read, and judged, as written
+    instance_body_ = late_subject_ = true;
+    BlockPtr block = parse_block_rest(open, owner);
+    block->span = from(begin);
+    return block;
+  }
   bool saved_vector = in_vector_, saved_object = no_object_;
   in_vector_ = no_object_ = false;
   ExprPtr subject = parse_expr();
   in_vector_ = saved_vector;
   no_object_ = saved_object;
+  instance_body_ = true;
   BlockPtr block = parse_block_rest(open, owner);
   block->subject = std::move(subject);
   block->span = from(begin);
