@@ -114,7 +114,7 @@ class Parser {
   // parse_block_rest's next block is an instance body (instance_body_), whose value
   // may stand last (late_subject_); in_instance_ while its properties are read.
   bool instance_body_ = false, late_subject_ = false, in_instance_ = false;
-  bool in_vector_ = false;        // parsing an element of a vector literal at its top level
+  bool in_vector_ = false;  // parsing an element of a vector literal at its top level
   // The '>' that closed the last vector literal (a hint when a comparison in a
   // vector closed it early: `<1, a > b, 2>`).
   Span vector_close_{0, 0, 0};
