@@ -647,8 +647,10 @@ BlockPtr Parser::parse_group_body(std::string_view owner) {
     if (accept(TokenKind::RBrace)) break;
     if (at(TokenKind::EndOfFile)) {
       panic_ = false;
+      const bool broke = broke_;
       missing_closer(open, "}", "the '" + std::string(owner) + "' block");
-      hoist_unclosed(block->statements, open);
+      hoist_unclosed(block->statements, open);  // and the block stands, as a body does
+      broke_ = broke;
       break;
     }
     if (panic_) {
@@ -768,8 +770,14 @@ bool Parser::parse_body(std::vector<StmtPtr>& out, const char* owner) {
   in_vector_ = saved_vector;
   if (accept(TokenKind::RBrace)) return true;
   panic_ = false;  // an unclosed body is worth reporting even after an inner error
+  const bool broke = broke_;
   missing_closer(open, "}", owner);
-  if (at(TokenKind::EndOfFile)) hoist_unclosed(out, open);
+  if (at(TokenKind::EndOfFile)) {
+    // Only its '}' is missing: the statement stands (and runs, and an editor still
+    // sees the names it binds), less what followed it (hoist_unclosed).
+    hoist_unclosed(out, open);
+    broke_ = broke;
+  }
   return false;
 }
 

@@ -2,6 +2,7 @@
 // message by message (its answers captured), including a 1000-line scene's
 // latency and random input it must survive. tests/lsp/pytest drives the real
 // `snell lsp` process with a real client (pytest-lsp).
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <chrono>
 #include <map>
@@ -173,6 +174,35 @@ TEST_CASE("server: diagnostics, hover and definition in memory", "[lsp]") {
   c.notify("exit", nullptr);
   CHECK(c.server.exit_requested());
   CHECK(c.server.exit_code() == 0);
+}
+
+// A body whose '}' is not typed yet (an editor that does not close braces) keeps
+// its names: hover and definition answered null inside an unclosed for, fn, if
+// or CSG body, whose statement was dropped as broken.
+TEST_CASE("server: names inside a body still missing its '}' hover and resolve", "[lsp]") {
+  Client c;
+  c.request("initialize", {{"capabilities", json::object()}});
+  c.notify("initialized", json::object());
+  int version = 1;
+  for (const char* text : {"for idx in 0 .. 3 {\n  sphere { radius idx + 1 }\n",
+                           "fn f(idx) {\n  sphere { radius idx + 1 }\n",
+                           "if true {\n  let idx = 1;\n  sphere { radius idx + 1 }\n",
+                           "union {\n  let idx = 1;\n  sphere { radius idx + 1 }\n"}) {
+    INFO(text);
+    c.notify("textDocument/didOpen",
+             {{"textDocument",
+               {{"uri", kUri}, {"languageId", "snell"}, {"version", version++}, {"text", text}}}});
+    const std::string t = text;
+    const int line = int(std::count(t.begin(), t.end(), '\n')) - 1;
+    json hover = c.request("textDocument/hover",
+                           {{"textDocument", {{"uri", kUri}}}, {"position", pos(line, 19)}});
+    REQUIRE(hover["result"].is_object());
+    CHECK(std::string(hover["result"]["contents"]["value"]).find("idx") != std::string::npos);
+    json def = c.request("textDocument/definition",
+                         {{"textDocument", {{"uri", kUri}}}, {"position", pos(line, 19)}});
+    CHECK(def["result"].is_object());
+    c.notify("textDocument/didClose", {{"textDocument", {{"uri", kUri}}}});
+  }
 }
 
 // A request right after a change analyses the new text at once; the change's
