@@ -132,14 +132,19 @@ void add_values(const Analysis& a, std::uint32_t offset, json& out) {
     out.push_back(item(p.name, kVariable, "predeclared", p.doc));
 }
 
-void add_statements(const Analysis& a, std::uint32_t offset, json& out) {
+// `in_csg`: a CSG body's statements, which hold objects only (§12: settings, the
+// camera, lights and the background there are NotInsideCsg errors).
+void add_statements(const Analysis& a, std::uint32_t offset, json& out, bool in_csg = false) {
   for (TokenKind k : {TokenKind::KwLet, TokenKind::KwFn, TokenKind::KwFor, TokenKind::KwIf,
                       TokenKind::KwImport, TokenKind::KwReturn})
     out.push_back(item(std::string(lang::token_spelling(k)), kKeyword));
-  for (std::string_view b : compile::block_names(compile::BlockKind::Item))
+  for (std::string_view b : compile::block_names(compile::BlockKind::Item)) {
+    if (const compile::BlockInfo* info = compile::find_block(b); in_csg && info && !info->is_object)
+      continue;
     out.push_back(item(std::string(b), kClass, "scene item", describe_block(b)));
+  }
   out.push_back(item("object", kClass, "instance", describe_block("object")));
-  out.push_back(item("background", kKeyword, "background COLOUR_OR_PATTERN"));
+  if (!in_csg) out.push_back(item("background", kKeyword, "background COLOUR_OR_PATTERN"));
   add_names(a, offset, out);
 }
 
@@ -206,13 +211,32 @@ bool in_string(std::string_view text, std::uint32_t offset, std::uint32_t& open)
   return inside;
 }
 
-bool in_line_comment(std::string_view text, std::uint32_t offset) {
-  std::uint32_t open = 0;
-  std::uint32_t line = offset;
-  while (line > 0 && text[line - 1] != '\n') --line;
-  std::string_view before = text.substr(line, offset - line);
-  std::size_t c = before.find("//");
-  return c != std::string_view::npos && !in_string(text, line + std::uint32_t(c), open);
+// Whether `offset` is inside a comment, `//` or `/* */` (one never closed too),
+// read from the start of the text as the lexer reads it: strings end at their
+// quote or line, and a comment's opener inside a string is none.
+bool in_comment(std::string_view text, std::uint32_t offset) {
+  enum { Code, String, Line, Block } state = Code;
+  for (std::uint32_t i = 0; i < offset; ++i) {
+    const char c = text[i], next = i + 1 < text.size() ? text[i + 1] : '\0';
+    switch (state) {
+      case Code:
+        if (c == '"') state = String;
+        if (c == '/' && next == '/') state = Line, ++i;
+        if (c == '/' && next == '*') state = Block, ++i;
+        break;
+      case String:
+        if (c == '\\') ++i;
+        if (c == '"' || c == '\n') state = Code;
+        break;
+      case Line:
+        if (c == '\n') state = Code;
+        break;
+      case Block:
+        if (c == '*' && next == '/' && i + 1 < offset) state = Code, ++i;
+        break;
+    }
+  }
+  return state == Line || state == Block;
 }
 
 }  // namespace
@@ -222,6 +246,7 @@ json completion(const Locator& at, std::string_view text, std::uint32_t offset,
   const Analysis& a = at.analysis;
   json out = json::array();
   offset = std::min<std::uint32_t>(offset, static_cast<std::uint32_t>(text.size()));
+  if (in_comment(text, offset)) return out;
   std::uint32_t open = 0;
   bool string = in_string(text, offset, open);
   // The word before an opening quote: `import "…"`, or a property `sampler "…"`.
@@ -234,11 +259,21 @@ json completion(const Locator& at, std::string_view text, std::uint32_t offset,
       --w;
     before_quote = text.substr(w, k - w);
     if (before_quote == "import") {
-      add_imports(a, text.substr(open + 1, offset - open - 1), options, out);
+      const std::string_view typed = text.substr(open + 1, offset - open - 1);
+      add_imports(a, typed, options, out);
+      // Each replaces what is typed inside the quotes: a client left to itself
+      // replaces the word before the cursor only, and "colors." + "colors.scn"
+      // became "colors.colors.scn".
+      const std::size_t slash = typed.rfind('/');
+      const std::string sub(typed.substr(0, slash == std::string_view::npos ? 0 : slash + 1));
+      const json range = LineIndex(text).range(open + 1, offset, at.encoding);
+      for (json& it : out) {
+        const std::string path = sub + it["label"].get<std::string>();
+        it["textEdit"] = {{"range", range}, {"newText", path}};
+        it["filterText"] = path;
+      }
       return out;
     }
-  } else if (in_line_comment(text, offset)) {
-    return out;
   }
 
   lang::SourceManager sources;
@@ -316,7 +351,7 @@ json completion(const Locator& at, std::string_view text, std::uint32_t offset,
       break;
     case Frame::Group:
       if (statement_start || ends_value(*prev, f)) {
-        add_statements(a, offset, out);
+        add_statements(a, offset, out, /*in_csg=*/true);
         add_properties(f, out);
       } else {
         add_values(a, offset, out);

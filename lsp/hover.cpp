@@ -13,6 +13,27 @@ namespace snell::lsp {
 
 namespace {
 
+// A value as a Markdown code span whatever it holds (a string value may hold
+// backticks and line breaks, which ended the span and let the rest render as
+// Markdown): fenced by more backticks than its longest run, line breaks shown as
+// \n.
+std::string code_span(const std::string& value) {
+  std::string v;
+  std::size_t run = 0, longest = 0;
+  for (char c : value) {
+    run = c == '`' ? run + 1 : 0;
+    longest = std::max(longest, run);
+    if (c == '\n')
+      v += "\\n";
+    else if (c == '\r')
+      v += "\\r";
+    else
+      v += c;
+  }
+  const std::string fence(longest + 1, '`');
+  return fence + " " + v + " " + fence;
+}
+
 std::string kind_words(const compile::BlockInfo& b) {
   if (b.csg_op >= 0) return "a CSG block (§12): its body holds object statements";
   if (b.is_object) return "an object (a shape)";
@@ -144,7 +165,8 @@ std::string describe_definition(const Analysis& a, const Definition& d) {
     s += "\nnumber";
   } else if (auto it = a.types.find(Analysis::type_key(d.span)); it != a.types.end()) {
     s += "\n" + types_words(it->second.mask);
-    if (it->second.count == 1 && !it->second.first.empty()) s += " = `" + it->second.first + "`";
+    if (it->second.count == 1 && !it->second.first.empty())
+      s += " = " + code_span(it->second.first);
     if (it->second.count > 1) s += " (bound " + std::to_string(it->second.count) + " times)";
   } else {
     s += "\n(not evaluated)";

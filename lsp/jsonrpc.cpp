@@ -19,7 +19,17 @@ bool iequals_prefix(std::string_view line, std::string_view prefix) {
 std::optional<std::string> MessageReader::next(std::string* error) {
   for (;;) {
     if (skip_ > 0) {
+      // A header inside what is skipped ends the skip: a Content-Length of 10^14
+      // swallowed every later message while it waited for its bytes.
       std::size_t n = std::min(skip_, buffer_.size());
+      std::string lower(n, ' ');
+      for (std::size_t i = 0; i < n; ++i)
+        lower[i] = char(std::tolower(static_cast<unsigned char>(buffer_[i])));
+      if (const std::size_t at = lower.find("content-length:"); at != std::string::npos) {
+        buffer_.erase(0, at);
+        skip_ = 0;
+        continue;
+      }
       buffer_.erase(0, n);
       skip_ -= n;
       if (skip_ > 0) return std::nullopt;

@@ -247,8 +247,56 @@ std::optional<Server::Clock::duration> Server::tick(Clock::time_point now) {
 
 std::uint32_t Server::offset_of(const Document& doc, const json& params) const {
   const json& p = params.at("position");
-  return LineIndex(doc.text).offset(
-      {p.at("line").get<std::uint32_t>(), p.at("character").get<std::uint32_t>()}, encoding_);
+  // LSP's uinteger: whole and below 2^31 (a larger one wrapped round to 0:0). A
+  // json::exception is InvalidParams (handle).
+  auto field = [&](const char* name) {
+    const json& v = p.at(name);
+    if (!v.is_number_integer() || v.get<std::int64_t>() < 0 ||
+        v.get<std::int64_t>() > std::int64_t(INT32_MAX))
+      throw json::type_error::create(
+          302, std::string("position.") + name + " must be an integer from 0 to 2^31 - 1", &v);
+    return std::uint32_t(v.get<std::int64_t>());
+  };
+  return LineIndex(doc.text).offset({field("line"), field("character")}, encoding_);
+}
+
+// A \uD800-\uDFFF escape that is not half of a pair becomes \uFFFD: RFC 8259
+// allows it and an editor's text can hold one, but nlohmann::json refuses the
+// whole message, and a didChange lost that way left the server's copy stale.
+void mend_lone_surrogates(std::string& body) {
+  auto hex4 = [&](std::size_t at, unsigned& v) {
+    if (at + 4 > body.size()) return false;
+    v = 0;
+    for (std::size_t k = at; k < at + 4; ++k) {
+      const char c = body[k];
+      const int d = c >= '0' && c <= '9'   ? c - '0'
+                    : c >= 'a' && c <= 'f' ? c - 'a' + 10
+                    : c >= 'A' && c <= 'F' ? c - 'A' + 10
+                                           : -1;
+      if (d < 0) return false;
+      v = v * 16 + unsigned(d);
+    }
+    return true;
+  };
+  for (std::size_t i = 0; i + 1 < body.size();) {
+    if (body[i] != '\\') {
+      ++i;
+      continue;
+    }
+    unsigned v = 0, w = 0;
+    if (body[i + 1] != 'u' || !hex4(i + 2, v)) {
+      i += 2;  // another escape (\\ among them)
+      continue;
+    }
+    const bool high = v >= 0xD800 && v <= 0xDBFF, low = v >= 0xDC00 && v <= 0xDFFF;
+    if (high && i + 7 < body.size() && body[i + 6] == '\\' && body[i + 7] == 'u' &&
+        hex4(i + 8, w) && w >= 0xDC00 && w <= 0xDFFF) {
+      i += 12;  // a pair
+      continue;
+    }
+    if (high || low) body.replace(i + 2, 4, "FFFD");
+    i += 6;
+  }
 }
 
 int run_stdio(const ServerOptions& options) {
@@ -281,6 +329,7 @@ int run_stdio(const ServerOptions& options) {
     reader.feed({buf, static_cast<std::size_t>(n)});
     std::string error;
     while (auto body = reader.next(&error)) {
+      mend_lone_surrogates(*body);
       json message = json::parse(*body, nullptr, /*allow_exceptions=*/false);
       if (message.is_discarded())
         send(make_error(nullptr, kParseError, "the message is not JSON"));

@@ -86,5 +86,7 @@ class Server {
 // Serves LSP on stdin/stdout until `exit` or until stdin closes; returns the
 // process's exit status.
 int run_stdio(const ServerOptions& options);
+// A message body's lone UTF-16 surrogate escapes replaced by \uFFFD (in place).
+void mend_lone_surrogates(std::string& body);
 
 }  // namespace snell::lsp

@@ -33,13 +33,17 @@ Position LineIndex::position(std::uint32_t offset, Encoding enc) const {
   std::uint32_t line = static_cast<std::uint32_t>(it - starts_.begin()) - 1;
   std::uint32_t start = starts_[line];
   if (enc == Encoding::Utf8) return {line, offset - start};
-  std::uint32_t units = 0;
-  for (std::uint32_t i = start; i < offset;) {
+  std::uint32_t units = 0, i = start;
+  if (line == last_line_ && offset >= last_offset_) i = last_offset_, units = last_units_;
+  bool split = false;
+  while (i < offset) {
     std::uint32_t n = seq_len(static_cast<unsigned char>(text_[i]));
-    if (i + n > offset) n = offset - i;  // an offset inside a sequence
+    if (i + n > offset) n = offset - i, split = true;  // an offset inside a sequence
     units += n == 4 ? 2 : 1;
     i += n;
   }
+  // Remembered only at a sequence boundary: counting on from inside one differs.
+  if (!split) last_line_ = line, last_offset_ = offset, last_units_ = units;
   return {line, units};
 }
 

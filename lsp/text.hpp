@@ -30,6 +30,9 @@ class LineIndex {
  private:
   std::string_view text_;
   std::vector<std::uint32_t> starts_;
+  // The last UTF-16 position found: the next one on the same line further right
+  // counts on from it (an outline of one long line was quadratic in its length).
+  mutable std::uint32_t last_line_ = ~0u, last_offset_ = 0, last_units_ = 0;
 };
 
 // file:///a%20b/c.scn <-> /a b/c.scn. A URI of another scheme (an unsaved

@@ -86,6 +86,44 @@ TEST_CASE("framing: a body larger than the limit is dropped", "[lsp]") {
   CHECK_FALSE(error.empty());
 }
 
+TEST_CASE("framing: a header inside an oversized body ends its skip", "[lsp]") {
+  // A Content-Length of 10^14 waited for its bytes forever, swallowing every
+  // later message.
+  MessageReader r;
+  std::string error;
+  r.feed("Content-Length: 100000000000000\r\n\r\n{\"a\":");
+  CHECK_FALSE(r.next(&error));
+  r.feed("1}Content-Length: 2\r\n\r\n{}");
+  auto m = r.next(&error);
+  REQUIRE(m);
+  CHECK(*m == "{}");
+}
+
+TEST_CASE("lone surrogate escapes become U+FFFD, pairs and other escapes stay", "[lsp]") {
+  std::string body = R"({"t":"a\ud800b \udc00 \ud83d\ude00 \\ud800 \u0041"})";
+  mend_lone_surrogates(body);
+  CHECK(body == R"({"t":"a\uFFFDb \uFFFD \ud83d\ude00 \\ud800 \u0041"})");
+  CHECK_FALSE(json::parse(body, nullptr, false).is_discarded());
+}
+
+TEST_CASE("positions: UTF-16 columns found one after another agree with a fresh count", "[lsp]") {
+  // The index counts on from the last position on the same line: every offset,
+  // in any order, must give what a fresh index gives (multibyte letters, offsets
+  // inside them, several lines).
+  std::string text = "let é = \"𝛼𝛼\"; // ü\nabc 😀 déf\n\n";
+  LineIndex reused(text);
+  std::mt19937 rng(7);
+  for (int k = 0; k < 2000; ++k) {
+    std::uint32_t off = rng() % std::uint32_t(text.size() + 1);
+    if (k % 3 == 0 && off > 0) off = std::min<std::uint32_t>(off + 1, std::uint32_t(text.size()));
+    Position a = reused.position(off, Encoding::Utf16),
+             b = LineIndex(text).position(off, Encoding::Utf16);
+    INFO("offset " << off);
+    REQUIRE(a.line == b.line);
+    REQUIRE(a.character == b.character);
+  }
+}
+
 TEST_CASE("positions: UTF-16 and UTF-8 columns", "[lsp]") {
   std::string text = "let é = 1;\nlet 𝛼 = 2;\n";
   LineIndex idx(text);
@@ -174,6 +212,45 @@ TEST_CASE("server: diagnostics, hover and definition in memory", "[lsp]") {
   c.notify("exit", nullptr);
   CHECK(c.server.exit_requested());
   CHECK(c.server.exit_code() == 0);
+}
+
+// A position beyond LSP's uinteger (or not whole) is InvalidParams: 2^32 wrapped
+// round to line 0 and answered there.
+TEST_CASE("server: a position out of range is an InvalidParams error", "[lsp]") {
+  Client c;
+  c.request("initialize", {{"capabilities", json::object()}});
+  c.notify("initialized", json::object());
+  c.notify("textDocument/didOpen",
+           {{"textDocument",
+             {{"uri", kUri}, {"languageId", "snell"}, {"version", 1}, {"text", "let r = 2;\n"}}}});
+  for (json p : {json{{"line", 4294967296ll}, {"character", 0}},
+                 json{{"line", 0}, {"character", -1}}, json{{"line", 0.5}, {"character", 0}}}) {
+    INFO(p.dump());
+    json r = c.request("textDocument/hover", {{"textDocument", {{"uri", kUri}}}, {"position", p}});
+    REQUIRE(r.contains("error"));
+    CHECK(r["error"]["code"] == -32602);
+  }
+  json ok =
+      c.request("textDocument/hover", {{"textDocument", {{"uri", kUri}}}, {"position", pos(0, 4)}});
+  CHECK(ok["result"].is_object());
+}
+
+// A string value in a hover stays one code span whatever it holds (backticks and
+// line breaks ended the span, and the rest rendered as Markdown).
+TEST_CASE("server: a hover shows a string value as one code span", "[lsp]") {
+  Client c;
+  c.request("initialize", {{"capabilities", json::object()}});
+  c.notify("initialized", json::object());
+  c.notify("textDocument/didOpen", {{"textDocument",
+                                     {{"uri", kUri},
+                                      {"languageId", "snell"},
+                                      {"version", 1},
+                                      {"text", "let s = \"x``y\\n# z\";\n"}}}});
+  json hover =
+      c.request("textDocument/hover", {{"textDocument", {{"uri", kUri}}}, {"position", pos(0, 4)}});
+  const std::string v = hover["result"]["contents"]["value"];
+  INFO(v);
+  CHECK(v.find("= ``` \"x``y\\n# z\" ```") != std::string::npos);
 }
 
 // A body whose '}' is not typed yet (an editor that does not close braces) keeps

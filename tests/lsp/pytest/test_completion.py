@@ -82,3 +82,52 @@ async def test_enum_spellings_in_strings(client, tmp_path):
     uri = await open_doc(client, tmp_path / "e.scn", text)
     got = await labels(client, uri, find(text, '""', delta=1))
     assert "stratified" in got  # runtime/ir/kinds.def's SamplerKind
+
+
+async def test_nothing_inside_comments(client, tmp_path):
+    # Inside a /* */ comment (closed or not) as inside a // one: no items (a block
+    # comment offered the statement keywords, or the block's properties).
+    for text, marker in [
+        ("/* sphere {  */\n", "{ "),
+        ("sphere { radius 1 } /* radius  */\n", "radius  "),
+        ("sphere { /*  */ }\n", "/* "),
+        ("/* sphere {  \n", "{ "),
+        ("// sphere {  \n", "{ "),
+    ]:
+        uri = await open_doc(client, tmp_path / "c.scn", text)
+        got = await labels(client, uri, find(text, marker, delta=len(marker)))
+        assert got == set(), text
+    # After a closed comment, completion is back.
+    text = "/* note */ \n"
+    uri = await open_doc(client, tmp_path / "d.scn", text)
+    assert "sphere" in await labels(client, uri, types.Position(line=0, character=11))
+
+
+async def test_csg_body_offers_what_it_holds(client, tmp_path):
+    # §12: a CSG body holds objects (and let, for, if, calls, imports): settings,
+    # the camera, lights and the background there are errors, so not offered.
+    text = "union {\n  sphere { radius 1 }\n  \n}\n"
+    uri = await open_doc(client, tmp_path / "g.scn", text)
+    got = await labels(client, uri, types.Position(line=2, character=2))
+    assert {"sphere", "box", "union", "object", "let", "for", "import"} <= got
+    assert not got & {"settings", "camera", "point_light", "area_light", "background"}
+
+
+async def test_import_items_replace_what_is_typed(client, tmp_path):
+    # Each item's textEdit covers the text typed inside the quotes, so a client
+    # never doubles it ("colors.colors.scn").
+    text = 'import "colors.\n'
+    uri = await open_doc(client, tmp_path / "t.scn", text)
+    r = await client.text_document_completion_async(
+        types.CompletionParams(
+            text_document=types.TextDocumentIdentifier(uri=uri),
+            position=types.Position(line=0, character=15),
+        )
+    )
+    items = r.items if isinstance(r, types.CompletionList) else r
+    colors = [i for i in items if i.label == "colors.scn"]
+    assert colors
+    edit = colors[0].text_edit
+    assert edit.new_text == "colors.scn"
+    assert (edit.range.start.line, edit.range.start.character) == (0, 8)
+    assert (edit.range.end.line, edit.range.end.character) == (0, 15)
