@@ -33,6 +33,10 @@ inline std::string format_limit(const std::string& path, std::uint64_t width,
   // JPEG_MAX_DIMENSION in libjpeg's jmorecfg.h.
   if ((e == ".jpg" || e == ".jpeg") && (width > 65500 || height > 65500))
     return "a JPEG holds at most 65500 pixels a side (write .png, .tif or .exr)";
+  // libpng's user limits (PNG_USER_WIDTH_MAX, PNG_USER_HEIGHT_MAX), which
+  // OpenImageIO keeps: its IHDR is refused only once the render is done.
+  if (e == ".png" && (width > 1000000 || height > 1000000))
+    return "a PNG holds at most 1000000 pixels a side here, libpng's limit (write .tif or .exr)";
   return {};
 }
 

@@ -16,6 +16,9 @@ namespace {
 constexpr std::uint32_t kDeepTree = 1000;
 // Split trees deeper than this without pruning: 2^24 rays a camera ray at most.
 constexpr std::uint32_t kSplitDepth = 24;
+// Rays per camera ray a split tree may make before min_weight is said to prune too
+// little (2^24, as a tree kSplitDepth deep with none pruned).
+constexpr double kSplitRays = 16777216.0;
 
 bool black(const ir::Texture& t) {
   const ir::Constant* c = std::get_if<ir::Constant>(&t.pattern);
@@ -95,18 +98,43 @@ std::vector<SceneWarning> scene_warnings(const ir::Scene& scene) {
                    scene.settings.src});
   // Without min_weight nothing prunes a split tree: each dielectric hit traces both
   // the reflection and the refraction, so nested or facing glass makes up to 2^D
-  // rays per camera ray (30 glass shells at max_depth 50 ran for years).
-  if (scene.settings.min_weight == 0 && scene.settings.branching == ir::Branching::Split &&
-      scene.settings.max_depth > kSplitDepth && scene.settings.max_depth <= kDeepTree) {
-    bool glass = false;
-    for (const ir::Material& m : scene.materials) glass = glass || m.as<ir::Dielectric>();
-    if (glass)
+  // rays per camera ray (30 glass shells at max_depth 50 ran for years). A tiny one
+  // prunes little: near normal incidence a reflection keeps R0 = ((n-1)/(n+1))^2 of
+  // the weight, so a branch survives about log(w)/log(R0) reflections, and the
+  // tree holds the paths of D levels with at most that many (1e-30 at max_depth 40
+  // in ten glass shells ran past a minute at 16x12).
+  if (scene.settings.branching == ir::Branching::Split && scene.settings.max_depth > kSplitDepth &&
+      scene.settings.max_depth <= kDeepTree) {
+    double r0 = 0;  // the largest reflectance at normal incidence
+    for (const ir::Material& m : scene.materials)
+      if (const ir::Dielectric* d = m.as<ir::Dielectric>()) {
+        const double n = std::max(d->ior, 1 / d->ior), r = (n - 1) / (n + 1);
+        r0 = std::max(r0, std::max(r * r, 1e-6));
+      }
+    const std::uint32_t depth = scene.settings.max_depth;
+    const double w = scene.settings.min_weight;
+    // Paths of `depth` splits with at most j reflections: sum of C(depth, i), i <= j.
+    const double j = w > 0 && r0 > 0 ? std::floor(std::log(w) / std::log(r0)) : double(depth);
+    double rays = 0, c = 1;
+    for (std::uint32_t i = 0; i <= depth && i <= j; ++i) {
+      rays += c;
+      c = c * double(depth - i) / double(i + 1);
+    }
+    if (r0 > 0 && w == 0)
       out.push_back({fmt::format("min_weight 0 prunes no ray: at every dielectric hit a ray splits "
                                  "in two, so max_depth {} lets a camera ray make up to 2^{} rays "
                                  "and a render may not end; min_weight 0.001 (the default) drops "
                                  "only what cannot be seen, or branching \"stochastic\" follows "
                                  "one branch",
-                                 scene.settings.max_depth, scene.settings.max_depth),
+                                 depth, depth),
+                     scene.settings.src});
+    else if (r0 > 0 && rays > kSplitRays)
+      out.push_back({fmt::format("min_weight {} prunes little: a reflection off this glass keeps "
+                                 "at least {:.2g} of a ray's weight, so at max_depth {} a camera "
+                                 "ray may make about {:.2g} rays and a render may not end; "
+                                 "min_weight 0.001 (the default) drops only what cannot be seen, "
+                                 "or branching \"stochastic\" follows one branch",
+                                 w, r0, depth, rays),
                      scene.settings.src});
   }
   // Boxes, triangles, meshes and instances move in linear steps (at most 128, each

@@ -5,7 +5,9 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
+#include <csignal>
 #include <cstdlib>
 #include <cstring>
 #include <vector>
@@ -66,6 +68,20 @@ void texture_cache_touch(const fs::path& file) {
   fs::last_write_time(file, fs::file_time_type::clock::now(), ec);
 }
 
+namespace {
+// Whether the process named in a partial file's name ".KEY-PID..." (KEY 16 hex
+// digits) is gone; false when the name is not of that form.
+bool writer_gone(const std::string& name) {
+  if (name.size() < 19 || name[0] != '.' || name[17] != '-') return false;
+  long pid = 0;
+  std::size_t i = 18;
+  for (; i < name.size() && std::isdigit(static_cast<unsigned char>(name[i])); ++i)
+    pid = pid * 10 + (name[i] - '0');
+  if (i == 18 || pid <= 0 || pid > 4194304) return false;
+  return ::kill(pid_t(pid), 0) != 0 && errno == ESRCH;
+}
+}  // namespace
+
 void texture_cache_prune(const fs::path& dir, std::uint64_t max_bytes, std::chrono::seconds grace,
                          const fs::path& keep) {
   struct Entry {
@@ -85,8 +101,14 @@ void texture_cache_prune(const fs::path& dir, std::uint64_t max_bytes, std::chro
     const std::uint64_t size = it->file_size(ec);
     if (ec) continue;
     if (p.filename().string().front() == '.') {  // a partial file (texture_io.cpp)
+      // Removed once a day old, or at once when the process writing it is gone (a
+      // ^C while a big image decoded left hundreds of MB, uncounted, for a day):
+      // its name is ".KEY-PID..." (OIIO's own temporary adds to it), and a file
+      // untouched for a minute whose PID is no process is no one's.
       std::error_code rm;
-      if (now - used > std::chrono::hours(24)) fs::remove(p, rm);
+      if (now - used > std::chrono::hours(24) ||
+          (now - used > std::chrono::minutes(1) && writer_gone(p.filename().string())))
+        fs::remove(p, rm);
       continue;
     }
     total += size;

@@ -648,10 +648,16 @@ TEST_CASE("warnings: no object, no light for a diffuse surface, the camera insid
   out = check_out("settings { max_depth 50 min_weight 0 }" + glass);
   CHECK(out.find("warning: min_weight 0 prunes no ray") != std::string::npos);
   CHECK(out.find("2^50") != std::string::npos);
+  // A min_weight too small to prune: at 1e-30 a branch outlives 21 reflections of
+  // 0.04, C(40, <= 21) ~ 7.5e11 rays a camera ray; 1e-6 outlives 4 (~1e5): no word.
+  out = check_out("settings { max_depth 40 min_weight 1e-30 }" + glass);
+  CHECK(out.find("warning: min_weight 1e-30 prunes little") != std::string::npos);
+  CHECK(out.find("7.5e+11 rays") != std::string::npos);
   // Not with pruning, a shallow tree, one branch at a time, or no glass.
-  for (const std::string settings : {"max_depth 50", "max_depth 20 min_weight 0",
-                                     "max_depth 50 min_weight 0 branching "
-                                     "\"stochastic\""}) {
+  for (const std::string settings :
+       {"max_depth 50", "max_depth 40 min_weight 1e-6", "max_depth 20 min_weight 0",
+        "max_depth 50 min_weight 0 branching "
+        "\"stochastic\""}) {
     out = check_out("settings { " + settings + " }" + glass);
     CHECK(out.find("warning") == std::string::npos);
   }

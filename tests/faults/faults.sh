@@ -190,6 +190,16 @@ expect_status 3 $?
 expect_message "a JPEG holds at most 65500 pixels a side"
 grep -qF "kernel:" "$tmp/err" && fail "$CASE: it rendered first"
 [ -e "$d/w.png" ] && fail "$CASE: an output was written although the command failed before the render"
+# libpng's limit of 1000000 a side: refused before the render too (it failed after
+# it, with libpng's own lines).
+CASE="PNG too tall"
+printf 'settings { resolution <1, 1000001> samples 1 }\nsphere { }\n' > "$d/tall.scn"
+"$snell" render "$d/tall.scn" --stats -o "$d/t.exr" -o "$d/t.png" 2> "$tmp/err"
+expect_status 3 $?
+expect_message "a PNG holds at most 1000000 pixels a side"
+grep -qF "kernel:" "$tmp/err" && fail "$CASE: it rendered first"
+grep -qF "libpng error" "$tmp/err" && fail "$CASE: libpng's own lines were printed"
+[ -e "$d/t.exr" ] && fail "$CASE: an output was written although the command failed before the render"
 
 # 9. The image helper (runtime/image_helper.hpp), the child that loads the image
 #    module beside the render: killed, its encoding is an error (exit 3), not a

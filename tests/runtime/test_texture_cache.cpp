@@ -129,6 +129,20 @@ TEST_CASE("the texture cache is pruned least recently used first, sparing recent
   CHECK(fs::exists(d / "e.tx"));
   CHECK(fs::exists(d / "notes.txt"));
 
+  // A partial file of a process that is gone (a ^C during a decoding) goes once
+  // it is a minute old, not a day; one of a live process (this one) stays, and so
+  // does a fresh one whatever its process (it may be another namespace's).
+  const std::string gone = ".0123456789abcdef-" + std::to_string(4194304 - 7) + ".1a2b.temp.tx";
+  const std::string live = ".0123456789abcdef-" + std::to_string(::getpid()) + ".tx";
+  const std::string fresh = ".fedcba9876543210-" + std::to_string(4194304 - 7) + ".tx";
+  for (const std::string& n : {gone, live, fresh}) write_bytes(d / n, 50);
+  set_age(d / gone, std::chrono::minutes(5));
+  set_age(d / live, std::chrono::minutes(5));
+  rt::texture_cache_prune(d, 1u << 30, std::chrono::hours(1), {});
+  CHECK_FALSE(fs::exists(d / gone));
+  CHECK(fs::exists(d / live));
+  CHECK(fs::exists(d / fresh));
+
   // A touched file is used now: it outlives an older one.
   rt::texture_cache_touch(d / "d.tx");
   rt::texture_cache_prune(d, 2000, std::chrono::seconds(0), d / "e.tx");
