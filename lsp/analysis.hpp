@@ -69,6 +69,9 @@ struct AnalysisOptions {
   std::size_t max_errors = 200;
   // Open documents by canonical path (they win over the disk for imports).
   std::function<const std::string*(const std::string& canonical_path)> overlay;
+  // Their canonical paths (import completion offers the unsaved ones too); null:
+  // none.
+  std::function<std::vector<std::string>()> open_documents;
   // §17: images the texture system cannot read (compile::CompileOptions'); null:
   // only existence and signature are checked.
   decltype(compile::CompileOptions::unreadable_images) unreadable_images;

@@ -188,6 +188,17 @@ void add_imports(const Analysis& a, std::string_view typed, const AnalysisOption
       if (!seen.insert(label).second) continue;
       out.push_back(item(label, folder ? kFolder : kFile, (fs::path(d) / sub / name).string()));
     }
+    // Open documents not saved there yet count for imports, so they are offered.
+    if (!options.open_documents) continue;
+    const fs::path here = fs::weakly_canonical(dir, ec);
+    for (const std::string& open : options.open_documents()) {
+      const fs::path p(open);
+      const std::string name = p.filename().string();
+      if (p.parent_path() != here || p.extension() != ".scn" || name.empty() || name[0] == '.' ||
+          (sub.empty() && d == dirs.front() && name == self) || !seen.insert(name).second)
+        continue;
+      out.push_back(item(name, kFile, open + " (open, unsaved)"));
+    }
   }
 }
 

@@ -26,6 +26,11 @@ AnalysisOptions Server::analysis_options() const {
       if (d.canonical == canonical) return &d.text;
     return nullptr;
   };
+  o.open_documents = [this] {
+    std::vector<std::string> paths;
+    for (const auto& [uri, d] : docs_) paths.push_back(d.canonical);
+    return paths;
+  };
   return o;
 }
 

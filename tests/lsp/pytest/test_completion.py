@@ -131,3 +131,15 @@ async def test_import_items_replace_what_is_typed(client, tmp_path):
     assert edit.new_text == "colors.scn"
     assert (edit.range.start.line, edit.range.start.character) == (0, 8)
     assert (edit.range.end.line, edit.range.end.character) == (0, 15)
+
+
+async def test_import_offers_open_unsaved_documents(client, tmp_path):
+    # An open document counts for imports before it is saved, so completion offers
+    # it beside the files on disk (not itself).
+    await open_doc(client, tmp_path / "unsaved_lib.scn", "let k = 1;\n")
+    text = 'import "\n'
+    uri = await open_doc(client, tmp_path / "main.scn", text)
+    got = await labels(client, uri, types.Position(line=0, character=8))
+    assert "unsaved_lib.scn" in got
+    assert "main.scn" not in got
+    assert not (tmp_path / "unsaved_lib.scn").exists()
