@@ -229,6 +229,22 @@ void Parser::make_unsure(std::size_t mark) {
   names_seen_.resize(mark);  // each once, however deep the statement
 }
 
+// After a body's missing '{' (reported): when only the '{' was left out, the
+// body starts the next line, indented deeper than the head that ends at
+// `head_end`. It is read to its '}' and dropped with its statement, so neither
+// its lines nor the '}' are reported again as statements out of place.
+void Parser::skip_unbraced_body(std::uint32_t head_end) {
+  if (at(TokenKind::EndOfFile) || !scanner_.newline_between(head_end, cur_.span.begin) ||
+      scanner_.column(cur_.span.begin) <= scanner_.indent_of_line(head_end ? head_end - 1 : 0))
+    return;
+  std::vector<StmtPtr> body;
+  panic_ = false;
+  const bool broke = broke_;
+  parse_statements(body, true);
+  broke_ = broke;
+  accept(TokenKind::RBrace);
+}
+
 // The statement keyword the current identifier is one slip from, given what follows
 // it (a file name: `import`; a name: `let`, `fn`, `for`, `if`, `return`), else
 // TokenKind::Error.

@@ -252,8 +252,10 @@ StmtPtr Parser::parse_fn() {
     stmt->kind = StmtKind::Fn;
     parse_body(stmt->body, "the function body");
   } else if (ok) {
+    const std::uint32_t head_end = last_end_;
     error_here(DiagKind::ExpectedToken, "expected '=' or '{' after the parameters of 'fn " +
                                             stmt->name + "', found " + describe(cur_));
+    skip_unbraced_body(head_end);
   }
   stmt->span = from(begin);
   return stmt;
@@ -519,8 +521,10 @@ StmtPtr Parser::parse_expr_stmt() {
 // body -> '{' statements '}'
 bool Parser::parse_body(std::vector<StmtPtr>& out, const char* owner) {
   if (!at(TokenKind::LBrace)) {
+    const std::uint32_t head_end = last_end_;
     error_here(DiagKind::ExpectedToken,
                std::string("expected '{' to begin ") + owner + ", found " + describe(cur_));
+    skip_unbraced_body(head_end);
     return false;
   }
   DepthGuard guard(*this);

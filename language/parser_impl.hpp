@@ -110,6 +110,7 @@ class Parser {
   bool errors_within(std::size_t kept, std::size_t errors) const;
   void hoist_unclosed(std::vector<StmtPtr>& body, const Token& open);
   void take_hoisted(std::vector<StmtPtr>& out);
+  void skip_unbraced_body(std::uint32_t head_end);
   std::vector<StmtPtr> hoisted_;  // see hoist_unclosed
   // parse_block_rest's next block is an instance body (instance_body_), whose value
   // may stand last (late_subject_); in_instance_ while its properties are read.
