@@ -113,6 +113,11 @@ std::uint32_t Scanner::indent_of_line(std::uint32_t offset) const {
   return i - start;
 }
 
+bool Scanner::unterminated_string_between(std::uint32_t from, std::uint32_t to) const {
+  auto it = std::lower_bound(unterminated_ends_.begin(), unterminated_ends_.end(), from);
+  return it != unterminated_ends_.end() && *it < to;
+}
+
 bool Scanner::unterminated_string_ends_at(std::uint32_t end) const {
   return std::binary_search(unterminated_ends_.begin(), unterminated_ends_.end(), end);
 }

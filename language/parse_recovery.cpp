@@ -105,13 +105,29 @@ void Parser::expect_semicolon(std::string_view after) {
     return;
   }
   const bool whole = !broke_;  // what came before the missing ';' was read whole
+  const bool was_panicking = panic_;
   error(DiagKind::ExpectedToken, {file_, last_end_, last_end_},
         "expected ';' after " + std::string(after) + ", found " + describe(cur_));
   if (whole) broke_ = false;
+  // What follows starts a statement (a keyword, an item's `NAME {`, a call's
+  // `NAME (`): it is read as one, on this line too, where synchronize() would skip
+  // it to the next line (`let a = 1 sphere { radius -2 }` lost the sphere).
+  if (whole && !was_panicking &&
+      (starts_statement(cur_.kind) ||
+       (at(TokenKind::Identifier) &&
+        (peek_.kind == TokenKind::LBrace || peek_.kind == TokenKind::LParen))))
+    panic_ = false;
 }
 
 void Parser::missing_closer(const Token& opener, std::string_view closer, std::string_view what) {
   std::string open(opener.text);
+  // A string missing its closing quote since the opener ate the closer, most
+  // likely: its own error says so.
+  if (closer == "}" && scanner_.unterminated_string_between(opener.span.end, cur_.span.begin + 1)) {
+    panic_ = true;
+    broke_ = true;
+    return;
+  }
   if (at(TokenKind::EndOfFile)) {
     if (scanner_.ate_rest_of_file()) return;
     error(DiagKind::UnclosedDelimiter, opener.span,

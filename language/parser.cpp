@@ -71,7 +71,9 @@ void Parser::parse_statements(std::vector<StmtPtr>& out, bool nested) {
         broke_ = outer;
         return;
       }
-      error(DiagKind::ExpectedStatement, here(), "unmatched '}'");
+      // Not after a string missing its quote: it most likely ate the '{'.
+      if (!scanner_.unterminated_string_between(0, cur_.span.begin))
+        error(DiagKind::ExpectedStatement, here(), "unmatched '}'");
       advance();
       continue;
     }
@@ -510,6 +512,10 @@ StmtPtr Parser::parse_expr_stmt() {
   stmt->kind = StmtKind::ExprStmt;
   Span begin = here();
   stmt->exprs.push_back(parse_expr());
+  // Ended by a string missing its closing quote (which ate the rest of the line):
+  // dropped, not also "a value thrown away".
+  if (prev_kind_ == TokenKind::String && scanner_.unterminated_string_ends_at(last_end_))
+    broke_ = true;
   if (stmt->exprs[0]->kind == ExprKind::Call)
     expect_semicolon("the call");
   else

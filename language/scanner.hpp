@@ -28,6 +28,9 @@ class Scanner {
   // True when a string that ends at this offset had no closing quote: the ';' the
   // parser then misses was most likely swallowed by it.
   bool unterminated_string_ends_at(std::uint32_t end) const;
+  // True when a string missing its closing quote ended in [from, to): it may have
+  // eaten a brace, so brace errors after it are most likely its consequence.
+  bool unterminated_string_between(std::uint32_t from, std::uint32_t to) const;
 
   // True when the text between two offsets contains a newline (the parser's
   // "first token on its line" recovery heuristic).
