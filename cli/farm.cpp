@@ -264,12 +264,6 @@ int run_farm(const CliArgs& o) {
       "sbatch --parsable" + extra + " " + shell_quote(plan.array_script_path());
   std::string submit_merge = "sbatch --parsable" + extra + " --dependency=afterany:$ARRAY " +
                              shell_quote(plan.merge_script_path());
-  if (o.farm_dry_run) {
-    std::cout << "# " << plan.array_script_path() << "\n" << array << "\n";
-    std::cout << "# " << plan.merge_script_path() << "\n" << merge << "\n";
-    std::cout << "# submitted with:\nARRAY=$(" << submit_array << ")\n" << submit_merge << "\n";
-    return kExitOk;
-  }
   // What the farm writes (the pieces, the results, its two scripts) never replaces
   // a file the scene reads (exit 2, as render and merge), a result is no piece, and
   // the results can be written: their folders, and the display transform of a
@@ -290,12 +284,24 @@ int run_farm(const CliArgs& o) {
                              " is one of the render's pieces: the merge would read and replace "
                              "it; choose another name");
   std::error_code ec;
-  for (const char* sub : {"", "/logs", "/pieces"}) fs::create_directories(plan.dir + sub, ec);
-  if (ec) {
-    std::cerr << "snell: error: cannot create " << plan.dir << ": " << ec.message() << "\n";
-    return kExitIo;
+  // A dry run makes the same checks and writes nothing: a result in a folder a
+  // real run makes (the farm's, its logs' and pieces') is not asked to exist.
+  fs::path farm_dir = fs::absolute(plan.dir, ec).lexically_normal();
+  if (farm_dir.filename().empty()) farm_dir = farm_dir.parent_path();  // "d/" is "d"
+  auto made_by_run = [&](const std::string& r) {
+    const fs::path folder = fs::absolute(r, ec).lexically_normal().parent_path();
+    return !fs::exists(folder, ec) &&
+           (folder == farm_dir || folder == farm_dir / "logs" || folder == farm_dir / "pieces");
+  };
+  if (!o.farm_dry_run) {
+    for (const char* sub : {"", "/logs", "/pieces"}) fs::create_directories(plan.dir + sub, ec);
+    if (ec) {
+      std::cerr << "snell: error: cannot create " << plan.dir << ": " << ec.message() << "\n";
+      return kExitIo;
+    }
   }
   for (const std::string& r : plan.results) {
+    if (o.farm_dry_run && made_by_run(r)) continue;
     if (int code = check_output_folder(r); code >= 0) return code;
     if (rt::lower_extension(r) != ".exr")
       if (std::string err = rt::check_display_transform(o.display_view()); !err.empty()) {
@@ -303,16 +309,24 @@ int run_farm(const CliArgs& o) {
         return kExitIo;
       }
   }
+  if (o.farm_dry_run) {
+    std::cout << "# " << plan.array_script_path() << "\n" << array << "\n";
+    std::cout << "# " << plan.merge_script_path() << "\n" << merge << "\n";
+    std::cout << "# submitted with:\nARRAY=$(" << submit_array << ")\n" << submit_merge << "\n";
+    return kExitOk;
+  }
   // A stale output of an earlier run would pass the merge job's check, and a stale
   // final image would sit where a failed merge leaves none: they are set aside
   // (renamed beside themselves) now, removed once both jobs are submitted, and put
   // back when a submission fails, so a failing command leaves every file as it was.
+  // The scripts too: a failed submission left the new ones over the old.
   std::vector<std::pair<fs::path, fs::path>> aside;
+  std::vector<fs::path> scripts_written;
   auto put_back = [&] {
+    for (const fs::path& s : scripts_written) fs::remove(s, ec);
     for (const auto& [was, now] : aside) fs::rename(now, was, ec);
   };
   for (const std::string& out : written) {
-    if (out == plan.array_script_path() || out == plan.merge_script_path()) continue;
     const fs::path p(out);
     if (!fs::exists(fs::symlink_status(p, ec))) continue;
     const fs::path stale =
@@ -328,6 +342,7 @@ int run_farm(const CliArgs& o) {
   }
   for (const auto& [path, text] :
        {std::pair{plan.array_script_path(), array}, std::pair{plan.merge_script_path(), merge}}) {
+    scripts_written.push_back(path);
     std::ofstream f(path);
     f << text;
     if (!f) {

@@ -186,9 +186,19 @@ TEST_CASE(
   CHECK(tmp.farm(scene + " --tiles 2 --dir " + (tmp / "d3") + " -o nodir/x.png") == 3);
   CHECK(tmp.farm(scene + " --tiles 2 --dir " + (tmp / "d4") + " -o x.png --display nosuch") == 3);
   CHECK(calls().empty());
+  // A dry run makes the same checks (it printed scripts a real run refuses), and
+  // still writes nothing; a result in the farm's own folder, which a real run
+  // makes, is fine.
+  CHECK(tmp.farm(scene + " --tiles 2 --dry-run --dir " + (tmp / "d2") +
+                 " -o pieces/piece_0000.exr") == 2);
+  CHECK(tmp.farm(scene + " --tiles 2 --dry-run --dir " + (tmp / "d3") + " -o nodir/x.png") == 3);
+  CHECK(tmp.farm(scene + " --tiles 2 --dry-run --dir " + (tmp / "d6") + " -o x.png") == 0);
+  CHECK_FALSE(fs::exists(tmp / "d6"));
+  CHECK(calls().empty());
   // sbatch fails: the earlier run's result and pieces are as they were.
   fs::create_directories(tmp / "d5/pieces");
   std::ofstream(tmp / "d5/out.exr") << "earlier";
+  std::ofstream(tmp / "d5/render.sbatch") << "earlier script";
   std::ofstream(tmp / "d5/pieces/piece_0000.exr") << "earlier piece";
   fs::remove(tmp / "bin/sbatch");
   std::ofstream(tmp / "bin/sbatch") << "#!/bin/bash\necho refused >&2\nexit 1\n";
@@ -196,6 +206,9 @@ TEST_CASE(
   CHECK(tmp.farm(scene + " --tiles 2 --dir " + (tmp / "d5") + " -o out.exr") == 3);
   CHECK(slurp(tmp / "d5/out.exr") == "earlier");
   CHECK(slurp(tmp / "d5/pieces/piece_0000.exr") == "earlier piece");
+  // The scripts too: the earlier one back, no new one left (they were written over).
+  CHECK(slurp(tmp / "d5/render.sbatch") == "earlier script");
+  CHECK_FALSE(fs::exists(tmp / "d5/merge.sbatch"));
   for (const auto& e : fs::directory_iterator(tmp / "d5"))
     CHECK(e.path().filename().string().find("farm-stale") == std::string::npos);
 }
