@@ -92,6 +92,7 @@ DiagBuilder Parser::error_here(DiagKind kind, std::string message) {
     broke_ = true;
     return dropped();
   }
+  if (at(TokenKind::EndOfFile) && !panic_) eof_said_ = true;
   return error(kind, here(), std::move(message));
 }
 
@@ -106,6 +107,7 @@ void Parser::expect_semicolon(std::string_view after) {
   }
   const bool whole = !broke_;  // what came before the missing ';' was read whole
   const bool was_panicking = panic_;
+  if (at(TokenKind::EndOfFile) && !panic_) eof_said_ = true;
   error(DiagKind::ExpectedToken, {file_, last_end_, last_end_},
         "expected ';' after " + std::string(after) + ", found " + describe(cur_));
   if (whole) broke_ = false;
@@ -130,6 +132,15 @@ void Parser::missing_closer(const Token& opener, std::string_view closer, std::s
   }
   if (at(TokenKind::EndOfFile)) {
     if (scanner_.ate_rest_of_file()) return;
+    // A file cut short in the middle of a statement leaves every enclosing
+    // delimiter open: the statement's error at the end says it (one mistake, one
+    // error), the delimiters around it are not said again. Cut between statements,
+    // each delimiter left open is said (each needs its closer).
+    if (eof_said_) {
+      panic_ = true;
+      broke_ = true;
+      return;
+    }
     error(DiagKind::UnclosedDelimiter, opener.span,
           "unclosed '" + open + "' of " + std::string(what))
         .note("the file ends before its '" + std::string(closer) + "'");

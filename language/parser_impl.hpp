@@ -112,6 +112,7 @@ class Parser {
   void take_hoisted(std::vector<StmtPtr>& out);
   void skip_unbraced_body(std::uint32_t head_end);
   std::vector<StmtPtr> hoisted_;  // see hoist_unclosed
+  bool eof_said_ = false;         // a statement's error at the end of the file was reported
   // parse_block_rest's next block is an instance body (instance_body_), whose value
   // may stand last (late_subject_); in_instance_ while its properties are read.
   bool instance_body_ = false, late_subject_ = false, in_instance_ = false;
