@@ -133,10 +133,11 @@ StmtPtr Parser::parse_statement() {
           cur_.kind = k;
           return parse_statement();
         }
-        // An item's '{' left out (`sphere center <0, 1, 0> radius 1 }`): its
-        // properties are read as its block's, to the '}'.
+        // An item's '{' left out (`sphere center <0, 1, 0> radius 1 }`, `object
+        // cup translate <1, 0, 0> }`): its properties (an instance's value, then
+        // its properties) are read as its block's, to the '}'.
         if (peek_.kind == TokenKind::Identifier && is_item_name(cur_.text) &&
-            !is_group_name(cur_.text) && !is_instance_name(cur_.text)) {
+            !is_group_name(cur_.text)) {
           auto stmt = std::make_unique<Stmt>();
           stmt->kind = StmtKind::Item;
           stmt->name = std::string(cur_.text);
@@ -144,7 +145,13 @@ StmtPtr Parser::parse_statement() {
           Token keyword = take();
           diags_.report(DiagKind::ExpectedToken, {file_, last_end_, last_end_},
                         "expected '{' after '" + stmt->name + "', found " + describe(cur_));
+          ExprPtr subject;
+          if (is_instance_name(stmt->name)) {
+            subject = parse_expr();
+            instance_body_ = true;
+          }
           stmt->block = parse_block_rest(keyword, stmt->name);
+          stmt->block->subject = std::move(subject);
           stmt->block->broken = true;  // its required properties are not asked for
           accept(TokenKind::Semicolon);
           stmt->span = from(stmt->span);
@@ -426,7 +433,10 @@ BlockPtr Parser::parse_group_body(std::string_view owner) {
     std::uint64_t before = consumed_;
     const bool outer = broke_;
     broke_ = false;
-    if (at(TokenKind::Identifier) && (is_object_property(cur_.text) || reads_as_property())) {
+    // (An item keyword before a name is no property: its '{' was left out, which
+    // parse_statement reads.)
+    if (at(TokenKind::Identifier) && (is_object_property(cur_.text) || reads_as_property()) &&
+        !(is_item_name(cur_.text) && peek_.kind == TokenKind::Identifier)) {
       Property prop;
       parse_property(prop);
       if (!broke_) props.push_back(std::move(prop));
