@@ -488,8 +488,11 @@ BlockPtr Parser::parse_block_rest(const Token& open, std::string_view owner) {
       block->broken = true;
       break;
     }
+    // (`background EXPR` likewise: no block has a property of that name.)
     if (at(TokenKind::EndOfFile) || starts_statement(cur_.kind) ||
-        (at(TokenKind::Identifier) && peek_.kind == TokenKind::LBrace && is_item_name(cur_.text) &&
+        (at(TokenKind::Identifier) &&
+         ((peek_.kind == TokenKind::LBrace && is_item_name(cur_.text)) ||
+          cur_.text == "background") &&
          scanner_.newline_between(open.span.end, cur_.span.begin) &&
          scanner_.column(cur_.span.begin) <= scanner_.indent_of_line(open.span.begin))) {
       panic_ = false;
