@@ -33,6 +33,13 @@ inline std::uint64_t light_cell(std::size_t li, std::uint32_t iu, std::uint32_t 
   return (std::uint64_t(li + 1) << 40) | (iv << 20) | iu;
 }
 
+// The node's dimension of light li's c-th cell, row by row (nu cells to a row);
+// `tag` is or-ed into the cell's name (glossy MIS's cells: the top bit).
+inline std::uint32_t cell_dim(std::uint64_t key, std::size_t li, std::uint32_t nu, std::uint32_t c,
+                              std::uint64_t tag = 0) {
+  return node_dim(key, light_cell(li, c % nu, c / nu) | tag);
+}
+
 // One point's jitter of a light's cells, taken in cell order (row by row) and
 // drawn kDrawLanes cells at a time (draw2_dims): what draw2 gives each cell.
 // `dim_of(c)` is the node's dimension of the light's c-th cell.
@@ -254,7 +261,7 @@ void WhittedIntegrator::direct_lanes(std::uint32_t lanes_in, const DirectQuery* 
     // so they are traced as one packet (up to kCells at a time), then added in
     // cell order, the order and the sums of tracing them one by one.
     constexpr std::uint32_t kCells = 16;
-    static_assert(kCells <= kDrawLanes && kJitter >= kDrawLanes);
+    static_assert(kCells == kDrawLanes);  // a batch is one draw
     Uninit<LightSample, kCells> cs;
     Uninit<Ray, kCells> cr;
     std::uint8_t has[kCells], cblocked[kCells];
@@ -262,18 +269,19 @@ void WhittedIntegrator::direct_lanes(std::uint32_t lanes_in, const DirectQuery* 
       const AreaLightF& l = lights_.areas[li];
       if (l.dark()) continue;
       // Row by row, as the one-by-one loop goes; a batch may end inside a row.
-      // The batch's jitter is drawn first, all cells at once (draw2_dims).
-      for (std::uint32_t iu = 0, iv = 0; iv < l.nv;) {
-        std::uint32_t n = 0, m = 0;
-        std::uint32_t cu[kCells], cv[kCells], dims[kCells];
-        for (; iv < l.nv && n < kCells; ++n) {
-          cu[n] = iu, cv[n] = iv;
-          dims[n] = whitted_detail::node_dim(q(0).key, whitted_detail::light_cell(li, iu, iv));
-          if (++iu == l.nu) iu = 0, ++iv;
-        }
-        draw2_dims(*sc[0], dims, n, ju, jv);
+      // Its jitter comes in one draw (CellJitter holds kCells cells).
+      whitted_detail::CellJitter jitter;
+      const std::uint32_t cells = l.nu * l.nv;
+      const auto dim_of = [&](std::uint32_t c) {
+        return whitted_detail::cell_dim(q(0).key, li, l.nu, c);
+      };
+      for (std::uint32_t c0 = 0; c0 < cells; c0 += kCells) {
+        const std::uint32_t n = std::min(kCells, cells - c0);
+        std::uint32_t m = 0;
         for (std::uint32_t j = 0; j < n; ++j) {
-          has[j] = l.sample_li(q(0).p, q(0).o, q(0).n, q(0).time, cu[j], cv[j], ju[j], jv[j],
+          const std::uint32_t c = c0 + j;
+          const Sample2 s = jitter.get(*sc[0], c, cells, dim_of);
+          has[j] = l.sample_li(q(0).p, q(0).o, q(0).n, q(0).time, c % l.nu, c / l.nu, s.u, s.v,
                                offset_scale_, cs.v[j]);
           if (has[j]) cr.v[m++] = cs.v[j].shadow;
         }
@@ -353,8 +361,7 @@ void WhittedIntegrator::direct_lanes(std::uint32_t lanes_in, const DirectQuery* 
       for (std::uint32_t iu = 0; iu < l.nu; ++iu) {
         if constexpr (kLanes == 1) {
           const Sample2 j = point.get(*sc[0], iv * l.nu + iu, l.nu * l.nv, [&](std::uint32_t c) {
-            return whitted_detail::node_dim(q(0).key,
-                                            whitted_detail::light_cell(li, c % l.nu, c / l.nu));
+            return whitted_detail::cell_dim(q(0).key, li, l.nu, c);
           });
           ju[0] = j.u, jv[0] = j.v;
         } else {
@@ -390,8 +397,7 @@ Color WhittedIntegrator::glossy_lights(const GlossySquare& lobe, Vec3f wo, Vec3f
     for (std::uint32_t iv = 0; iv < l.nv; ++iv)
       for (std::uint32_t iu = 0; iu < l.nu; ++iu) {
         const Sample2 j = jitter.get(sc, iv * l.nu + iu, l.nu * l.nv, [&](std::uint32_t c) {
-          const std::uint64_t cell = whitted_detail::light_cell(li, c % l.nu, c / l.nu);
-          return whitted_detail::node_dim(key, cell | (std::uint64_t(1) << 63));
+          return whitted_detail::cell_dim(key, li, l.nu, c, std::uint64_t(1) << 63);
         });
         float u = (float(iu) + j.u) / float(l.nu), v = (float(iv) + j.v) / float(l.nv);
         LightSample ls;
