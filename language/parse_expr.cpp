@@ -483,8 +483,7 @@ BlockPtr Parser::parse_block_rest(const Token& open, std::string_view owner) {
     // the box as the sphere's property lost the errors of everything after it.
     // After a string missing its closing quote (it ate the rest of its line, '}'
     // and all) the block ends here without a word: the string's error says it.
-    if (prev_kind_ == TokenKind::String && scanner_.unterminated_string_ends_at(last_end_) &&
-        !at(TokenKind::RBrace)) {
+    if (after_unterminated_string() && !at(TokenKind::RBrace)) {
       block->broken = true;
       break;
     }
@@ -493,8 +492,7 @@ BlockPtr Parser::parse_block_rest(const Token& open, std::string_view owner) {
         (at(TokenKind::Identifier) &&
          ((peek_.kind == TokenKind::LBrace && is_item_name(cur_.text)) ||
           cur_.text == "background") &&
-         scanner_.newline_between(open.span.end, cur_.span.begin) &&
-         scanner_.column(cur_.span.begin) <= scanner_.indent_of_line(open.span.begin))) {
+         outdented(cur_.span.begin, open.span.end))) {
       panic_ = false;
       missing_closer(open, "}", "the '" + std::string(owner) + "' block");
       // Cut short by the end of the file (a truncated file, a '/*' never closed),
@@ -516,8 +514,7 @@ BlockPtr Parser::parse_block_rest(const Token& open, std::string_view owner) {
       parse_property(prop);
       // A value a syntax error cut short is dropped, not checked as read; so is
       // one that ends in a string missing its closing quote.
-      if (prev_kind_ == TokenKind::String && scanner_.unterminated_string_ends_at(last_end_))
-        broke_ = true;
+      if (after_unterminated_string()) broke_ = true;
       if (broke_)
         block->broken = true;
       else

@@ -19,7 +19,7 @@ void Parser::advance() {
   // A string missing its closing quote ran to the end of its line: the names it
   // swallowed (`let "angle = 30;`) count as seen, so a statement it broke makes
   // them unsure rather than "not defined" at every later use.
-  if (cur_.kind == TokenKind::String && scanner_.unterminated_string_ends_at(cur_.span.end))
+  if (at_unterminated_string())
     for (std::size_t i = 0; i < cur_.text.size();) {
       auto word = [&](char c, bool first) {
         return c == '_' || std::isalpha(static_cast<unsigned char>(c)) ||
@@ -87,7 +87,7 @@ DiagBuilder Parser::error(DiagKind kind, Span span, std::string message) {
 
 DiagBuilder Parser::error_here(DiagKind kind, std::string message) {
   if (at(TokenKind::Error) || (at(TokenKind::EndOfFile) && scanner_.ate_rest_of_file()) ||
-      (at(TokenKind::String) && scanner_.unterminated_string_ends_at(cur_.span.end))) {
+      at_unterminated_string()) {
     panic_ = true;
     broke_ = true;
     return dropped();
@@ -101,7 +101,7 @@ DiagBuilder Parser::error_here(DiagKind kind, std::string message) {
 void Parser::expect_semicolon(std::string_view after) {
   if (accept(TokenKind::Semicolon)) return;
   if (at(TokenKind::Error) || (at(TokenKind::EndOfFile) && scanner_.ate_rest_of_file()) ||
-      (prev_kind_ == TokenKind::String && scanner_.unterminated_string_ends_at(last_end_))) {
+      after_unterminated_string()) {
     panic_ = true;
     return;
   }
@@ -235,12 +235,12 @@ bool Parser::errors_within(std::size_t kept, std::size_t errors) const {
 // holds the body in the list around it (take_hoisted), so they run and their own
 // errors are said (a `fn` missing its '}' hid every error after it).
 void Parser::hoist_unclosed(std::vector<StmtPtr>& body, const Token& open) {
-  const std::uint32_t indent = scanner_.indent_of_line(open.span.begin);
+  auto starts_line = [&](std::uint32_t at) {
+    return scanner_.indent_of_line(at) == scanner_.column(at);
+  };
   std::size_t k = 0;
   while (k < body.size() &&
-         !(scanner_.newline_between(open.span.end, body[k]->span.begin) &&
-           scanner_.column(body[k]->span.begin) <= indent &&
-           scanner_.indent_of_line(body[k]->span.begin) == scanner_.column(body[k]->span.begin)))
+         !(outdented(body[k]->span.begin, open.span.end) && starts_line(body[k]->span.begin)))
     ++k;
   for (std::size_t i = k; i < body.size(); ++i) hoisted_.push_back(std::move(body[i]));
   body.resize(k);

@@ -524,8 +524,7 @@ StmtPtr Parser::parse_expr_stmt() {
   stmt->exprs.push_back(parse_expr());
   // Ended by a string missing its closing quote (which ate the rest of the line):
   // dropped, not also "a value thrown away".
-  if (prev_kind_ == TokenKind::String && scanner_.unterminated_string_ends_at(last_end_))
-    broke_ = true;
+  if (after_unterminated_string()) broke_ = true;
   if (stmt->exprs[0]->kind == ExprKind::Call)
     expect_semicolon("the call");
   else

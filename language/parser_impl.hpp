@@ -23,6 +23,21 @@ class Parser {
   bool at(TokenKind k) const { return cur_.kind == k; }
   bool accept(TokenKind k);
   Span here() const { return cur_.span; }
+  // A string missing its closing quote: the token just read, or the current one.
+  // It ran to the end of its line, eating whatever stood there.
+  bool after_unterminated_string() const {
+    return prev_kind_ == TokenKind::String && scanner_.unterminated_string_ends_at(last_end_);
+  }
+  bool at_unterminated_string() const {
+    return at(TokenKind::String) && scanner_.unterminated_string_ends_at(cur_.span.end);
+  }
+  // Whether `at` is on a later line than `from` and indented no deeper than
+  // `from`'s line: the layout of a sibling, not of something inside (the
+  // recovery's sign of a '}' left out).
+  bool outdented(std::uint32_t at, std::uint32_t from) const {
+    return scanner_.newline_between(from, at) &&
+           scanner_.column(at) <= scanner_.indent_of_line(from);
+  }
   Span from(Span begin) const { return {file_, begin.begin, last_end_}; }
   std::string describe(const Token& t) const;  // "'radius'", "end of file", ...
 
