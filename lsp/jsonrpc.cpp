@@ -14,6 +14,13 @@ bool iequals_prefix(std::string_view line, std::string_view prefix) {
       return false;
   return true;
 }
+// Where "Content-Length:" (in any case) first stands in text[0, n), or npos.
+std::size_t find_header(std::string_view text, std::size_t n) {
+  constexpr std::string_view kName = "content-length:";
+  for (std::size_t i = 0; i + kName.size() <= n; ++i)
+    if (iequals_prefix(text.substr(i), kName)) return i;
+  return std::string_view::npos;
+}
 }  // namespace
 
 std::optional<std::string> MessageReader::next(std::string* error) {
@@ -22,10 +29,7 @@ std::optional<std::string> MessageReader::next(std::string* error) {
       // A header inside what is skipped ends the skip: a Content-Length of 10^14
       // swallowed every later message while it waited for its bytes.
       std::size_t n = std::min(skip_, buffer_.size());
-      std::string lower(n, ' ');
-      for (std::size_t i = 0; i < n; ++i)
-        lower[i] = char(std::tolower(static_cast<unsigned char>(buffer_[i])));
-      if (const std::size_t at = lower.find("content-length:"); at != std::string::npos) {
+      if (const std::size_t at = find_header(buffer_, n); at != std::string::npos) {
         buffer_.erase(0, at);
         skip_ = 0;
         continue;
@@ -42,10 +46,7 @@ std::optional<std::string> MessageReader::next(std::string* error) {
       if (iequals_prefix(std::string_view(buffer_).substr(0, keep),
                          std::string_view("content-length:").substr(0, keep)))
         return std::nullopt;  // the start of one, still arriving
-      std::string lower(buffer_.size(), ' ');
-      for (std::size_t i = 0; i < buffer_.size(); ++i)
-        lower[i] = char(std::tolower(static_cast<unsigned char>(buffer_[i])));
-      std::size_t at = lower.find("content-length:");
+      std::size_t at = find_header(buffer_, buffer_.size());
       if (error) *error = "bytes outside any message, skipped to the next header";
       if (at == std::string::npos) {
         buffer_.erase(0, buffer_.size() > 14 ? buffer_.size() - 14 : 0);
