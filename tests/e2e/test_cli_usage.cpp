@@ -118,8 +118,7 @@ TEST_CASE("watch's bad options exit 2 before any URL is printed", "[e2e]") {
                               opt + " > " + out + " 2> /dev/null")
                                  .c_str());
     CHECK((WIFEXITED(status) ? WEXITSTATUS(status) : -1) == 2);
-    std::ifstream in(out);
-    CHECK(std::string(std::istreambuf_iterator<char>(in), {}).empty());
+    CHECK(slurp(out).empty());
   }
 }
 
@@ -134,9 +133,7 @@ TEST_CASE("a failed write leaves an existing output untouched", "[e2e]") {
   fs::permissions(tmp / "ro", fs::perms::owner_all);
   if (!root) {
     CHECK(code == 3);
-    std::ifstream in(tmp / "ro/keep.png");
-    std::string s((std::istreambuf_iterator<char>(in)), {});
-    CHECK(s == "previous contents");
+    CHECK(slurp(tmp / "ro/keep.png") == "previous contents");
   }
   // No temporary file is left behind either way.
   for (const auto& e : fs::directory_iterator(tmp / "ro")) CHECK(e.path().filename() == "keep.png");
@@ -155,13 +152,11 @@ TEST_CASE("a file-size limit is exit 3, the old file kept, the later outputs tri
       std::system(("cd " + tmp.dir.string() + " && (ulimit -f 2; " + kSnell +
                    " render b.scn -q --threads 1 -o big.exr -o small.png) > " + log + " 2>&1")
                       .c_str());
-  std::ifstream in(log);
-  const std::string out((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string out = slurp(log);
   INFO(out);
   CHECK((WIFEXITED(status) ? WEXITSTATUS(status) : -1) == 3);
   CHECK(out.find("cannot write big.exr: File too large") != std::string::npos);
-  std::ifstream old(tmp / "big.exr");
-  CHECK(std::string((std::istreambuf_iterator<char>(old)), {}) == "previous contents");
+  CHECK(slurp(tmp / "big.exr") == "previous contents");
   // The next output is tried (and fails on its own, or is written when it fits).
   CHECK((out.find("cannot write small.png") != std::string::npos || fs::exists(tmp / "small.png")));
   for (const auto& e : fs::directory_iterator(tmp.dir))
@@ -176,8 +171,7 @@ TEST_CASE("snell check lists the effects a scene uses", "[e2e]") {
          "sphere { material dielectric <1.5, 0.2> }\n";
   std::string cmd = kSnell + " check " + (tmp / "fx.scn") + " > " + (tmp / "out.txt");
   REQUIRE(std::system(cmd.c_str()) == 0);
-  std::ifstream in(tmp / "out.txt");
-  std::string out((std::istreambuf_iterator<char>(in)), {});
+  const std::string out = slurp(tmp / "out.txt");
   CHECK(out.find("depth of field") != std::string::npos);
   CHECK(out.find("area lights") != std::string::npos);
   CHECK(out.find("dielectric") != std::string::npos);
