@@ -172,6 +172,16 @@ struct Client {
   void notify(const std::string& method, json params) {
     server.handle({{"jsonrpc", "2.0"}, {"method", method}, {"params", params}});
   }
+  // initialize and initialized, with no capabilities.
+  void start() {
+    request("initialize", {{"capabilities", json::object()}});
+    notify("initialized", json::object());
+  }
+  void open(const std::string& uri, const std::string& text, int version = 1) {
+    notify("textDocument/didOpen",
+           {{"textDocument",
+             {{"uri", uri}, {"languageId", "snell"}, {"version", version}, {"text", text}}}});
+  }
   json last_diagnostics() {
     for (auto it = out.rbegin(); it != out.rend(); ++it)
       if (it->value("method", "") == "textDocument/publishDiagnostics") return (*it)["params"];
@@ -190,11 +200,7 @@ TEST_CASE("server: diagnostics, hover and definition in memory", "[lsp]") {
                                     json::object()}})["result"]["capabilities"]["hoverProvider"] ==
           true);
   c.notify("initialized", json::object());
-  c.notify("textDocument/didOpen", {{"textDocument",
-                                     {{"uri", kUri},
-                                      {"languageId", "snell"},
-                                      {"version", 1},
-                                      {"text", "let r = 2;\nsphere { radus r }\n"}}}});
+  c.open(kUri, "let r = 2;\nsphere { radus r }\n");
   json d = c.last_diagnostics();
   REQUIRE(d["diagnostics"].size() >= 1);
   json first = d["diagnostics"][0];
@@ -218,11 +224,8 @@ TEST_CASE("server: diagnostics, hover and definition in memory", "[lsp]") {
 // round to line 0 and answered there.
 TEST_CASE("server: a position out of range is an InvalidParams error", "[lsp]") {
   Client c;
-  c.request("initialize", {{"capabilities", json::object()}});
-  c.notify("initialized", json::object());
-  c.notify("textDocument/didOpen",
-           {{"textDocument",
-             {{"uri", kUri}, {"languageId", "snell"}, {"version", 1}, {"text", "let r = 2;\n"}}}});
+  c.start();
+  c.open(kUri, "let r = 2;\n");
   for (json p : {json{{"line", 4294967296ll}, {"character", 0}},
                  json{{"line", 0}, {"character", -1}}, json{{"line", 0.5}, {"character", 0}}}) {
     INFO(p.dump());
@@ -239,13 +242,8 @@ TEST_CASE("server: a position out of range is an InvalidParams error", "[lsp]") 
 // line breaks ended the span, and the rest rendered as Markdown).
 TEST_CASE("server: a hover shows a string value as one code span", "[lsp]") {
   Client c;
-  c.request("initialize", {{"capabilities", json::object()}});
-  c.notify("initialized", json::object());
-  c.notify("textDocument/didOpen", {{"textDocument",
-                                     {{"uri", kUri},
-                                      {"languageId", "snell"},
-                                      {"version", 1},
-                                      {"text", "let s = \"x``y\\n# z\";\n"}}}});
+  c.start();
+  c.open(kUri, "let s = \"x``y\\n# z\";\n");
   json hover =
       c.request("textDocument/hover", {{"textDocument", {{"uri", kUri}}}, {"position", pos(0, 4)}});
   const std::string v = hover["result"]["contents"]["value"];
@@ -258,17 +256,14 @@ TEST_CASE("server: a hover shows a string value as one code span", "[lsp]") {
 // or CSG body, whose statement was dropped as broken.
 TEST_CASE("server: names inside a body still missing its '}' hover and resolve", "[lsp]") {
   Client c;
-  c.request("initialize", {{"capabilities", json::object()}});
-  c.notify("initialized", json::object());
+  c.start();
   int version = 1;
   for (const char* text : {"for idx in 0 .. 3 {\n  sphere { radius idx + 1 }\n",
                            "fn f(idx) {\n  sphere { radius idx + 1 }\n",
                            "if true {\n  let idx = 1;\n  sphere { radius idx + 1 }\n",
                            "union {\n  let idx = 1;\n  sphere { radius idx + 1 }\n"}) {
     INFO(text);
-    c.notify("textDocument/didOpen",
-             {{"textDocument",
-               {{"uri", kUri}, {"languageId", "snell"}, {"version", version++}, {"text", text}}}});
+    c.open(kUri, text, version++);
     const std::string t = text;
     const int line = int(std::count(t.begin(), t.end(), '\n')) - 1;
     json hover = c.request("textDocument/hover",
@@ -287,12 +282,8 @@ TEST_CASE("server: names inside a body still missing its '}' hover and resolve",
 // editor kept showing the fixed error after a completion or outline request).
 TEST_CASE("server: a request after a change does not swallow its diagnostics", "[lsp]") {
   Client c;
-  c.request("initialize", {{"capabilities", json::object()}});
-  c.notify("initialized", json::object());
-  c.notify(
-      "textDocument/didOpen",
-      {{"textDocument",
-        {{"uri", kUri}, {"languageId", "snell"}, {"version", 1}, {"text", "let a = nope;\n"}}}});
+  c.start();
+  c.open(kUri, "let a = nope;\n");
   REQUIRE(c.last_diagnostics()["diagnostics"].size() == 1);
   for (const char* method :
        {"textDocument/hover", "textDocument/completion", "textDocument/documentSymbol"}) {
@@ -314,14 +305,8 @@ TEST_CASE("server: a request after a change does not swallow its diagnostics", "
 
 TEST_CASE("server: the predeclared clock and frame hover and complete (§18)", "[lsp]") {
   Client c;
-  c.request("initialize", {{"capabilities", json::object()}});
-  c.notify("initialized", json::object());
-  c.notify("textDocument/didOpen",
-           {{"textDocument",
-             {{"uri", kUri},
-              {"languageId", "snell"},
-              {"version", 1},
-              {"text", "sphere { radius 1 + clock translate <frame, 0, 0> }\n"}}}});
+  c.start();
+  c.open(kUri, "sphere { radius 1 + clock translate <frame, 0, 0> }\n");
   CHECK(c.last_diagnostics()["diagnostics"].empty());
   json hover = c.request("textDocument/hover",
                          {{"textDocument", {{"uri", kUri}}}, {"position", pos(0, 22)}});
