@@ -880,12 +880,8 @@ std::uint32_t EmbreeScene::occluded(const ShadowLanes16& in, std::uint32_t live)
   };
   std::uint32_t blocked = 0;
   if (im.any_unbounded)  // the planes first, in double, as the one-ray query does
-    for (std::uint32_t bits = live; bits; bits &= bits - 1) {
-      const unsigned k = unsigned(std::countr_zero(bits));
-      const Ray r = ray_of(k);
-      if (std::apply([&](const auto&... set) { return (set.occluded(r) || ...); }, im.unbounded))
-        blocked |= 1u << k;
-    }
+    std::apply([&](const auto&... set) { ((blocked |= set.occluded_lanes(in, live)), ...); },
+               im.unbounded);
   live &= ~blocked;
   if (live == 0) return blocked;
   if ((live & (live - 1)) == 0) {  // a lone ray is traced alone

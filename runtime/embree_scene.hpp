@@ -68,13 +68,9 @@ class EmbreeScene {
   void intersect(std::span<const Ray> rays, std::span<Hit> hits, std::span<std::uint8_t> found,
                  bool coherent = true) const;
   void occluded(std::span<const Ray> rays, std::span<std::uint8_t> blocked) const;
-  // Up to 16 shadow rays in SoA lanes (each pointer to 16 floats; tnear 0, tmax kAreaShadowEnd,
-  // as an area light sample's): the lanes of `live` (bit i: lane i) that are blocked,
-  // each exactly as occluded(Ray) answers it. The direct light of a packet's lit
-  // nodes (shading/area_lanes.hpp) makes them in this layout.
-  struct ShadowLanes16 {
-    const float *ox, *oy, *oz, *dx, *dy, *dz, *time;
-  };
+  // Up to 16 shadow rays in SoA lanes (ray.hpp): the lanes of `live` (bit i: lane i)
+  // that are blocked, each exactly as occluded(Ray) answers it.
+  using ShadowLanes16 = rt::ShadowLanes16;
   std::uint32_t occluded(const ShadowLanes16& rays, std::uint32_t live) const;
 
   ir::Vec3 origin() const { return origin_; }

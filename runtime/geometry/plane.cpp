@@ -21,7 +21,6 @@ void PlaneSet::add(const ir::Shape& s, const ir::Plane& g, std::uint32_t index, 
 // Planes in double from the float ray; the float origin was already offset by the
 // caller, so the sign of (d - n·o) is reliable. A moving plane is placed at the
 // ray's time first.
-constexpr double kMaxPlaneHit = 1e17;  // camera-relative; scenes lie within 1e12 (ir.hpp)
 bool PlaneSet::hit_plane(const PlaneData& p, const Ray& r, double tmax, double tie, double& t,
                          Vec3& n_out, Vec3* point) const {
   Vec3 o(r.org.x, r.org.y, r.org.z), d(r.dir.x, r.dir.y, r.dir.z);
@@ -84,6 +83,35 @@ bool PlaneSet::occluded_planes(const Ray& r) const {
     if (hit_plane(p, r, r.tmax, 0, t, n, nullptr)) return true;
   }
   return false;
+}
+
+std::uint32_t PlaneSet::occluded_lanes(const ShadowLanes16& in, std::uint32_t live) const {
+  static const PlaneLanesFn best = plane_lanes();
+  return occluded_lanes(in, live, best);
+}
+
+std::uint32_t PlaneSet::occluded_lanes(const ShadowLanes16& in, std::uint32_t live,
+                                       PlaneLanesFn lanes) const {
+  std::uint32_t blocked = 0;
+  for (const PlaneData& p : planes_) {
+    const std::uint32_t todo = live & ~blocked;
+    if (!todo) break;
+    if (lanes && !p.moving) {
+      blocked |= lanes(p.n, p.d, in, todo);
+      continue;
+    }
+    for (std::uint32_t bits = todo; bits; bits &= bits - 1) {
+      const unsigned k = unsigned(__builtin_ctz(bits));
+      const Ray r{{in.ox[k], in.oy[k], in.oz[k]},
+                  {in.dx[k], in.dy[k], in.dz[k]},
+                  kAreaShadowEnd,
+                  in.time[k]};
+      double t;
+      Vec3 n;
+      if (hit_plane(p, r, r.tmax, 0, t, n, nullptr)) blocked |= 1u << k;
+    }
+  }
+  return blocked;
 }
 
 }  // namespace snell::rt::geom

@@ -6,10 +6,16 @@
 #include <cstdint>
 #include <vector>
 
+#include "runtime/geometry/plane_lanes.hpp"
 #include "runtime/geometry/ray.hpp"
 #include "runtime/ir/ir.hpp"
 
 namespace snell::rt::geom {
+
+// A grazing hit farther than this (camera-relative) is taken as a miss: no ray
+// Embree is given starts beyond its range (FLT_LARGE, 1.8e18); scenes lie within
+// 1e12 (ir.hpp).
+inline constexpr double kMaxPlaneHit = 1e17;
 
 class PlaneSet {
  public:
@@ -26,6 +32,13 @@ class PlaneSet {
     return !planes_.empty() && intersect_planes(r, tmax, tie, hit);
   }
   bool occluded(const Ray& r) const { return !planes_.empty() && occluded_planes(r); }
+  // The lanes of `live` (bit i: lane i) of 16 area-light shadow rays that a plane
+  // blocks: occluded() of each, the static planes eight lanes at a time
+  // (plane_lanes.hpp).
+  std::uint32_t occluded_lanes(const ShadowLanes16& rays, std::uint32_t live) const;
+  // The same on a given path of plane_lanes_paths() (null: lane by lane), for tests.
+  std::uint32_t occluded_lanes(const ShadowLanes16& rays, std::uint32_t live,
+                               PlaneLanesFn path) const;
 
  private:
   struct PlaneData {

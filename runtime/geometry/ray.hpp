@@ -21,6 +21,14 @@ struct Ray {
   float tnear = 0;
 };
 
+// Up to 16 shadow rays in SoA lanes, each pointer to 16 floats (camera-relative;
+// tnear 0, tmax kAreaShadowEnd, as an area light sample's): what the direct light
+// of a packet's lit nodes makes (shading/area_lanes.hpp) and the scene query and
+// the plane test take as they are.
+struct ShadowLanes16 {
+  const float *ox, *oy, *oz, *dx, *dy, *dz, *time;
+};
+
 // Where an area light's shadow ray ends: short of its target (the light sample moved
 // off the light by offset_ray_origin) by 16 ulps of t. The target's offset is ulps
 // of the sample's coordinates, which near the camera (the origin of Embree's

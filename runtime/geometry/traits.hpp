@@ -13,7 +13,7 @@
 //                             the hit point and its bounded offset (Hit::offset)
 //   Unbounded  a set tested analytically after the BVH query (planes):
 //                add(shape, kind, index, origin, moving), intersect(ray, tmax&, tie, hit),
-//                occluded(ray)
+//                occluded(ray), occluded_lanes(shadow lanes, live mask)
 // Solids also give their ray intervals [t_in, t_out]... (intervals.hpp), which CSG
 // composes.
 // The accelerator (embree_scene.cpp) builds per class, never per shape, and is the

@@ -1,0 +1,107 @@
+#include "runtime/geometry/plane_lanes.hpp"
+
+#include "runtime/geometry/plane.hpp"  // kMaxPlaneHit
+#include "runtime/simd_paths.hpp"
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+#define SNELL_HAVE_AVX512_PATH 1
+#endif
+
+namespace snell::rt::geom {
+
+namespace {
+
+#ifdef SNELL_HAVE_AVX512_PATH
+
+#pragma GCC push_options
+#pragma GCC target("avx512f,avx512vl")
+// GCC 12's AVX-512 headers warn falsely on their own masked builtins
+// (-Wmaybe-uninitialized, GCC PR 105593: _mm512_abs_pd).
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+
+using F32x8 = float __attribute__((vector_size(32)));
+using F64x8 = double __attribute__((vector_size(64)));
+inline F64x8 widen(const float* p) {
+  F32x8 f;
+  __builtin_memcpy(&f, p, sizeof f);
+  return __builtin_convertvector(f, F64x8);
+}
+inline F64x8 abs8(F64x8 x) {
+  return F64x8(_mm512_abs_pd(__m512d(x)));
+}
+
+// Eight lanes starting at `off`. Each line is one operation of hit_plane, in its
+// order (a dot product is x·x + y·y + z·z, as ir::dot): tnear 0, so the ray must
+// not leave the plane; t in (0, tmax) in double and positive in float; the hit
+// point within kMaxPlaneHit (finite there, as t, o and d are: fmax is max).
+std::uint32_t eight(ir::Vec3 n, double pd, const ShadowLanes16& r, std::uint32_t off,
+                    std::uint32_t live) {
+  __mmask8 m = __mmask8(live >> off);
+  if (!m) return 0;
+  const F64x8 ox = widen(r.ox + off), oy = widen(r.oy + off), oz = widen(r.oz + off);
+  const F64x8 dx = widen(r.dx + off), dy = widen(r.dy + off), dz = widen(r.dz + off);
+  const F64x8 denom = n.x * dx + n.y * dy + n.z * dz;
+  const F64x8 num = pd - (n.x * ox + n.y * oy + n.z * oz);
+  const __m512d zero = _mm512_setzero_pd();
+  // Rejected: num == 0, num > 0 && denom < 0, num < 0 && denom > 0; then denom == 0.
+  const __mmask8 leaves = _mm512_cmp_pd_mask(__m512d(num), zero, _CMP_EQ_OQ) |
+                          (_mm512_cmp_pd_mask(__m512d(num), zero, _CMP_GT_OQ) &
+                           _mm512_cmp_pd_mask(__m512d(denom), zero, _CMP_LT_OQ)) |
+                          (_mm512_cmp_pd_mask(__m512d(num), zero, _CMP_LT_OQ) &
+                           _mm512_cmp_pd_mask(__m512d(denom), zero, _CMP_GT_OQ)) |
+                          _mm512_cmp_pd_mask(__m512d(denom), zero, _CMP_EQ_OQ);
+  m &= __mmask8(~leaves);
+  if (!m) return 0;
+  const F64x8 t = num / denom;
+  const __m512d tmax = _mm512_set1_pd(double(kAreaShadowEnd));
+  m &= _mm512_cmp_pd_mask(__m512d(t), zero, _CMP_GT_OQ) &
+       _mm512_cmp_pd_mask(__m512d(t), tmax, _CMP_LT_OQ);
+  const __m256 tf = __m256(__builtin_convertvector(t, F32x8));
+  m &= _mm256_cmp_ps_mask(tf, _mm256_setzero_ps(), _CMP_GT_OQ);
+  if (!m) return 0;
+  const F64x8 qx = ox + dx * t, qy = oy + dy * t, qz = oz + dz * t;
+  const F64x8 far =
+      F64x8(_mm512_max_pd(__m512d(abs8(qx)), _mm512_max_pd(__m512d(abs8(qy)), __m512d(abs8(qz)))));
+  m &= _mm512_cmp_pd_mask(__m512d(far), _mm512_set1_pd(kMaxPlaneHit), _CMP_LE_OQ);
+  return std::uint32_t(m) << off;
+}
+
+std::uint32_t plane_lanes_avx512(ir::Vec3 n, double d, const ShadowLanes16& rays,
+                                 std::uint32_t live) {
+  return eight(n, d, rays, 0, live) | eight(n, d, rays, 8, live);
+}
+
+#pragma GCC diagnostic pop
+#pragma GCC pop_options
+
+bool avx512_supported() {
+  __builtin_cpu_init();
+  return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl");
+}
+
+#endif  // SNELL_HAVE_AVX512_PATH
+
+const SimdPaths<PlaneLanesFn>& available() {
+#ifdef SNELL_HAVE_AVX512_PATH
+  static const auto paths =
+      simd_paths<PlaneLanesFn>(avx512_supported(), plane_lanes_avx512, nullptr);
+#else
+  static const auto paths = simd_paths<PlaneLanesFn>(false, nullptr, nullptr);
+#endif
+  return paths;
+}
+
+}  // namespace
+
+PlaneLanesFn plane_lanes() {
+  static const PlaneLanesFn best = best_path(available());
+  return best;
+}
+
+std::vector<std::pair<std::string, PlaneLanesFn>> plane_lanes_paths() {
+  return available();
+}
+
+}  // namespace snell::rt::geom
