@@ -187,7 +187,7 @@ void WhittedIntegrator::direct_lanes(std::uint32_t lanes_in, const DirectQuery* 
       node_keys[i] = i < lanes ? q(i).key : 0;
       pixels[i] = i < lanes ? sc[i]->pixel : 0;
       indices[i] = i < lanes ? sc[i]->index : 0;
-      shared = shared && indices[i] == indices[0];
+      shared = shared && (i >= lanes || indices[i] == indices[0]);
     }
   }
   // Lane i's jitter of cell `cell` into du[i], dv[i].
