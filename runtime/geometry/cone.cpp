@@ -38,7 +38,7 @@ bool TruncatedCone::intersect(Vec3 o, Vec3 d, double tnear, double tfar, double&
   double rz = r0_ + k_ * os.z, kd = k_ * d.z;
   double a = d.x * d.x + d.y * d.y - kd * kd;
   double b = os.x * d.x + os.y * d.y - rz * kd;
-  double ro = std::hypot(os.x, os.y);
+  double ro = ir::hypot_fast(os.x, os.y);
   double c = (ro - rz) * (ro + rz);
   double disc = b * b - a * c;
   double s0 = 0, s1 = 0;
@@ -107,15 +107,15 @@ bool TruncatedCone::intersect(Vec3 o, Vec3 d, double tnear, double tfar, double&
 // The nearest point of the side (the generator segment (r0, 0)..(r1, h) in the
 // half-plane of p's azimuth) or, when closed, of an end disc.
 Vec3 TruncatedCone::project(Vec3 p) const {
-  double rho = std::hypot(p.x, p.y);
+  double rho = ir::hypot_fast(p.x, p.y);
   double er = r1_ - r0_;
   double lam = std::clamp(((rho - r0_) * er + p.z * h_) / (er * er + h_ * h_), 0.0, 1.0);
   double pr = r0_ + lam * er, pz = lam * h_;
-  double best = std::hypot(rho - pr, p.z - pz);
+  double best = ir::hypot_fast(rho - pr, p.z - pz);
   if (!open_) {
     double br = std::fmin(rho, r0_), cr = std::fmin(rho, r1_);
-    if (double db = std::hypot(rho - br, p.z); db < best) best = db, pr = br, pz = 0;
-    if (double dc = std::hypot(rho - cr, p.z - h_); dc < best) best = dc, pr = cr, pz = h_;
+    if (double db = ir::hypot_fast(rho - br, p.z); db < best) best = db, pr = br, pz = 0;
+    if (double dc = ir::hypot_fast(rho - cr, p.z - h_); dc < best) best = dc, pr = cr, pz = h_;
   }
   double s = rho > 0 ? pr / rho : 0;
   return {p.x * s, p.y * s, pz};

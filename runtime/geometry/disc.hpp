@@ -28,14 +28,14 @@ class DiscSurface {
     double t = -o.z / d.z;
     if (!(t > tnear && t < tfar)) return false;
     double x = o.x + d.x * t, y = o.y + d.y * t;
-    double rho = std::hypot(x, y);
+    double rho = ir::hypot_fast(x, y);
     if (!(rho <= r_ && rho >= hole_)) return false;
     t_out = t, n = {0, 0, 1};
     return true;
   }
   // Onto the plane, the radius clamped to the ring.
   Vec3 project(Vec3 p) const {
-    double rho = std::hypot(p.x, p.y);
+    double rho = ir::hypot_fast(p.x, p.y);
     double s = rho > 0 ? std::clamp(rho, hole_, r_) / rho : 1;
     return {p.x * s, p.y * s, 0};
   }

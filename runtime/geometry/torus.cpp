@@ -126,7 +126,7 @@ bool TorusSurface::intersect(Vec3 o, Vec3 d, double tnear, double tfar, double& 
   cuts[m++] = smax;
   auto distance = [&](double s, double& slope) {
     Vec3 p = p0 + u * s;
-    double r = std::hypot(p.x, p.z), dr = r - 1, hh = std::hypot(dr, p.y);
+    double r = ir::hypot_fast(p.x, p.z), dr = r - 1, hh = ir::hypot_fast(dr, p.y);
     slope = r > 0 && hh > 0 ? (dr * (p.x * u.x + p.z * u.z) / r + p.y * u.y) / hh : 0;
     return hh - k;
   };
@@ -142,7 +142,7 @@ bool TorusSurface::intersect(Vec3 o, Vec3 d, double tnear, double tfar, double& 
     double t = lo + s * big_ / len;
     if (!(t > tnear && t < tfar)) continue;
     Vec3 p = p0 + u * s;
-    double r = std::hypot(p.x, p.z);
+    double r = ir::hypot_fast(p.x, p.z);
     if (!(r > 0)) continue;
     n_out = p - Vec3(p.x / r, 0, p.z / r);
     t_out = t;
@@ -152,7 +152,7 @@ bool TorusSurface::intersect(Vec3 o, Vec3 d, double tnear, double tfar, double& 
 }
 
 Vec3 TorusSurface::project(Vec3 p) const {
-  double r = std::hypot(p.x, p.z);
+  double r = ir::hypot_fast(p.x, p.z);
   if (!(r > 0)) return p;
   Vec3 c(p.x * big_ / r, 0, p.z * big_ / r);
   Vec3 v = p - c;
