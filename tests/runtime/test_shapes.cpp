@@ -474,3 +474,25 @@ TEST_CASE("a shape's transform and motion are held only when set", "[shapes][mem
   Query round(sphere({0, 0, 10}, 1, 0));
   check_hit(round, {0, 0, 0}, {0, 0, 1}, 9, {0, 0, -1});
 }
+
+TEST_CASE("hypot_fast is hypot within an ulp, and hypot itself at the extremes", "[shapes][math]") {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u01(0, 1);
+  int worst = 0;
+  for (int i = 0; i < 200000; ++i) {
+    // Magnitudes 2^-600..2^600 and ratios up to 2^60 between the two.
+    const double x = std::ldexp(u01(rng) - 0.5, int(u01(rng) * 1200) - 600);
+    const double y = x * std::ldexp(u01(rng) - 0.5, int(u01(rng) * 120) - 60);
+    const double fast = ir::hypot_fast(x, y), ref = std::hypot(x, y);
+    const int ulps = int(std::fabs(fast - ref) / (std::nextafter(ref, INFINITY) - ref) + 0.5);
+    worst = std::max(worst, ulps);
+  }
+  CHECK(worst <= 1);
+  // Where x² + y² would underflow or overflow, and NaN and infinity: hypot's answers.
+  for (double v : {1e-200, 3e-160, 1e160, 1e300, 1.7e308})
+    CHECK(ir::hypot_fast(v, v) == std::hypot(v, v));
+  CHECK(ir::hypot_fast(INFINITY, NAN) == INFINITY);
+  CHECK(std::isnan(ir::hypot_fast(NAN, 1)));
+  CHECK(ir::hypot_fast(0, 0) == 0);
+  CHECK(ir::hypot_fast(-3, 4) == 5);
+}
