@@ -28,55 +28,40 @@ Vec3 TruncatedCone::side_normal(Vec3 p) const {
 // is watertight at its rims by construction: a ray never slips between the side and
 // a cap. Open: the roots of g with 0 <= z <= h. The ray is first clipped to the
 // shape's bounding ball and its origin moved there (clip_to_ball: conditioning).
-bool TruncatedCone::intersect(Vec3 o, Vec3 d, double tnear, double tfar, double& t_out,
-                              Vec3& n_out) const {
-  double lo = tnear, hi = tfar;
+bool TruncatedCone::along(Vec3 o, Vec3 d, double& lo, double& hi, Quadric& q) const {
   if (!clip_to_ball(o, d, {0, 0, 0.5 * h_}, ball_, lo, hi)) return false;
-  const double ts = lo;
-  const Vec3 os = o + d * ts;
+  q.ts = lo;
+  q.os = o + d * q.ts;
+  const Vec3 os = q.os;
   // g(s) = a s² + 2 b s + c along os + s·d.
   double rz = r0_ + k_ * os.z, kd = k_ * d.z;
-  double a = d.x * d.x + d.y * d.y - kd * kd;
-  double b = os.x * d.x + os.y * d.y - rz * kd;
+  q.a = d.x * d.x + d.y * d.y - kd * kd;
+  q.b = os.x * d.x + os.y * d.y - rz * kd;
   double ro = ir::hypot_fast(os.x, os.y);
-  double c = (ro - rz) * (ro + rz);
-  double disc = b * b - a * c;
-  double s0 = 0, s1 = 0;
-  bool roots = false;
-  if (a != 0 && disc >= 0) {
-    double q = -(b + std::copysign(std::sqrt(disc), b));
-    if (q != 0) s0 = c / q, s1 = q / a;
-    if (s0 > s1) std::swap(s0, s1);
-    roots = true;
+  q.c = (ro - rz) * (ro + rz);
+  double disc = q.b * q.b - q.a * q.c;
+  q.s0 = 0, q.s1 = 0;
+  q.roots = false;
+  if (q.a != 0 && disc >= 0) {
+    double r = -(q.b + std::copysign(std::sqrt(disc), q.b));
+    if (r != 0) q.s0 = q.c / r, q.s1 = r / q.a;
+    if (q.s0 > q.s1) std::swap(q.s0, q.s1);
+    q.roots = true;
   }
-  auto accept = [&](double s, Vec3 n) {
-    double t = ts + s;
-    if (!(t > tnear && t < tfar && t <= hi)) return false;
-    t_out = t, n_out = n;
-    return true;
-  };
-  auto side_at = [&](double s) { return side_normal(os + d * s); };
-  if (open_) {
-    double cand[2];
-    int m = 0;
-    if (roots)
-      cand[m++] = s0, cand[m++] = s1;
-    else if (a == 0 && b != 0)
-      cand[m++] = -c / (2 * b);
-    for (int i = 0; i < m; ++i) {
-      double z = os.z + d.z * cand[i];
-      if (z >= 0 && z <= h_ && accept(cand[i], side_at(cand[i]))) return true;
-    }
-    return false;
-  }
+  return true;
+}
+
+int TruncatedCone::pieces(const Quadric& q, Vec3 d, Piece* out) const {
+  const Vec3 os = q.os;
+  const double a = q.a, b = q.b, c = q.c, s0 = q.s0, s1 = q.s1;
   // The intervals where g <= 0, in order.
   const double inf = INFINITY;
   std::pair<double, double> in[2];
   int m = 0;
   if (a > 0) {
-    if (roots) in[m++] = {s0, s1};
+    if (q.roots) in[m++] = {s0, s1};
   } else if (a < 0) {
-    if (!roots)
+    if (!q.roots)
       in[m++] = {-inf, inf};
     else
       in[m++] = {-inf, s0}, in[m++] = {s1, inf};
@@ -92,16 +77,59 @@ bool TruncatedCone::intersect(Vec3 o, Vec3 d, double tnear, double tfar, double&
     z_in = -os.z / d.z, z_out = (h_ - os.z) / d.z;
     if (z_in > z_out) std::swap(z_in, z_out);
   } else if (!(os.z >= 0 && os.z <= h_)) {
-    return false;
+    return 0;
   }
   const Vec3 cap_in(0, 0, d.z > 0 ? -1.0 : 1.0), cap_out = -cap_in;
+  int n = 0;
   for (int i = 0; i < m; ++i) {
     double e = std::fmax(in[i].first, z_in), x = std::fmin(in[i].second, z_out);
     if (!(e <= x)) continue;
-    if (accept(e, z_in >= in[i].first ? cap_in : side_at(e))) return true;
-    if (accept(x, z_out <= in[i].second ? cap_out : side_at(x))) return true;
+    out[n++] = {e, x, z_in >= in[i].first ? cap_in : side_normal(os + d * e),
+                z_out <= in[i].second ? cap_out : side_normal(os + d * x)};
+  }
+  return n;
+}
+
+bool TruncatedCone::intersect(Vec3 o, Vec3 d, double tnear, double tfar, double& t_out,
+                              Vec3& n_out) const {
+  double lo = tnear, hi = tfar;
+  Quadric q;
+  if (!along(o, d, lo, hi, q)) return false;
+  const double ts = q.ts;
+  auto accept = [&](double s, Vec3 n) {
+    double t = ts + s;
+    if (!(t > tnear && t < tfar && t <= hi)) return false;
+    t_out = t, n_out = n;
+    return true;
+  };
+  if (open_) {
+    double cand[2];
+    int m = 0;
+    if (q.roots)
+      cand[m++] = q.s0, cand[m++] = q.s1;
+    else if (q.a == 0 && q.b != 0)
+      cand[m++] = -q.c / (2 * q.b);
+    for (int i = 0; i < m; ++i) {
+      double z = q.os.z + d.z * cand[i];
+      if (z >= 0 && z <= h_ && accept(cand[i], side_normal(q.os + d * cand[i]))) return true;
+    }
+    return false;
+  }
+  Piece p[2];
+  const int n = pieces(q, d, p);
+  for (int i = 0; i < n; ++i) {
+    if (accept(p[i].e, p[i].n_e)) return true;
+    if (accept(p[i].x, p[i].n_x)) return true;
   }
   return false;
+}
+
+int TruncatedCone::solid_spans(Vec3 o, Vec3 d, double lo, double hi, Piece* out) const {
+  Quadric q;
+  if (!along(o, d, lo, hi, q)) return 0;
+  const int n = pieces(q, d, out);
+  for (int i = 0; i < n; ++i) out[i].e += q.ts, out[i].x += q.ts;
+  return n;
 }
 
 // The nearest point of the side (the generator segment (r0, 0)..(r1, h) in the

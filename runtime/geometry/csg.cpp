@@ -76,7 +76,7 @@ Spans leaf_spans(const ir::ShapeGeom& g, Vec3 o, Vec3 d, double lo, double hi) {
 }  // namespace
 
 Spans CsgProgram::leaf_spans(const Leaf& l, Vec3 o, Vec3 d, double lo, double hi) {
-  if (const auto* c = std::get_if<TruncatedCone>(&l.surface)) return walk_surface(*c, o, d, lo, hi);
+  if (const auto* c = std::get_if<TruncatedCone>(&l.surface)) return cone_spans(*c, o, d, lo, hi);
   if (const auto* t = std::get_if<TorusSurface>(&l.surface)) return walk_surface(*t, o, d, lo, hi);
   return geom::leaf_spans(l.geom, o, d, lo, hi);
 }
