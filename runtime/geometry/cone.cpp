@@ -11,7 +11,7 @@ TruncatedCone::TruncatedCone(Vec3 base, double r0, Vec3 cap, double r1, bool ope
   object_from_local = ir::axis_frame(base, (cap - base) / h_);
   k_ = (r1 - r0) / h_;
   // Once here: hypot is slow, and intersect was computing it on every call.
-  ball_ = std::hypot(0.5 * h_, std::fmax(r0_, r1_)) * (1 + 1e-9);
+  ball_ = std::hypot(0.5 * h_, ir::max_num(r0_, r1_)) * (1 + 1e-9);
 }
 
 // The gradient of ρ² − r(z)²: outward, and along the axis at the apex of a cone.
@@ -82,7 +82,7 @@ int TruncatedCone::pieces(const Quadric& q, Vec3 d, Piece* out) const {
   const Vec3 cap_in(0, 0, d.z > 0 ? -1.0 : 1.0), cap_out = -cap_in;
   int n = 0;
   for (int i = 0; i < m; ++i) {
-    double e = std::fmax(in[i].first, z_in), x = std::fmin(in[i].second, z_out);
+    double e = ir::max_num(in[i].first, z_in), x = ir::min_num(in[i].second, z_out);
     if (!(e <= x)) continue;
     out[n++] = {e, x, z_in >= in[i].first ? cap_in : side_normal(os + d * e),
                 z_out <= in[i].second ? cap_out : side_normal(os + d * x)};
@@ -141,7 +141,7 @@ Vec3 TruncatedCone::project(Vec3 p) const {
   double pr = r0_ + lam * er, pz = lam * h_;
   double best = ir::hypot_fast(rho - pr, p.z - pz);
   if (!open_) {
-    double br = std::fmin(rho, r0_), cr = std::fmin(rho, r1_);
+    double br = ir::min_num(rho, r0_), cr = ir::min_num(rho, r1_);
     if (double db = ir::hypot_fast(rho - br, p.z); db < best) best = db, pr = br, pz = 0;
     if (double dc = ir::hypot_fast(rho - cr, p.z - h_); dc < best) best = dc, pr = cr, pz = h_;
   }

@@ -23,13 +23,13 @@ constexpr double kCoincident = 1e-9;
 Box3 overlap(const Box3& a, const Box3& b) {
   Box3 r;
   for (int k = 0; k < 3; ++k)
-    r.lo[k] = std::fmax(a.lo[k], b.lo[k]), r.hi[k] = std::fmin(a.hi[k], b.hi[k]);
+    r.lo[k] = ir::max_num(a.lo[k], b.lo[k]), r.hi[k] = ir::min_num(a.hi[k], b.hi[k]);
   return r;
 }
 Box3 unite(const Box3& a, const Box3& b) {
   Box3 r;
   for (int k = 0; k < 3; ++k)
-    r.lo[k] = std::fmin(a.lo[k], b.lo[k]), r.hi[k] = std::fmax(a.hi[k], b.hi[k]);
+    r.lo[k] = ir::min_num(a.lo[k], b.lo[k]), r.hi[k] = ir::max_num(a.hi[k], b.hi[k]);
   return r;
 }
 Box3 infinite_box() {
@@ -56,7 +56,7 @@ bool ray_box(const Box3& box, Vec3 o, Vec3 d, double lo, double hi, double pad_f
     double t0 = (box.lo[k] - o[k]) * inv, t1 = (box.hi[k] - o[k]) * inv;
     if (t0 > t1) std::swap(t0, t1);
     double pad = pad_factor * (std::fabs(t0) + std::fabs(t1)) + 1e-300;
-    lo = std::fmax(lo, t0 - pad), hi = std::fmin(hi, t1 + pad);
+    lo = ir::max_num(lo, t0 - pad), hi = ir::min_num(hi, t1 + pad);
     if (lo > hi) return false;
   }
   return true;
@@ -329,8 +329,8 @@ bool CsgProgram::intersect(Vec3 o, Vec3 d, double tnear, double tfar, double& t_
   std::sort(events.begin(), events.end(), [](const Event& a, const Event& b) {
     return a.t < b.t || (a.t == b.t && (a.leaf < b.leaf || (a.leaf == b.leaf && a.seq < b.seq)));
   });
-  double dmax = std::fmax(std::fabs(d.x), std::fmax(std::fabs(d.y), std::fabs(d.z)));
-  double omax = std::fmax(std::fabs(o.x), std::fmax(std::fabs(o.y), std::fabs(o.z)));
+  double dmax = ir::max_num(std::fabs(d.x), ir::max_num(std::fabs(d.y), std::fabs(d.z)));
+  double omax = ir::max_num(std::fabs(o.x), ir::max_num(std::fabs(o.y), std::fabs(o.z)));
   bool state = inside();
   for (std::size_t k = 0; k < events.size();) {
     double tol = kCoincident * (std::fabs(events[k].t) + omax / dmax);
@@ -412,7 +412,7 @@ void CsgSetT<kMoving>::bounds(unsigned prim, Box3& box) const {
                  [&](auto&& f) { p.program.corners(kClamp, f); }, box);
   }
   for (int k = 0; k < 3; ++k)
-    box.lo[k] = std::fmax(box.lo[k], -kClamp), box.hi[k] = std::fmin(box.hi[k], kClamp);
+    box.lo[k] = ir::max_num(box.lo[k], -kClamp), box.hi[k] = ir::min_num(box.hi[k], kClamp);
 }
 
 template <bool kMoving>

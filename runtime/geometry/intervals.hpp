@@ -42,7 +42,7 @@ struct Spans {
   int count = 0;
   // Adds [a, b] ∩ [lo, hi] when not empty.
   void add(double a, double b, double lo, double hi, Vec3 na = {}, Vec3 nb = {}) {
-    a = std::fmax(a, lo), b = std::fmin(b, hi);
+    a = ir::max_num(a, lo), b = ir::min_num(b, hi);
     if (a < b && count < kMax) span[count++] = {a, b, na, nb};
   }
 };

@@ -35,7 +35,7 @@ namespace snell::rt::geom {
 inline bool clip_to_ball(Vec3 o, Vec3 d, Vec3 c, double radius, double& lo, double& hi) {
   double t0, t1;
   if (!sphere_roots(o, d, c, radius, t0, t1)) return false;
-  lo = std::fmax(lo, t0), hi = std::fmin(hi, t1);
+  lo = ir::max_num(lo, t0), hi = ir::min_num(hi, t1);
   return lo <= hi;
 }
 
@@ -67,7 +67,7 @@ class LocalSet {
         ir::Transform::translate(-origin) * s.world_from_object() * l.object_from_local;
     double stretch = 0;  // the largest a local unit becomes
     for (int c = 0; c < 3; ++c)
-      stretch = std::fmax(stretch, ir::length(Vec3(rel.m(0, c), rel.m(1, c), rel.m(2, c))));
+      stretch = ir::max_num(stretch, ir::length(Vec3(rel.m(0, c), rel.m(1, c), rel.m(2, c))));
     prims_.push_back({l, rel.inv, rel.m, index, stretch});
   }
   std::size_t size() const { return prims_.size(); }
@@ -102,8 +102,8 @@ class LocalSet {
     // surface whose local coordinates dwarf the hit's distance from the camera
     // (a torus of major radius 1e11 seen from its tube) needs more than the above,
     // and it shadowed itself in speckles without it.
-    const double local = std::fmax(std::fabs(q.x), std::fmax(std::fabs(q.y), std::fabs(q.z)));
-    hit.offset = std::fmax(hit.offset, float(kSurfaceOffsetUlps * 0x1p-52 * local * pr.stretch));
+    const double local = ir::max_num(std::fabs(q.x), ir::max_num(std::fabs(q.y), std::fabs(q.z)));
+    hit.offset = ir::max_num(hit.offset, float(kSurfaceOffsetUlps * 0x1p-52 * local * pr.stretch));
   }
 
  private:

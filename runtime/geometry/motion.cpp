@@ -72,7 +72,7 @@ unsigned motion_segments(const ir::Shape& s, const std::vector<Vec3>& verts, Vec
       for (double f : {0.25, 0.5, 0.75}) {
         ir::Transform m = rel_at(s, origin, (i + f) / segs);
         for (const Vec3& v : probe)
-          err = std::fmax(err, ir::length(m.point(v) - (a.point(v) * (1 - f) + b.point(v) * f)));
+          err = ir::max_num(err, ir::length(m.point(v) - (a.point(v) * (1 - f) + b.point(v) * f)));
       }
     }
     if (!(err > tol)) break;
@@ -88,7 +88,7 @@ std::optional<QuatPlacement> quat_placement(const ir::Mat4& m, Vec3 centre) {
   double scale = 0;
   for (int c = 0; c < 3; ++c) {
     if (!is_finite(l[c])) return std::nullopt;
-    scale = std::fmax(scale, length(l[c]));
+    scale = ir::max_num(scale, length(l[c]));
   }
   for (int c = 0; c < 3; ++c) {
     Vec3 v = l[c];
@@ -158,7 +158,7 @@ QuatPlacement quat_between(const QuatPlacement& a, const QuatPlacement& b, doubl
   for (int k = 0; k < 4; ++k) c += a.q[k] * b.q[k];
   const double sign = c < 0 ? -1 : 1;  // the shorter arc, as Embree takes it
   for (int k = 0; k < 4; ++k) q1[k] = sign * b.q[k];
-  c = std::fmin(1.0, std::fabs(c));
+  c = ir::min_num(1.0, std::fabs(c));
   const double theta = std::acos(c);
   double wa = 1 - f, wb = f;
   if (theta > 1e-9)

@@ -17,7 +17,7 @@ ir::Mat4 rel_from_object_inverse_at(const ir::Shape& s, ir::Vec3 origin, double 
 
 // Clamps a ray time to the shutter (robustness #32).
 inline double shutter_fraction(float time) {
-  return std::fmin(1.0, std::fmax(0.0, double(time)));
+  return ir::min_num(1.0, ir::max_num(0.0, double(time)));
 }
 
 // Time steps for a moving triangle shape: Embree interpolates vertices linearly
@@ -45,7 +45,7 @@ void swept_bounds(At&& rel_at_u, Corners&& corners, Box3& box) {
       if (i == 0)
         prev.push_back(w);
       else
-        pad = std::fmax(pad, ir::length(w - prev[c])), prev[c] = w;
+        pad = ir::max_num(pad, ir::length(w - prev[c])), prev[c] = w;
       ++c;
     });
   }

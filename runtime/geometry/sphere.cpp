@@ -87,16 +87,17 @@ void MovingSphereSet::add(const ir::Shape& s, const ir::Sphere& g, std::uint32_t
       double u = (double(p) + double(j) / kSub) / kSegments;
       sphere_box(rel_at(s, origin, u).m, g.center, g.radius, b.lo, b.hi);
       for (int k = 0; k < 3; ++k) {
-        part.lo[k] = std::fmin(part.lo[k], b.lo[k]), part.hi[k] = std::fmax(part.hi[k], b.hi[k]);
+        part.lo[k] = ir::min_num(part.lo[k], b.lo[k]),
+        part.hi[k] = ir::max_num(part.hi[k], b.hi[k]);
         if (j > 0)
-          grow = std::fmax(
-              grow, std::fmax(std::fabs(b.lo[k] - prev.lo[k]), std::fabs(b.hi[k] - prev.hi[k])));
+          grow = ir::max_num(
+              grow, ir::max_num(std::fabs(b.lo[k] - prev.lo[k]), std::fabs(b.hi[k] - prev.hi[k])));
       }
       prev = b;
     }
     double reach = 0;
     for (int k = 0; k < 3; ++k)
-      reach = std::fmax(reach, std::fmax(std::fabs(part.lo[k]), std::fabs(part.hi[k])));
+      reach = ir::max_num(reach, ir::max_num(std::fabs(part.lo[k]), std::fabs(part.hi[k])));
     grow += 1e-6 * reach;
     for (int k = 0; k < 3; ++k) part.lo[k] -= grow, part.hi[k] += grow;
   }
@@ -128,7 +129,7 @@ void MovingSphereSet::bounds(unsigned prim, Box3& box) const {
       Vec3 q = s.center + Vec3(c & 1 ? s.radius : -s.radius, c & 2 ? s.radius : -s.radius,
                                c & 4 ? s.radius : -s.radius);
       Vec3 w = xform_point(t.m, q);
-      if (i > 0) pad = std::fmax(pad, ir::length(w - prev[c]));
+      if (i > 0) pad = ir::max_num(pad, ir::length(w - prev[c]));
       prev[c] = w;
     }
   }

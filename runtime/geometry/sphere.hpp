@@ -111,7 +111,7 @@ inline void sphere_box(const ir::Mat4& rel_from_object, Vec3 c, double r, double
   for (int i = 0; i < 8; ++i) {
     Vec3 q = c + Vec3(i & 1 ? r : -r, i & 2 ? r : -r, i & 4 ? r : -r);
     Vec3 w = xform_point(rel_from_object, q);
-    for (int k = 0; k < 3; ++k) lo[k] = std::fmin(lo[k], w[k]), hi[k] = std::fmax(hi[k], w[k]);
+    for (int k = 0; k < 3; ++k) lo[k] = ir::min_num(lo[k], w[k]), hi[k] = ir::max_num(hi[k], w[k]);
   }
 }
 
@@ -228,7 +228,7 @@ class MovingSphereSet {
       double inv = 1.0 / double(ds[k]);
       double ta = (b.lo[k] - os[k]) * inv, tb = (b.hi[k] - os[k]) * inv;
       if (ta > tb) std::swap(ta, tb);
-      t0 = std::fmax(t0, ta), t1 = std::fmin(t1, tb);
+      t0 = ir::max_num(t0, ta), t1 = ir::min_num(t1, tb);
       if (!(t0 <= t1)) return false;
     }
     return true;

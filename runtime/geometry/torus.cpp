@@ -40,7 +40,7 @@ double bracketed_root(G&& g, double a, double b, double ga) {
       x -= dx;
       if (x == before) return x;
     }
-    if (std::fabs(dx) <= 0x1p-60 * std::fmax(1.0, std::fabs(x))) return x;
+    if (std::fabs(dx) <= 0x1p-60 * ir::max_num(1.0, std::fabs(x))) return x;
     f = g(x, df);
   }
   return x;

@@ -172,8 +172,9 @@ float triangle_offset(const float* a, const float* b, const float* c) {
   double e1[3], e2[3], big[3], extent[3], n[3];
   for (int i = 0; i < 3; ++i) {
     e1[i] = double(b[i]) - a[i], e2[i] = double(c[i]) - a[i];
-    double lo = std::fmin(a[i], std::fmin(b[i], c[i])), hi = std::fmax(a[i], std::fmax(b[i], c[i]));
-    big[i] = std::fmax(std::fabs(lo), std::fabs(hi));
+    double lo = ir::min_num(a[i], ir::min_num(b[i], c[i])),
+           hi = ir::max_num(a[i], ir::max_num(b[i], c[i]));
+    big[i] = ir::max_num(std::fabs(lo), std::fabs(hi));
     extent[i] = hi - lo;
   }
   double cross_abs = 0, cross_sq = 0;

@@ -35,7 +35,7 @@ inline double det3(const ir::Mat4& m) {
 struct Box3 {
   double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
   void grow(Vec3 p) {
-    for (int k = 0; k < 3; ++k) lo[k] = std::fmin(lo[k], p[k]), hi[k] = std::fmax(hi[k], p[k]);
+    for (int k = 0; k < 3; ++k) lo[k] = ir::min_num(lo[k], p[k]), hi[k] = ir::max_num(hi[k], p[k]);
   }
 };
 

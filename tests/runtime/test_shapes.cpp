@@ -496,3 +496,23 @@ TEST_CASE("hypot_fast is hypot within an ulp, and hypot itself at the extremes",
   CHECK(ir::hypot_fast(0, 0) == 0);
   CHECK(ir::hypot_fast(-3, 4) == 5);
 }
+
+TEST_CASE("min_num and max_num answer as the C library's fmin and fmax", "[shapes][math]") {
+  // Through pointers, so that the library's functions run rather than the
+  // compiler's folding of them.
+  double (*volatile lib_min)(double, double) = std::fmin;
+  double (*volatile lib_max)(double, double) = std::fmax;
+  const double v[] = {-INFINITY, -2.5, -0.0, 0.0, 1e-310, 3.0, INFINITY, NAN};
+  auto same = [](double a, double b) {
+    return (std::isnan(a) && std::isnan(b)) || (a == b && std::signbit(a) == std::signbit(b));
+  };
+  int cases = 0;
+  for (double x : v)
+    for (double y : v) {
+      INFO(x << ", " << y);
+      CHECK(same(ir::min_num(x, y), lib_min(x, y)));
+      CHECK(same(ir::max_num(x, y), lib_max(x, y)));
+      ++cases;
+    }
+  CHECK(cases == 64);
+}
