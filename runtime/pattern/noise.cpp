@@ -49,10 +49,16 @@ inline double grad(int hash, double x, double y, double z) {
 }
 
 // The lattice cell of x modulo 256 and the fraction within it. fmod is exact for
-// every double, so this is right at any magnitude (past 2^52 the fraction is 0).
+// every double, so this is right at any magnitude (past 2^52 the fraction is 0);
+// below 2^31 the integer's low byte is the same residue without fmod's call (three
+// per noise value, 3 % of a render of noise patterns).
 inline void split(double x, int& cell, double& frac) {
   double f = std::floor(x);
   frac = x - f;
+  if (std::fabs(f) < 0x1p31) {
+    cell = int(f) & 255;
+    return;
+  }
   double m = std::fmod(f, 256.0);
   if (m < 0) m += 256;
   cell = int(m);

@@ -163,3 +163,21 @@ TEST_CASE("fbm and turbulence: any gain gives a value in [0, 1]", "[noise]") {
     }
   }
 }
+
+TEST_CASE("perlin: period 256 across 2^31, where the lattice residue changes method", "[noise]") {
+  // Below 2^31 a cell's residue mod 256 is the integer's low byte; beyond, fmod's.
+  // Shifting by a multiple of 256 moves a point across without changing its cell
+  // residue or its fraction (exact at these magnitudes), so the values are equal.
+  Points pts(300);
+  for (int i = 0; i < 2000; ++i) {
+    Vec3 p = pts.point();
+    p = {std::ldexp(std::round(std::ldexp(p.x, 10)), -10),
+         std::ldexp(std::round(std::ldexp(p.y, 10)), -10),
+         std::ldexp(std::round(std::ldexp(p.z, 10)), -10)};
+    for (double shift : {0x1p32, -0x1p32, 0x1p31, -0x1p31 - 256}) {
+      const Vec3 q = {p.x + shift, p.y - shift, p.z + shift};
+      INFO(p.x << " " << p.y << " " << p.z << " shift " << shift);
+      REQUIRE(pat::perlin(p) == pat::perlin(q));
+    }
+  }
+}
