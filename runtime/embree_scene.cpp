@@ -732,7 +732,10 @@ bool EmbreeScene::intersect(const Ray& r, Hit& hit) const {
 }
 
 namespace {
-bool finish_hit(const EmbreeScene::Impl& im, const Ray& r, const RTCRayHit& rh, Hit& hit) {
+// The Embree hit resolved (finish_hit's first half), and the tmax and tie the
+// unbounded shapes are then tested with.
+bool resolve_hit(const EmbreeScene::Impl& im, const Ray& r, const RTCRayHit& rh, Hit& hit,
+                 double& tmax, double& tie) {
   bool found = false;
   hit.smooth = false;
   hit.part = hit.outer = ir::kNoPart;
@@ -750,27 +753,78 @@ bool finish_hit(const EmbreeScene::Impl& im, const Ray& r, const RTCRayHit& rh, 
       e.resolve(e, rh.hit.primID, rh.hit.u, rh.hit.v, r, hit.t, hit);
     }
   }
-  double tmax = found ? double(hit.t) : double(r.tmax);
+  tmax = found ? double(hit.t) : double(r.tmax);
   // Coincident surfaces (a box resting on a plane: its bottom face and the floor):
   // the face is a float triangle, the plane exact, so their hits differ by rounding
   // and the nearer one flipped from ray to ray (a speckled band at the foot of the
   // glass block in examples/glass). Within the face's error bound (its offset, at
   // least 32 ulps of the point) an unbounded shape wins: the floor under a block
   // resting on it.
-  double tie = found && im.any_unbounded
-                   ? std::fmax(double(hit.offset), 0x1p-19 * double(max_abs(hit.p)))
-                   : 0;
-  bool plane = false;
+  tie = found && im.any_unbounded ? std::fmax(double(hit.offset), 0x1p-19 * double(max_abs(hit.p)))
+                                  : 0;
+  return found;
+}
+
+// What a hit on an unbounded shape (written into `hit` by its set) carries besides.
+void took_unbounded(const EmbreeScene::Impl& im, Hit& hit) {
+  hit.smooth = false, hit.part = ir::kNoPart;
+  hit.material = im.world.material_of(hit.index);
+}
+
+bool finish_hit(const EmbreeScene::Impl& im, const Ray& r, const RTCRayHit& rh, Hit& hit) {
+  double tmax, tie;
+  bool found = resolve_hit(im, r, rh, hit, tmax, tie);
+  bool unbounded = false;
   std::apply(
       [&](const auto&... set) {
-        ((set.intersect(r, tmax, tie, hit)
-              ? (found = plane = true, tie = 0, hit.smooth = false, hit.part = ir::kNoPart)
-              : 0),
-         ...);
+        ((set.intersect(r, tmax, tie, hit) ? (found = unbounded = true, tie = 0) : 0), ...);
       },
       im.unbounded);
-  if (plane) hit.material = im.world.material_of(hit.index);
+  if (unbounded) took_unbounded(im, hit);
   return found;
+}
+
+// finish_hit of a packet's lanes [0, n) after rtcIntersect16 (rh: the packet, rays
+// its rays): the unbounded shapes test the lanes together where they can
+// (PlaneSet::intersect_lanes), each lane as finish_hit tests it.
+void finish_hits(const EmbreeScene::Impl& im, const Ray* rays, std::size_t n, const RTCRayHit16& rh,
+                 Hit* hits, std::uint8_t* found) {
+  alignas(64) double tmax[16], tie[16];
+  for (std::size_t k = 0; k < n; ++k) {
+    RTCRayHit one = make_rayhit(rays[k]);
+    one.ray.tfar = rh.ray.tfar[k];
+    one.hit.Ng_x = rh.hit.Ng_x[k], one.hit.Ng_y = rh.hit.Ng_y[k], one.hit.Ng_z = rh.hit.Ng_z[k];
+    one.hit.u = rh.hit.u[k], one.hit.v = rh.hit.v[k];
+    one.hit.primID = rh.hit.primID[k], one.hit.geomID = rh.hit.geomID[k];
+    one.hit.instID[0] = rh.hit.instID[0][k];
+    found[k] = resolve_hit(im, rays[k], one, hits[k], tmax[k], tie[k]);
+  }
+  if (!im.any_unbounded) return;
+  const std::uint32_t live = std::uint32_t((1u << n) - 1);
+  const geom::PlaneRayLanes lanes{rh.ray.org_x, rh.ray.org_y, rh.ray.org_z, rh.ray.dir_x,
+                                  rh.ray.dir_y, rh.ray.dir_z, rh.ray.tnear};
+  std::uint32_t took = 0;  // the lanes whose nearest hit is unbounded
+  auto test = [&](const auto& set) {
+    if constexpr (requires { set.intersect_lanes(lanes, live, tmax, tie, nullptr, took); }) {
+      std::uint32_t which[16], hit_lanes;
+      if (set.intersect_lanes(lanes, live, tmax, tie, which, hit_lanes)) {
+        for (std::uint32_t bits = hit_lanes; bits; bits &= bits - 1) {
+          const unsigned k = unsigned(std::countr_zero(bits));
+          set.plane_hit(which[k], rays[k], tmax[k], hits[k]);
+        }
+        took |= hit_lanes;
+        return;
+      }
+    }
+    for (std::size_t k = 0; k < n; ++k)
+      if (set.intersect(rays[k], tmax[k], tie[k], hits[k])) tie[k] = 0, took |= 1u << k;
+  };
+  std::apply([&](const auto&... set) { (test(set), ...); }, im.unbounded);
+  for (std::uint32_t bits = took; bits; bits &= bits - 1) {
+    const unsigned k = unsigned(std::countr_zero(bits));
+    found[k] = true;
+    took_unbounded(im, hits[k]);
+  }
 }
 }  // namespace
 
@@ -825,15 +879,7 @@ void EmbreeScene::intersect(std::span<const Ray> rays, std::span<Hit> hits,
     ctx.flags =
         coherent ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
     rtcIntersect16(valid, im.world.scene, &ctx, &rh);
-    for (std::size_t k = 0; k < n; ++k) {
-      RTCRayHit one = make_rayhit(rays[b + k]);
-      one.ray.tfar = rh.ray.tfar[k];
-      one.hit.Ng_x = rh.hit.Ng_x[k], one.hit.Ng_y = rh.hit.Ng_y[k], one.hit.Ng_z = rh.hit.Ng_z[k];
-      one.hit.u = rh.hit.u[k], one.hit.v = rh.hit.v[k];
-      one.hit.primID = rh.hit.primID[k], one.hit.geomID = rh.hit.geomID[k];
-      one.hit.instID[0] = rh.hit.instID[0][k];
-      found[b + k] = finish_hit(im, rays[b + k], one, hits[b + k]);
-    }
+    finish_hits(im, &rays[b], n, rh, &hits[b], &found[b]);
   }
 }
 

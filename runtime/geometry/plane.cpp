@@ -15,6 +15,7 @@ void PlaneSet::add(const ir::Shape& s, const ir::Plane& g, std::uint32_t index, 
   Vec3 p0 = xf.point(g.normal * g.distance) - origin;
   Vec3 n = ir::normalize(xf.normal(g.normal));
   planes_.push_back({n, ir::dot(n, p0), index, moving ? &s : nullptr, moving ? &g : nullptr});
+  any_moving_ = any_moving_ || moving;
   origin_ = origin;
 }
 
@@ -48,11 +49,22 @@ bool PlaneSet::hit_plane(const PlaneData& p, const Ray& r, double tmax, double t
   // A grazing hit can land arbitrarily far away; past kMaxPlaneHit the ray is taken
   // to escape, so no ray Embree is given starts beyond its range (FLT_LARGE, 1.8e18).
   Vec3 q = o + d * t;
-  if (!(std::fmax(std::fabs(q.x), std::fmax(std::fabs(q.y), std::fabs(q.z))) <= kMaxPlaneHit))
+  if (!(ir::max_num(std::fabs(q.x), ir::max_num(std::fabs(q.y), std::fabs(q.z))) <= kMaxPlaneHit))
     return false;
   // The hit point, projected onto the plane in double (o + t·d is off it by ulps of t).
   if (point) *point = q - n * (ir::dot(n, q) - pd);
   return true;
+}
+
+void PlaneSet::write_hit(const PlaneData& p, double t, Vec3 n, Vec3 q, Hit& hit) {
+  hit.t = static_cast<float>(t);
+  hit.ng = to_float(n.x, n.y, n.z);
+  // Off the plane only by its rounding to float; the plane is re-tested in
+  // double from the float origin, so a few ulps clear it (as for spheres).
+  hit.p = to_float(q.x, q.y, q.z);
+  hit.offset = float(kSurfaceOffsetUlps * 0x1p-24 * double(max_abs(hit.p)));
+  hit.kind = Hit::Kind::Shape;
+  hit.index = p.shape;
 }
 
 bool PlaneSet::intersect_planes(const Ray& r, double& tmax, double tie, Hit& hit) const {
@@ -64,16 +76,30 @@ bool PlaneSet::intersect_planes(const Ray& r, double& tmax, double tie, Hit& hit
     tmax = t;
     tie = 0;  // between planes, the nearer t
     found = true;
-    hit.t = static_cast<float>(t);
-    hit.ng = to_float(n.x, n.y, n.z);
-    // Off the plane only by its rounding to float; the plane is re-tested in
-    // double from the float origin, so a few ulps clear it (as for spheres).
-    hit.p = to_float(q.x, q.y, q.z);
-    hit.offset = float(kSurfaceOffsetUlps * 0x1p-24 * double(max_abs(hit.p)));
-    hit.kind = Hit::Kind::Shape;
-    hit.index = p.shape;
+    write_hit(p, t, n, q, hit);
   }
   return found;
+}
+
+bool PlaneSet::intersect_lanes(const PlaneRayLanes& rays, std::uint32_t live, double* tmax,
+                               double* tie, std::uint32_t* which, std::uint32_t& hit_lanes) const {
+  static const PlaneHitLanesFn lanes = plane_hit_lanes();
+  hit_lanes = 0;
+  if (!lanes || any_moving_) return false;
+  for (std::uint32_t i = 0; i < planes_.size(); ++i) {
+    const std::uint32_t hit = lanes(planes_[i].n, planes_[i].d, rays, live, tmax, tie);
+    for (std::uint32_t bits = hit; bits; bits &= bits - 1) which[__builtin_ctz(bits)] = i;
+    hit_lanes |= hit;
+  }
+  return true;
+}
+
+void PlaneSet::plane_hit(std::uint32_t which, const Ray& r, double t, Hit& hit) const {
+  const PlaneData& p = planes_[which];
+  const Vec3 o(r.org.x, r.org.y, r.org.z), d(r.dir.x, r.dir.y, r.dir.z);
+  // As hit_plane places it: o + t·d projected onto the plane in double.
+  const Vec3 q = o + d * t;
+  write_hit(p, t, p.n, q - p.n * (ir::dot(p.n, q) - p.d), hit);
 }
 
 bool PlaneSet::occluded_planes(const Ray& r) const {

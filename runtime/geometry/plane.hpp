@@ -32,6 +32,15 @@ class PlaneSet {
     return !planes_.empty() && intersect_planes(r, tmax, tie, hit);
   }
   bool occluded(const Ray& r) const { return !planes_.empty() && occluded_planes(r); }
+  // A packet's rays (16 lanes) against every plane after their BVH query, as
+  // intersect() takes each lane: tmax[i] and tie[i] in, and for a lane that hits a
+  // plane (bit i of hit_lanes) the nearest one's t out in tmax[i] and its index in
+  // which[i], for plane_hit. false (nothing done): no SIMD path, or a moving plane;
+  // intersect() lane by lane.
+  bool intersect_lanes(const PlaneRayLanes& rays, std::uint32_t live, double* tmax, double* tie,
+                       std::uint32_t* which, std::uint32_t& hit_lanes) const;
+  // What intersect() writes into `hit` when plane `which` is the nearest, at t.
+  void plane_hit(std::uint32_t which, const Ray& r, double t, Hit& hit) const;
   // The lanes of `live` (bit i: lane i) of 16 area-light shadow rays that a plane
   // blocks: occluded() of each, the static planes eight lanes at a time
   // (plane_lanes.hpp).
@@ -52,7 +61,9 @@ class PlaneSet {
   bool occluded_planes(const Ray& r) const;
   bool hit_plane(const PlaneData& p, const Ray& r, double tmax, double tie, double& t,
                  ir::Vec3& n_out, ir::Vec3* point) const;
+  static void write_hit(const PlaneData& p, double t, ir::Vec3 n, ir::Vec3 q, Hit& hit);
   std::vector<PlaneData> planes_;
+  bool any_moving_ = false;
   ir::Vec3 origin_;
 };
 

@@ -68,6 +68,51 @@ std::uint32_t eight(ir::Vec3 n, double pd, const ShadowLanes16& r, std::uint32_t
   return std::uint32_t(m) << off;
 }
 
+// Eight lanes of the nearest-hit test: hit_plane with the ray's tnear, tmax[i] and
+// tie[i], as `eight` for shadow rays; a hit sets tmax[i] to its t and tie[i] to 0.
+std::uint32_t eight_hit(ir::Vec3 n, double pd, const PlaneRayLanes& r, std::uint32_t off,
+                        std::uint32_t live, double* tmax_io, double* tie_io) {
+  __mmask8 m = __mmask8(live >> off);
+  if (!m) return 0;
+  const F64x8 ox = widen(r.ox + off), oy = widen(r.oy + off), oz = widen(r.oz + off);
+  const F64x8 dx = widen(r.dx + off), dy = widen(r.dy + off), dz = widen(r.dz + off);
+  const F64x8 tnear = widen(r.tnear + off);
+  F64x8 tmax, tie;
+  __builtin_memcpy(&tmax, tmax_io + off, sizeof tmax);
+  __builtin_memcpy(&tie, tie_io + off, sizeof tie);
+  const F64x8 denom = n.x * dx + n.y * dy + n.z * dz;
+  const F64x8 num = pd - (n.x * ox + n.y * oy + n.z * oz);
+  const __m512d zero = _mm512_setzero_pd();
+  // With tnear >= 0, a ray leaving the plane (or starting on it) is turned away.
+  const __mmask8 leaves = _mm512_cmp_pd_mask(__m512d(tnear), zero, _CMP_GE_OQ) &
+                          (_mm512_cmp_pd_mask(__m512d(num), zero, _CMP_EQ_OQ) |
+                           (_mm512_cmp_pd_mask(__m512d(num), zero, _CMP_GT_OQ) &
+                            _mm512_cmp_pd_mask(__m512d(denom), zero, _CMP_LT_OQ)) |
+                           (_mm512_cmp_pd_mask(__m512d(num), zero, _CMP_LT_OQ) &
+                            _mm512_cmp_pd_mask(__m512d(denom), zero, _CMP_GT_OQ)));
+  m &= __mmask8(~(leaves | _mm512_cmp_pd_mask(__m512d(denom), zero, _CMP_EQ_OQ)));
+  if (!m) return 0;
+  const F64x8 t = num / denom;
+  const F64x8 limit = tmax + tie / abs8(denom);
+  m &= _mm512_cmp_pd_mask(__m512d(t), __m512d(tnear), _CMP_GT_OQ) &
+       _mm512_cmp_pd_mask(__m512d(t), __m512d(limit), _CMP_LT_OQ);
+  const __m256 tf = __m256(__builtin_convertvector(t, F32x8));
+  m &= _mm256_cmp_ps_mask(tf, _mm256_setzero_ps(), _CMP_GT_OQ);
+  if (!m) return 0;
+  const F64x8 qx = ox + dx * t, qy = oy + dy * t, qz = oz + dz * t;
+  const F64x8 far =
+      F64x8(_mm512_max_pd(__m512d(abs8(qx)), _mm512_max_pd(__m512d(abs8(qy)), __m512d(abs8(qz)))));
+  m &= _mm512_cmp_pd_mask(__m512d(far), _mm512_set1_pd(kMaxPlaneHit), _CMP_LE_OQ);
+  _mm512_storeu_pd(tmax_io + off, _mm512_mask_blend_pd(m, __m512d(tmax), __m512d(t)));
+  _mm512_storeu_pd(tie_io + off, _mm512_mask_blend_pd(m, __m512d(tie), zero));
+  return std::uint32_t(m) << off;
+}
+
+std::uint32_t plane_hit_lanes_avx512(ir::Vec3 n, double d, const PlaneRayLanes& rays,
+                                     std::uint32_t live, double* tmax, double* tie) {
+  return eight_hit(n, d, rays, 0, live, tmax, tie) | eight_hit(n, d, rays, 8, live, tmax, tie);
+}
+
 std::uint32_t plane_lanes_avx512(ir::Vec3 n, double d, const ShadowLanes16& rays,
                                  std::uint32_t live) {
   return eight(n, d, rays, 0, live) | eight(n, d, rays, 8, live);
@@ -93,7 +138,26 @@ const SimdPaths<PlaneLanesFn>& available() {
   return paths;
 }
 
+const SimdPaths<PlaneHitLanesFn>& hit_available() {
+#ifdef SNELL_HAVE_AVX512_PATH
+  static const auto paths =
+      simd_paths<PlaneHitLanesFn>(avx512_supported(), plane_hit_lanes_avx512, nullptr);
+#else
+  static const auto paths = simd_paths<PlaneHitLanesFn>(false, nullptr, nullptr);
+#endif
+  return paths;
+}
+
 }  // namespace
+
+PlaneHitLanesFn plane_hit_lanes() {
+  static const PlaneHitLanesFn best = best_path(hit_available());
+  return best;
+}
+
+std::vector<std::pair<std::string, PlaneHitLanesFn>> plane_hit_lanes_paths() {
+  return hit_available();
+}
 
 PlaneLanesFn plane_lanes() {
   static const PlaneLanesFn best = best_path(available());

@@ -97,3 +97,83 @@ TEST_CASE("a shadow packet's plane test is the one-ray test, lane by lane",
     CHECK(blocked_n < lanes * 9 / 10);
   }
 }
+
+TEST_CASE("a packet's nearest plane hits are the one-ray query's, lane by lane",
+          "[shapes][plane][lanes]") {
+  // Several planes (a floor, walls, one across the others), rays from near the
+  // camera and from on a plane, with tnear 0 or past a plane (an index-matched
+  // continuation), tmax from a nearer BVH hit or none, and a tie window: the plane
+  // each lane ends on, its t and the Hit written are those of intersect().
+  if (!plane_hit_lanes()) SUCCEED("no SIMD plane path on this CPU: packets test lane by lane");
+  std::mt19937 rng(29);
+  std::uniform_real_distribution<double> u01(0, 1);
+  std::normal_distribution<double> g;
+  std::uint64_t lanes = 0, hits = 0, tied = 0;
+  for (int trial = 0; trial < 4000; ++trial) {
+    PlaneSet set;
+    ir::Shape shape;
+    const int np = 1 + trial % 4;
+    std::vector<ir::Plane> planes(np);
+    for (int i = 0; i < np; ++i) {
+      planes[i].normal =
+          i == 0 ? ir::Vec3(0, 1, 0) : ir::normalize(ir::Vec3(g(rng), g(rng), g(rng)));
+      planes[i].distance = (u01(rng) - 0.5) * 20;
+      set.add(shape, planes[i], std::uint32_t(i), ir::Vec3(0, 0, 0), false);
+    }
+    alignas(64) float ox[16], oy[16], oz[16], dx[16], dy[16], dz[16], tn[16];
+    alignas(64) double tmax[16], tie[16];
+    Ray rays[16];
+    for (int k = 0; k < 16; ++k) {
+      ir::Vec3 o = ir::Vec3(g(rng), g(rng), g(rng)) * (k % 4 == 0 ? 0.01 : 5.0);
+      if (k % 5 == 1) o = planes[0].normal * planes[0].distance + ir::Vec3(g(rng), 0, g(rng));
+      const ir::Vec3 d = ir::Vec3(g(rng), g(rng), g(rng)) * std::pow(10.0, 2 * u01(rng) - 1);
+      rays[k].org = {float(o.x), float(o.y), float(o.z)};
+      rays[k].dir = {float(d.x), float(d.y), float(d.z)};
+      rays[k].tnear = k % 7 == 3 ? float(u01(rng) * 2) : 0.0f;
+      rays[k].tmax = INFINITY;
+      ox[k] = rays[k].org.x, oy[k] = rays[k].org.y, oz[k] = rays[k].org.z;
+      dx[k] = rays[k].dir.x, dy[k] = rays[k].dir.y, dz[k] = rays[k].dir.z, tn[k] = rays[k].tnear;
+      tmax[k] = k % 3 == 0 ? 1 + 10 * u01(rng) : double(INFINITY);  // a BVH hit before
+      tie[k] = k % 3 == 0 && k % 2 == 0 ? 1e-3 * u01(rng) : 0;
+      if (k % 6 == 0) {  // a BVH hit just short of the floor: the floor wins by the tie
+        const ir::Vec3 of(ox[k], oy[k], oz[k]), df(dx[k], dy[k], dz[k]);
+        const double t0 =
+            (planes[0].distance - ir::dot(planes[0].normal, of)) / ir::dot(planes[0].normal, df);
+        if (t0 > 1e-3) tmax[k] = t0 * (1 - 1e-9), tie[k] = 1e-3;
+      }
+    }
+    const std::uint32_t live = trial % 2 ? 0xffffu : std::uint32_t(rng()) & 0xffffu;
+    double lt[16], le[16];
+    std::copy(tmax, tmax + 16, lt), std::copy(tie, tie + 16, le);
+    std::uint32_t which[16], hit_lanes = 0;
+    REQUIRE(set.intersect_lanes({ox, oy, oz, dx, dy, dz, tn}, live, lt, le, which, hit_lanes));
+    REQUIRE((hit_lanes & ~live) == 0);
+    for (int k = 0; k < 16; ++k) {
+      if (!((live >> k) & 1)) continue;
+      ++lanes;
+      double t1 = tmax[k];
+      Hit one;
+      const bool hit1 = set.intersect(rays[k], t1, tie[k], one);
+      INFO("trial " << trial << " lane " << k);
+      REQUIRE(hit1 == bool((hit_lanes >> k) & 1));
+      if (!hit1) {
+        REQUIRE(lt[k] == tmax[k]);
+        continue;
+      }
+      ++hits;
+      tied += tie[k] > 0 && t1 >= tmax[k];
+      REQUIRE(lt[k] == t1);
+      Hit two;
+      set.plane_hit(which[k], rays[k], lt[k], two);
+      REQUIRE(two.t == one.t);
+      REQUIRE(two.index == one.index);
+      REQUIRE((two.ng.x == one.ng.x && two.ng.y == one.ng.y && two.ng.z == one.ng.z));
+      REQUIRE((two.p.x == one.p.x && two.p.y == one.p.y && two.p.z == one.p.z));
+      REQUIRE(two.offset == one.offset);
+    }
+  }
+  INFO(lanes << " lanes, " << hits << " hits, " << tied << " within a tie");
+  CHECK(hits > lanes / 5);
+  CHECK(hits < lanes * 9 / 10);
+  CHECK(tied > 0);
+}
