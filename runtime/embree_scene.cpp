@@ -789,7 +789,7 @@ bool finish_hit(const EmbreeScene::Impl& im, const Ray& r, const RTCRayHit& rh, 
 // (PlaneSet::intersect_lanes), each lane as finish_hit tests it.
 void finish_hits(const EmbreeScene::Impl& im, const Ray* rays, std::size_t n, const RTCRayHit16& rh,
                  Hit* hits, std::uint8_t* found) {
-  alignas(64) double tmax[16], tie[16];
+  alignas(64) double tmax[16] = {}, tie[16] = {};  // lanes past n: read, masked
   for (std::size_t k = 0; k < n; ++k) {
     RTCRayHit one = make_rayhit(rays[k]);
     one.ray.tfar = rh.ray.tfar[k];
