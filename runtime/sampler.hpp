@@ -135,6 +135,8 @@ inline std::uint32_t permute_mask(std::uint32_t n) {
 inline std::uint32_t permute(std::uint32_t i, const Divisor32& l, std::uint32_t w,
                              std::uint32_t p) {
   if (l.d <= 1) return 0;
+  // The round's i *= 1 | p >> 27 and i *= 0x6935fa69, as one product (mod 2^32).
+  const std::uint32_t mul = (1 | p >> 27) * 0x6935fa69u;
   do {
     i ^= p;
     i *= 0xe170893d;
@@ -144,8 +146,7 @@ inline std::uint32_t permute(std::uint32_t i, const Divisor32& l, std::uint32_t 
     i *= 0x0929eb3f;
     i ^= p >> 23;
     i ^= (i & w) >> 1;
-    i *= 1 | p >> 27;
-    i *= 0x6935fa69;
+    i *= mul;
     i ^= (i & w) >> 11;
     i *= 0x74dcb303;
     i ^= (i & w) >> 2;

@@ -211,36 +211,68 @@ SNELL_AVX512DQ_TARGET inline F32x8 unit8(U64x8 bits) {
 // go in one loop, each round of one filling the others' latency; a chain that is
 // done still runs its rounds (cheaper than a branch), keeping its first value in
 // range.
+// a ^ (b & c), (a ^ b) & c and a ^ b ^ c in one instruction each (vpternlogd).
+SNELL_AVX512DQ_TARGET inline U32x16 xor_and(U32x16 a, U32x16 b, U32x16 c) {
+  return U32x16(_mm512_ternarylogic_epi32(__m512i(a), __m512i(b), __m512i(c), 0x78));
+}
+SNELL_AVX512DQ_TARGET inline U32x16 and_of_xor(U32x16 a, U32x16 b, U32x16 c) {
+  return U32x16(_mm512_ternarylogic_epi32(__m512i(a), __m512i(b), __m512i(c), 0x28));
+}
+SNELL_AVX512DQ_TARGET inline U32x16 xor3(U32x16 a, U32x16 b, U32x16 c) {
+  return U32x16(_mm512_ternarylogic_epi32(__m512i(a), __m512i(b), __m512i(c), 0x96));
+}
+
+// A chain's key-dependent terms of Kensler's round, the same every round.
+struct KenslerKey {
+  U32x16 q, q16_q8, q16_4, q23, q23_1, mul;
+};
+SNELL_AVX512DQ_TARGET inline KenslerKey kensler_key(U32x16 q) {
+  // x · (1 | q >> 27) · 0x6935fa69 is x times their product, mod 2^32.
+  return {q, (q >> 16) ^ (q >> 8), q >> 20, q >> 23, q >> 24, (1 | q >> 27) * 0x6935fa69u};
+}
+// One of Kensler's rounds (permute(), sampler.hpp): the same bits, in fewer and
+// shorter steps. (x & w) >> k is (x >> k) & (w >> k); a step x ^= (x & w) >> k
+// after x ^= a is x ^ a ^ (((x >> k) ^ (a >> k)) & (w >> k)), two ternary logic
+// operations on a shift; and the two products in a row are one.
+SNELL_AVX512DQ_TARGET inline U32x16 kensler_round(U32x16 x, const KenslerKey& k, U32x16 w,
+                                                  U32x16 w4, U32x16 w1, U32x16 w11, U32x16 w2,
+                                                  U32x16 w5) {
+  x = (x ^ k.q) * 0xe170893du;
+  x = xor3(x, k.q16_q8, and_of_xor(x >> 4, k.q16_4, w4));  // ^ q>>16, ^ (x&w)>>4, ^ q>>8
+  x *= 0x0929eb3fu;
+  x = xor3(x, k.q23, and_of_xor(x >> 1, k.q23_1, w1));  // ^ q>>23, ^ (x&w)>>1
+  x *= k.mul;
+  x = xor_and(x, x >> 11, w11);
+  x *= 0x74dcb303u;
+  x = xor_and(x, x >> 2, w2);
+  x *= 0x9e501cc3u;
+  x = xor_and(x, x >> 2, w2);
+  x *= 0xc860a3dfu;
+  return xor_and(x & w, x >> 5, w5);  // x &= w, ^ x>>5
+}
+
+// permute(index, l, w, p[c]) of 16 lanes of N key sets p[c]. Kensler's rounds
+// are written again here (kensler_round), as lk16 is: the scalar code cannot be
+// inlined into a function of another target; test_sampler.cpp holds the two to
+// the same bits. A round is one dependent chain of ~33 cycles (six products), so
+// the N walks go in one loop, each round of one filling the others' latency; a
+// chain that is done still runs its rounds (cheaper than a branch), keeping its
+// first value in range.
 template <int N>
 SNELL_AVX512DQ_TARGET inline void permute16(std::uint32_t index, const Divisor32& l,
                                             std::uint32_t w, const U32x16* p, U32x16* out) {
   U32x16 i[N];
+  KenslerKey key[N];
   __mmask16 todo[N];
   for (int c = 0; c < N; ++c) i[c] = U32x16{} + index, out[c] = U32x16{}, todo[c] = 0xffff;
   if (l.d <= 1) return;
+  for (int c = 0; c < N; ++c) key[c] = kensler_key(p[c]);
+  const U32x16 wv = U32x16{} + w, w4 = wv >> 4, w1 = wv >> 1, w11 = wv >> 11, w2 = wv >> 2,
+               w5 = wv >> 5;
   for (;;) {
     __mmask16 any = 0;
     for (int c = 0; c < N; ++c) {
-      U32x16 x = i[c];
-      const U32x16 q = p[c];
-      x ^= q;
-      x *= 0xe170893d;
-      x ^= q >> 16;
-      x ^= (x & w) >> 4;
-      x ^= q >> 8;
-      x *= 0x0929eb3f;
-      x ^= q >> 23;
-      x ^= (x & w) >> 1;
-      x *= 1 | q >> 27;
-      x *= 0x6935fa69;
-      x ^= (x & w) >> 11;
-      x *= 0x74dcb303;
-      x ^= (x & w) >> 2;
-      x *= 0x9e501cc3;
-      x ^= (x & w) >> 2;
-      x *= 0xc860a3df;
-      x &= w;
-      x ^= x >> 5;
+      const U32x16 x = kensler_round(i[c], key[c], wv, w4, w1, w11, w2, w5);
       i[c] = x;
       __mmask16 in = _mm512_cmplt_epu32_mask(__m512i(x), _mm512_set1_epi32(int(l.d))) & todo[c];
       out[c] = U32x16(_mm512_mask_mov_epi32(__m512i(out[c]), in, __m512i(x)));
