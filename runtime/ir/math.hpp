@@ -54,7 +54,9 @@ constexpr Vec3 cross(Vec3 a, Vec3 b) {
 // of glibc's x86-64 code (minsd, maxsd: of equal operands, ±0 included, the
 // second): GCC calls libm for them, as it must honour NaNs and signed zeros, and
 // the calls were 5 % of a render of CSG cones. test_shapes.cpp holds the two
-// together on the machine that runs it.
+// together on the machine that runs it, calling libm through a pointer: GCC takes
+// fmin as commutative and may swap the operands of a direct call, so which of two
+// equal zeros such a call gives is the compiler's choice.
 [[gnu::always_inline]] inline double min_num(double x, double y) {
   if (x < y) return x;
   return y != y ? x : y;
