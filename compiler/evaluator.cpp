@@ -215,7 +215,7 @@ void Evaluator::exec_let(const Stmt& s, const std::shared_ptr<Env>& env) {
 
 Evaluator::~Evaluator() {
   for (const std::weak_ptr<Env>& w : closure_scopes_)
-    if (std::shared_ptr<Env> scope = w.lock()) scope->vars.clear();
+    if (std::shared_ptr<Env> scope = w.lock()) scope->clear();
 }
 
 void Evaluator::exec_fn(const Stmt& s, const std::shared_ptr<Env>& env) {
@@ -229,12 +229,13 @@ void Evaluator::exec_fn(const Stmt& s, const std::shared_ptr<Env>& env) {
     closure->params.push_back(intern(p));
     symbol_bound_[closure->params.back()] = 1;
   }
+  // By symbol: comparing every pair of names took 6 s for 100 000 parameters.
+  std::unordered_map<std::int32_t, std::size_t> first;
   for (std::size_t i = 0; i < s.params.size(); ++i)
-    for (std::size_t j = 0; j < i; ++j)
-      if (s.params[i] == s.params[j])
-        error(DiagKind::Redefinition, s.param_spans[i],
-              "parameter '" + s.params[i] + "' is named twice")
-            .note(s.param_spans[j], "first named here");
+    if (auto [at, fresh] = first.emplace(closure->params[i], i); !fresh)
+      error(DiagKind::Redefinition, s.param_spans[i],
+            "parameter '" + s.params[i] + "' is named twice")
+          .note(s.param_spans[at->second], "first named here");
   define(env, symbol_of(s), Value::of_function(std::move(closure)), s.name_span);
 }
 
@@ -274,7 +275,7 @@ Evaluator::Flow Evaluator::exec_for(const Stmt& s, const std::shared_ptr<Env>& e
       scope = std::make_shared<Env>();
       scope->parent = env;
     } else {
-      scope->vars.clear();
+      scope->clear();
     }
     scope->vars.push_back({sym, Value::number(x), s.name_span, false});
     if (exec_block(s.body, scope, frame) == Flow::Return) return Flow::Return;

@@ -108,14 +108,25 @@ Value Evaluator::eval_name(const Expr& e, const std::shared_ptr<Env>& env) {
     if (s->failed_import) return Value::error();  // reported at the import
   // A broken statement may have defined it: its syntax error is the report.
   if (unsure_names_.count(e.text)) return Value::error();
-  std::vector<std::string_view> visible;
-  for (const Env* s = env.get(); s; s = s->parent.get())
-    for (const Binding& b : s->vars) visible.push_back(symbol_names_[b.symbol]);
-  for (int i = 0; i < builtin_count(); ++i) visible.push_back(builtin_info(i).name);
-  // A misspelt constructor (`material difuse 0.5`) reads as a name.
-  for (std::string_view c : lang::constructor_names()) visible.push_back(c);
+  if (!undefined_at_.insert(std::uint64_t(e.span.file) << 32 | e.span.begin).second) {
+    error(DiagKind::UndefinedName, e.span, "'" + e.text + "' is not defined");
+    return Value::error();
+  }
+  // A guess compares the name with every visible one: past kGuessWork names in
+  // all (or once the errors are no longer kept) there are no more guesses, so a
+  // file of 50 000 lets of undefined names is not quadratic in them.
+  std::string guess;
+  if (!diags_.limit_reached() && guess_work_ < kGuessWork) {
+    std::vector<std::string_view> visible;
+    for (const Env* s = env.get(); s; s = s->parent.get())
+      for (const Binding& b : s->vars) visible.push_back(symbol_names_[b.symbol]);
+    for (int i = 0; i < builtin_count(); ++i) visible.push_back(builtin_info(i).name);
+    // A misspelt constructor (`material difuse 0.5`) reads as a name.
+    for (std::string_view c : lang::constructor_names()) visible.push_back(c);
+    guess_work_ += visible.size();
+    guess = lang::closest_match(e.text, visible);
+  }
   auto d = error(DiagKind::UndefinedName, e.span, "'" + e.text + "' is not defined");
-  std::string guess = lang::closest_match(e.text, visible);
   if (const char* pov = povray_note(PovrayWordKind::Name, e.text))
     d.note(pov);
   else if (lang::is_constructor_name(e.text))

@@ -787,3 +787,58 @@ TEST_CASE("background takes any expression, a parenthesised one too", "[compiler
     CHECK(k->color.z == 0.5);
   }
 }
+
+TEST_CASE("scopes of many names find each one, however they were filled", "[compiler][limits]") {
+  // Past 16 names a scope finds them through an index: every one of 300 is found
+  // (a wrong index reads as "not defined" or as another name's value), a name
+  // defined twice is still a redefinition, and a loop body's scope, emptied and
+  // filled again each iteration, finds that iteration's names.
+  std::string src;
+  for (int i = 0; i < 300; ++i)
+    src += "let v" + std::to_string(i) + " = " + std::to_string(i) + ";\n";
+  src += "let total = 0";
+  for (int i = 0; i < 300; i += 7) src += " + v" + std::to_string(i);
+  src += ";\n";
+  src += "for i in 0 .. 3 {\n";
+  for (int i = 0; i < 40; ++i)
+    src += "  let w" + std::to_string(i) + " = i * " + std::to_string(i) + ";\n";
+  src += "  sphere { center <w39, w1, 0> radius 1 + w0 }\n}\n";
+  src += "sphere { center <total, 0, 0> radius 1 }\n";
+  CHECK(diag_kinds(*run(src + "let v150 = 1;\n")) == "Redefinition ");
+  auto c = run(src);
+  CHECK(diag_kinds(*c).empty());
+  const ir::Scene& scene = c->scene;
+  REQUIRE(scene.shapes.size() == 4);
+  int sum = 0;
+  for (int i = 0; i < 300; i += 7) sum += i;
+  bool found_total = false;
+  for (const ir::Shape& s : scene.shapes) {
+    const auto* sp = s.as<ir::Sphere>();
+    REQUIRE(sp);
+    const ir::Vec3 at = s.world_from_object().point(sp->center);
+    if (at.x == sum) found_total = true;
+  }
+  CHECK(found_total);
+  // The loop's iterations: centre <39 i, i, 0>.
+  for (int i = 0; i < 3; ++i) {
+    const auto* sp = scene.shapes[std::size_t(i)].as<ir::Sphere>();
+    const ir::Vec3 at = scene.shapes[std::size_t(i)].world_from_object().point(sp->center);
+    CHECK(at.x == 39 * i);
+    CHECK(at.y == i);
+  }
+}
+
+TEST_CASE("an undefined name in a loop is one error, its guess made once", "[compiler][limits]") {
+  // Each repeat searched every visible name for a "did you mean" again: 4.4 ms an
+  // iteration with 10 000 names in scope, an hour for a million iterations.
+  std::string src;
+  for (int i = 0; i < 2000; ++i) src += "let name_number_" + std::to_string(i) + " = 1;\n";
+  src += "for i in 0 .. 5000 { let x = name_numbr_5 + i; }\n";
+  auto c = run(src);
+  const auto& d = c->diags.diagnostics();
+  REQUIRE(d.size() == 1);
+  CHECK(d[0].kind == lang::DiagKind::UndefinedName);
+  CHECK(d[0].repeats == 4999);
+  REQUIRE(d[0].notes.size() == 1);
+  CHECK(d[0].notes[0].message == "did you mean 'name_number_5'?");
+}
