@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <new>
 #include <stdexcept>
 #include <tuple>
 #include <type_traits>
@@ -207,9 +208,17 @@ void user_occluded(const RTCOccludedFunctionNArguments* args) {
   }
 }
 
+// Embree's first error; out of memory is kept apart, to be the same clean
+// out-of-memory report as an allocation of Snell's own that fails (std::bad_alloc).
+struct EmbreeError {
+  std::string message;
+  bool out_of_memory = false;
+};
 void embree_error(void* user, RTCError code, const char* str) {
-  auto* msg = static_cast<std::string*>(user);
-  if (msg->empty()) *msg = fmt::format("embree error {}: {}", int(code), str ? str : "");
+  auto* e = static_cast<EmbreeError*>(user);
+  if (code == RTC_ERROR_OUT_OF_MEMORY) e->out_of_memory = true;
+  if (e->message.empty())
+    e->message = fmt::format("embree error {}: {}", int(code), str ? str : "");
 }
 
 }  // namespace
@@ -275,7 +284,7 @@ struct InstanceEntry {
 
 struct EmbreeScene::Impl {
   RTCDevice device = nullptr;
-  std::string error;
+  EmbreeError error;
   Layer world;
   std::vector<std::unique_ptr<Layer>> protos;
   std::vector<InstanceEntry> instances;  // by the instance's geomID in the world BVH
@@ -631,7 +640,8 @@ EmbreeScene::EmbreeScene(const ir::Scene& sc, ir::Vec3 origin)
     im.light_tris = 2;
   }
   rtcCommitScene(im.world.scene);
-  if (!im.error.empty()) throw std::runtime_error(im.error);
+  if (im.error.out_of_memory) throw std::bad_alloc();
+  if (!im.error.message.empty()) throw std::runtime_error(im.error.message);
 }
 
 bool EmbreeScene::has_motion() const {

@@ -75,6 +75,10 @@ MemoryEstimate estimate_memory(const ir::Scene& scene, std::uint64_t width, std:
   e.film = pixels * 3 * sizeof(float);
   std::uint64_t triangles = 0;
   for (const ir::MeshData& m : scene.meshes) triangles += m.indices.size() / 3;
+  // A box is 12 triangles of the triangle geometry, a triangle one, besides its
+  // shape (300 k boxes took 866 MB where 314 MB were counted).
+  for (const ir::Shape& s : scene.shapes)
+    triangles += s.as<ir::Box>() ? 12 : s.as<ir::Triangle>() ? 1 : 0;
   std::uint64_t spheres =
       std::uint64_t(std::count_if(scene.shapes.begin(), scene.shapes.end(), [](const ir::Shape& s) {
         return s.as<ir::Sphere>() && !s.motion().moves();
