@@ -653,6 +653,18 @@ TEST_CASE("warnings: no object, no light for a diffuse surface, the camera insid
   out = check_out("settings { max_depth 40 min_weight 1e-30 }" + glass);
   CHECK(out.find("warning: min_weight 1e-30 prunes little") != std::string::npos);
   CHECK(out.find("7.5e+11 rays") != std::string::npos);
+  // Not only past depth 24: at 24, 1e-30 prunes nothing of 2^24 rays a camera ray.
+  out = check_out("settings { max_depth 24 min_weight 1e-30 }" + glass);
+  CHECK(out.find("warning: min_weight 1e-30 prunes little") != std::string::npos);
+  // Area lights' shadow rays per shading point, in all: past what one light may take.
+  const std::string light =
+      "area_light { corner <-1, 4, -1> edge1 <2, 0, 0> edge2 <0, 0, 2> "
+      "radiance 1 samples <256, 256> }\n";
+  out = check_out(light + "sphere { center <0, 0, 5> }\n");
+  CHECK(out.find("warning") == std::string::npos);
+  out = check_out(light + light + "sphere { center <0, 0, 5> }\n");
+  CHECK(out.find("warning: the area lights take 131072 shadow rays per shading point") !=
+        std::string::npos);
   // Not with pruning, a shallow tree, one branch at a time, or no glass.
   for (const std::string settings :
        {"max_depth 50", "max_depth 40 min_weight 1e-6", "max_depth 20 min_weight 0",
