@@ -112,6 +112,11 @@ int main(int argc, char** argv) {
       std::cerr << "snell: note: " << hint << "\n";
     return kExitUsage;
   }
+  // CLI11's own failures ("--spp: Value 0 not in range ...") in Snell's form.
+  app.failure_message([](const CLI::App*, const CLI::Error& e) {
+    return "snell: error: " + std::string(e.what()) +
+           "\nsnell: note: 'snell --help' and 'snell COMMAND --help' list the options\n";
+  });
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

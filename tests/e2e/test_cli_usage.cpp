@@ -77,6 +77,14 @@ TEST_CASE("every subcommand's usage errors exit 2, its --help 0", "[e2e]") {
   }
   CHECK(run("render " + ok + " --spp 0") == 2);
   CHECK(run("render " + ok + " --seed 4294967296") == 2);
+  // Said in Snell's form, as every other usage error (the argument parser's own
+  // lines were "--spp: Value 0 not in range ..." and "Run with --help ...").
+  std::string err;
+  CHECK(run_capture("render " + ok + " --spp 0", err, tmp) == 2);
+  CHECK(err.rfind("snell: error: --spp: Value 0 not in range 1 to 1048576\n", 0) == 0);
+  CHECK(err.find("Run with --help") == std::string::npos);
+  CHECK(run_capture("render " + ok + " --bogus", err, tmp) == 2);
+  CHECK(err.rfind("snell: error: ", 0) == 0);
   CHECK(run("check " + ok + " --spp 4") == 2);  // a render option
   CHECK(run("check " + ok + " --set x") == 2);
   CHECK(run("sweep " + ok) == 2);  // no --vary
