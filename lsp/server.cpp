@@ -73,7 +73,11 @@ void Server::handle(const json& message) {
   } catch (const std::bad_alloc&) {
     if (is_request) send_(make_error(id, kRequestFailed, "out of memory"));
   } catch (const json::exception& e) {
-    if (is_request) send_(make_error(id, kInvalidParams, e.what()));
+    // Without the library's "[json.exception.type_error.302] " before the words.
+    std::string what = e.what();
+    if (what.rfind("[json.exception.", 0) == 0)
+      if (std::size_t end = what.find("] "); end != std::string::npos) what.erase(0, end + 2);
+    if (is_request) send_(make_error(id, kInvalidParams, what));
   } catch (const std::exception& e) {
     if (is_request) send_(make_error(id, kInternalError, e.what()));
   }

@@ -232,7 +232,14 @@ TEST_CASE("server: a position out of range is an InvalidParams error", "[lsp]") 
     json r = c.request("textDocument/hover", {{"textDocument", {{"uri", kUri}}}, {"position", p}});
     REQUIRE(r.contains("error"));
     CHECK(r["error"]["code"] == -32602);
+    // The words alone, without the JSON library's "[json.exception...]" tag.
+    CHECK(r["error"]["message"].get<std::string>().rfind("position.", 0) == 0);
   }
+  // A missing field likewise.
+  json r = c.request("textDocument/hover", {{"textDocument", {{"uri", kUri}}}});
+  REQUIRE(r.contains("error"));
+  CHECK(r["error"]["code"] == -32602);
+  CHECK(r["error"]["message"].get<std::string>().find("json.exception") == std::string::npos);
   json ok =
       c.request("textDocument/hover", {{"textDocument", {{"uri", kUri}}}, {"position", pos(0, 4)}});
   CHECK(ok["result"].is_object());
