@@ -24,6 +24,12 @@ std::size_t find_header(std::string_view text, std::size_t n) {
 }  // namespace
 
 std::optional<std::string> MessageReader::next(std::string* error) {
+  // Every problem met on the way, in order (a call may skip several).
+  auto say = [&](const std::string& what) {
+    if (!error) return;
+    if (!error->empty()) *error += "; ";
+    *error += what;
+  };
   for (;;) {
     if (skip_ > 0) {
       // A header inside what is skipped ends the skip: a Content-Length of 10^14
@@ -47,7 +53,7 @@ std::optional<std::string> MessageReader::next(std::string* error) {
                          std::string_view("content-length:").substr(0, keep)))
         return std::nullopt;  // the start of one, still arriving
       std::size_t at = find_header(buffer_, buffer_.size());
-      if (error) *error = "bytes outside any message, skipped to the next header";
+      say("bytes outside any message, skipped to the next header");
       if (at == std::string::npos) {
         buffer_.erase(0, buffer_.size() > 14 ? buffer_.size() - 14 : 0);
         return std::nullopt;
@@ -60,7 +66,7 @@ std::optional<std::string> MessageReader::next(std::string* error) {
       // a tail that could still hold the start of a separator.
       if (buffer_.size() > 1 << 16) {
         buffer_.erase(0, buffer_.size() - 3);
-        if (error) *error = "a header block longer than 64 KiB";
+        say("a header block longer than 64 KiB");
       }
       return std::nullopt;
     }
@@ -84,12 +90,12 @@ std::optional<std::string> MessageReader::next(std::string* error) {
     }
     std::size_t body = end + 4;
     if (!length) {
-      if (error) *error = "a header block without a valid Content-Length";
+      say("a header block without a valid Content-Length");
       buffer_.erase(0, body);
       continue;
     }
     if (*length > kMaxMessageBytes) {
-      if (error) *error = "a message of " + std::to_string(*length) + " bytes (too large)";
+      say("a message of " + std::to_string(*length) + " bytes (too large)");
       buffer_.erase(0, body);
       skip_ = *length;
       continue;

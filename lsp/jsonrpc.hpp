@@ -23,8 +23,9 @@ inline constexpr std::size_t kMaxMessageBytes = std::size_t(256) << 20;
 class MessageReader {
  public:
   void feed(std::string_view bytes) { buffer_.append(bytes); }
-  // The next complete body, or nullopt when more bytes are needed. `error` is set
-  // (and the bad header skipped) when a header block has no usable Content-Length.
+  // The next complete body, or nullopt when more bytes are needed. What was
+  // skipped on the way (junk, a header block with no usable Content-Length, a body
+  // too large) is appended to `error`, problems joined by "; ".
   std::optional<std::string> next(std::string* error = nullptr);
   std::size_t buffered() const { return buffer_.size(); }
 

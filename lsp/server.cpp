@@ -5,6 +5,7 @@
 
 #include <csignal>
 #include <cstdio>
+#include <iostream>
 #include <new>
 
 #include "lsp/features.hpp"
@@ -337,7 +338,15 @@ int run_stdio(const ServerOptions& options) {
     if (n <= 0) return 0;  // stdin closed: the client is gone
     reader.feed({buf, static_cast<std::size_t>(n)});
     std::string error;
+    // What the reader dropped is said on stderr (the client's log of the server):
+    // junk or a bad header was skipped silently.
+    auto say_dropped = [&] {
+      if (error.empty()) return;
+      std::cerr << "snell lsp: " << error << "\n";
+      error.clear();
+    };
     while (auto body = reader.next(&error)) {
+      say_dropped();
       mend_lone_surrogates(*body);
       json message = json::parse(*body, nullptr, /*allow_exceptions=*/false);
       if (message.is_discarded())
@@ -346,6 +355,7 @@ int run_stdio(const ServerOptions& options) {
         server.handle(message);
       if (server.exit_requested()) return server.exit_code();
     }
+    say_dropped();
   }
   return 1;
 }

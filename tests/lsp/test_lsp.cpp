@@ -31,6 +31,27 @@ TEST_CASE("framing: whole, split and back-to-back messages", "[lsp]") {
   CHECK(json::parse(*second)["y"] == "é");
 }
 
+TEST_CASE("jsonrpc: every problem skipped on the way is said, in order", "[lsp][jsonrpc]") {
+  // The server prints them on stderr; only the last one was kept (and none said).
+  MessageReader r;
+  r.feed(
+      "garbage\x01"
+      "Content-Length: abc\r\n\r\nContent-Length: 99999999999999\r\n\r\nxx"
+      "Content-Length: 2\r\n\r\n{}");
+  std::string error;
+  auto m = r.next(&error);
+  REQUIRE(m);  // the next header ends the skip of the huge body
+  CHECK(*m == "{}");
+  const std::size_t junk = error.find("bytes outside any message"),
+                    header = error.find("without a valid Content-Length"),
+                    large = error.find("99999999999999 bytes (too large)");
+  INFO(error);
+  CHECK(junk != std::string::npos);
+  CHECK(header != std::string::npos);
+  CHECK(large != std::string::npos);
+  CHECK((junk < header && header < large));
+}
+
 TEST_CASE("framing: headers in any case, extra headers, bad headers skipped", "[lsp]") {
   MessageReader r;
   r.feed("content-length: 2\r\nContent-Type: application/vscode-jsonrpc\r\n\r\n{}");
