@@ -147,6 +147,10 @@ RenderResult render(const ir::Scene& scene, const RenderOptions& options) {
   std::uint32_t tiles_y = (img.height + kTile - 1) / kTile;
   std::uint32_t ntiles = ctx.tiles_x * tiles_y;
   std::atomic<std::uint32_t> done{0};
+  std::atomic<std::uint64_t> work_done{0};
+  std::atomic<std::uint32_t> work_permille{0};
+  ctx.work_done = &work_done, ctx.work_permille = &work_permille;
+  ctx.work_total = std::uint64_t(img.width) * img.height * (s1 - s0);
   TileFn run = integrator->tile_kernel(kernel.bits);
   double overhead = options.measure_cost ? clock_overhead_ns() : 0;
   tbb::enumerable_thread_specific<Worker> workers([&] {
@@ -180,8 +184,14 @@ RenderResult render(const ir::Scene& scene, const RenderOptions& options) {
       skipped.store(true, std::memory_order_relaxed);
       return;
     }
-    std::uint32_t n = ++done;
-    if (options.progress) options.progress(double(n) / ntiles);
+    ++done;
+    // The tile's pixel-samples not yet reported from inside it.
+    Worker& wk = workers.local();
+    const std::uint32_t tx = (tile % ctx.tiles_x) * kTile, ty = (tile / ctx.tiles_x) * kTile;
+    const std::uint64_t pixels =
+        std::uint64_t(std::min(kTile, img.width - tx)) * std::min(kTile, img.height - ty);
+    report_work(ctx, pixels * (s1 - s0) - wk.ticked);
+    wk.ticked = 0;
   };
 
   int threads = options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency();

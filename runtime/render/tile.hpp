@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <memory>
@@ -46,6 +47,12 @@ struct TileContext {
   std::string* trace = nullptr;
   float* rgb = nullptr;
   bool measure_cost = false;
+  // Progress inside tiles, in pixel-samples done of `work_total`: told through
+  // options->progress each time another thousandth is done. Tile by tile, one
+  // tile of a huge sample count (one pixel at 1e9 spp) ran for minutes unsaid.
+  std::atomic<std::uint64_t>* work_done = nullptr;
+  std::atomic<std::uint32_t>* work_permille = nullptr;
+  std::uint64_t work_total = 1;
 };
 
 // One thread's state: counters, cost clock and the integrator's scratch (made by
@@ -53,6 +60,7 @@ struct TileContext {
 struct Worker {
   RenderStats stats;
   CostClock cost;
+  std::uint64_t ticked = 0;  // pixel-samples of the tile under way already reported
   std::shared_ptr<void> scratch;
   template <class T>
   T& scratch_as() {
@@ -60,6 +68,26 @@ struct Worker {
     return *static_cast<T*>(scratch.get());
   }
 };
+
+// n more pixel-samples done: the progress callback is told when they complete
+// another thousandth of the render (a few hundred calls at most, from any thread).
+inline void report_work(const TileContext& c, std::uint64_t n) {
+  if (!c.work_done || n == 0) return;
+  const std::uint64_t done = c.work_done->fetch_add(n, std::memory_order_relaxed) + n;
+  const auto permille = std::uint32_t(double(done) / double(c.work_total) * 1000);
+  std::uint32_t last = c.work_permille->load(std::memory_order_relaxed);
+  while (permille > last)
+    if (c.work_permille->compare_exchange_weak(last, permille, std::memory_order_relaxed)) {
+      if (c.options->progress) c.options->progress(double(done) / double(c.work_total));
+      return;
+    }
+}
+// The same from inside a tile, counted in the worker's `ticked` (render.cpp adds
+// the rest of the tile's work when it ends).
+inline void tile_work(const TileContext& c, Worker& wk, std::uint64_t n) {
+  wk.ticked += n;
+  report_work(c, n);
+}
 
 // Where a camera sample comes from: the sampler inputs the tree draws dimensions from.
 // `dims`, when set, is the pixel's key cache (DimCache): the same numbers, fewer hashes.
@@ -257,7 +285,10 @@ void render_tile_packets(const TileContext& c, std::uint32_t x0, std::uint32_t y
           sum[n][0] = sum[n][1] = sum[n][2] = 0, kept[n] = 0;
         }
       for (std::uint32_t s = c.sample_begin; s < c.sample_end; ++s) {
-        if (((s - c.sample_begin) & 15) == 15 && cancelled(c)) return;
+        if (((s - c.sample_begin) & 15) == 15) {
+          tile_work(c, wk, std::uint64_t(n) * 16);
+          if (cancelled(c)) return;
+        }
         camera_rays<K>(c, n, keys, lanes, px, py, s, rays, stats);
         c.embree->intersect(std::span<const Ray>(rays, n), std::span<Hit>(hits, n),
                             std::span<std::uint8_t>(found, n));
@@ -378,7 +409,10 @@ void render_tile(const TileContext& c, std::uint32_t tile, Worker& wk) {
       double sum[3] = {0, 0, 0};
       std::uint32_t kept = 0;
       for (std::uint32_t s = c.sample_begin; s < c.sample_end; ++s) {
-        if (((s - c.sample_begin) & 15) == 15 && cancelled(c)) return;
+        if (((s - c.sample_begin) & 15) == 15) {
+          tile_work(c, wk, 16);
+          if (cancelled(c)) return;
+        }
         Color col = sample_alone<K, I>(c, x, y, s, pixel, keys, dims, wk, tracing, false);
         if (!is_finite(col)) {  // dropped and counted, never written
           ++stats.nonfinite_samples;
