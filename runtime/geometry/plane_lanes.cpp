@@ -32,58 +32,19 @@ inline F64x8 abs8(F64x8 x) {
   return F64x8(_mm512_abs_pd(__m512d(x)));
 }
 
-// Eight lanes starting at `off`. Each line is one operation of hit_plane, in its
-// order (a dot product is x·x + y·y + z·z, as ir::dot): tnear 0, so the ray must
-// not leave the plane; t in (0, tmax) in double and positive in float; the hit
-// point within kMaxPlaneHit (finite there, as t, o and d are: fmax is max).
-std::uint32_t eight(ir::Vec3 n, double pd, const ShadowLanes16& r, std::uint32_t off,
-                    std::uint32_t live) {
-  __mmask8 m = __mmask8(live >> off);
-  if (!m) return 0;
-  const F64x8 ox = widen(r.ox + off), oy = widen(r.oy + off), oz = widen(r.oz + off);
-  const F64x8 dx = widen(r.dx + off), dy = widen(r.dy + off), dz = widen(r.dz + off);
+// Eight lanes: the lanes of m whose ray o + t·d meets the plane dot(n, x) = pd at
+// a t in (tnear, tmax + tie / |n·d|), that t in `t`. Each line is one operation of
+// hit_plane, in its order (a dot product is x·x + y·y + z·z, as ir::dot): with
+// tnear >= 0 a ray leaving the plane (or starting on it) is turned away; t must be
+// positive in float too; the hit point lies within kMaxPlaneHit (finite there, as
+// t, o and d are, so fmax is max). kTie: a tie window (nearest-hit queries; for
+// shadow rays it is 0, and tmax + 0 / |n·d| is tmax).
+template <bool kTie>
+__mmask8 meets(ir::Vec3 n, double pd, F64x8 ox, F64x8 oy, F64x8 oz, F64x8 dx, F64x8 dy, F64x8 dz,
+               F64x8 tnear, F64x8 tmax, F64x8 tie, __mmask8 m, F64x8& t) {
   const F64x8 denom = n.x * dx + n.y * dy + n.z * dz;
   const F64x8 num = pd - (n.x * ox + n.y * oy + n.z * oz);
   const __m512d zero = _mm512_setzero_pd();
-  // Rejected: num == 0, num > 0 && denom < 0, num < 0 && denom > 0; then denom == 0.
-  const __mmask8 leaves = _mm512_cmp_pd_mask(__m512d(num), zero, _CMP_EQ_OQ) |
-                          (_mm512_cmp_pd_mask(__m512d(num), zero, _CMP_GT_OQ) &
-                           _mm512_cmp_pd_mask(__m512d(denom), zero, _CMP_LT_OQ)) |
-                          (_mm512_cmp_pd_mask(__m512d(num), zero, _CMP_LT_OQ) &
-                           _mm512_cmp_pd_mask(__m512d(denom), zero, _CMP_GT_OQ)) |
-                          _mm512_cmp_pd_mask(__m512d(denom), zero, _CMP_EQ_OQ);
-  m &= __mmask8(~leaves);
-  if (!m) return 0;
-  const F64x8 t = num / denom;
-  const __m512d tmax = _mm512_set1_pd(double(kAreaShadowEnd));
-  m &= _mm512_cmp_pd_mask(__m512d(t), zero, _CMP_GT_OQ) &
-       _mm512_cmp_pd_mask(__m512d(t), tmax, _CMP_LT_OQ);
-  const __m256 tf = __m256(__builtin_convertvector(t, F32x8));
-  m &= _mm256_cmp_ps_mask(tf, _mm256_setzero_ps(), _CMP_GT_OQ);
-  if (!m) return 0;
-  const F64x8 qx = ox + dx * t, qy = oy + dy * t, qz = oz + dz * t;
-  const F64x8 far =
-      F64x8(_mm512_max_pd(__m512d(abs8(qx)), _mm512_max_pd(__m512d(abs8(qy)), __m512d(abs8(qz)))));
-  m &= _mm512_cmp_pd_mask(__m512d(far), _mm512_set1_pd(kMaxPlaneHit), _CMP_LE_OQ);
-  return std::uint32_t(m) << off;
-}
-
-// Eight lanes of the nearest-hit test: hit_plane with the ray's tnear, tmax[i] and
-// tie[i], as `eight` for shadow rays; a hit sets tmax[i] to its t and tie[i] to 0.
-std::uint32_t eight_hit(ir::Vec3 n, double pd, const PlaneRayLanes& r, std::uint32_t off,
-                        std::uint32_t live, double* tmax_io, double* tie_io) {
-  __mmask8 m = __mmask8(live >> off);
-  if (!m) return 0;
-  const F64x8 ox = widen(r.ox + off), oy = widen(r.oy + off), oz = widen(r.oz + off);
-  const F64x8 dx = widen(r.dx + off), dy = widen(r.dy + off), dz = widen(r.dz + off);
-  const F64x8 tnear = widen(r.tnear + off);
-  F64x8 tmax, tie;
-  __builtin_memcpy(&tmax, tmax_io + off, sizeof tmax);
-  __builtin_memcpy(&tie, tie_io + off, sizeof tie);
-  const F64x8 denom = n.x * dx + n.y * dy + n.z * dz;
-  const F64x8 num = pd - (n.x * ox + n.y * oy + n.z * oz);
-  const __m512d zero = _mm512_setzero_pd();
-  // With tnear >= 0, a ray leaving the plane (or starting on it) is turned away.
   const __mmask8 leaves = _mm512_cmp_pd_mask(__m512d(tnear), zero, _CMP_GE_OQ) &
                           (_mm512_cmp_pd_mask(__m512d(num), zero, _CMP_EQ_OQ) |
                            (_mm512_cmp_pd_mask(__m512d(num), zero, _CMP_GT_OQ) &
@@ -92,8 +53,9 @@ std::uint32_t eight_hit(ir::Vec3 n, double pd, const PlaneRayLanes& r, std::uint
                             _mm512_cmp_pd_mask(__m512d(denom), zero, _CMP_GT_OQ)));
   m &= __mmask8(~(leaves | _mm512_cmp_pd_mask(__m512d(denom), zero, _CMP_EQ_OQ)));
   if (!m) return 0;
-  const F64x8 t = num / denom;
-  const F64x8 limit = tmax + tie / abs8(denom);
+  t = num / denom;
+  F64x8 limit = tmax;
+  if constexpr (kTie) limit = tmax + tie / abs8(denom);
   m &= _mm512_cmp_pd_mask(__m512d(t), __m512d(tnear), _CMP_GT_OQ) &
        _mm512_cmp_pd_mask(__m512d(t), __m512d(limit), _CMP_LT_OQ);
   const __m256 tf = __m256(__builtin_convertvector(t, F32x8));
@@ -102,9 +64,36 @@ std::uint32_t eight_hit(ir::Vec3 n, double pd, const PlaneRayLanes& r, std::uint
   const F64x8 qx = ox + dx * t, qy = oy + dy * t, qz = oz + dz * t;
   const F64x8 far =
       F64x8(_mm512_max_pd(__m512d(abs8(qx)), _mm512_max_pd(__m512d(abs8(qy)), __m512d(abs8(qz)))));
-  m &= _mm512_cmp_pd_mask(__m512d(far), _mm512_set1_pd(kMaxPlaneHit), _CMP_LE_OQ);
+  return m & _mm512_cmp_pd_mask(__m512d(far), _mm512_set1_pd(kMaxPlaneHit), _CMP_LE_OQ);
+}
+
+// Eight shadow rays from `off`: tnear 0, tmax kAreaShadowEnd, no tie.
+std::uint32_t eight(ir::Vec3 n, double pd, const ShadowLanes16& r, std::uint32_t off,
+                    std::uint32_t live) {
+  const __mmask8 m = __mmask8(live >> off);
+  if (!m) return 0;
+  F64x8 t;
+  return std::uint32_t(meets<false>(n, pd, widen(r.ox + off), widen(r.oy + off), widen(r.oz + off),
+                                    widen(r.dx + off), widen(r.dy + off), widen(r.dz + off),
+                                    F64x8{}, F64x8{} + double(kAreaShadowEnd), F64x8{}, m, t))
+         << off;
+}
+
+// Eight rays of the nearest-hit test from `off`, with their tnear, tmax[i] and
+// tie[i]; a hit sets tmax[i] to its t and tie[i] to 0.
+std::uint32_t eight_hit(ir::Vec3 n, double pd, const PlaneRayLanes& r, std::uint32_t off,
+                        std::uint32_t live, double* tmax_io, double* tie_io) {
+  const __mmask8 live8 = __mmask8(live >> off);
+  if (!live8) return 0;
+  F64x8 tmax, tie, t;
+  __builtin_memcpy(&tmax, tmax_io + off, sizeof tmax);
+  __builtin_memcpy(&tie, tie_io + off, sizeof tie);
+  const __mmask8 m =
+      meets<true>(n, pd, widen(r.ox + off), widen(r.oy + off), widen(r.oz + off), widen(r.dx + off),
+                  widen(r.dy + off), widen(r.dz + off), widen(r.tnear + off), tmax, tie, live8, t);
+  if (!m) return 0;
   _mm512_storeu_pd(tmax_io + off, _mm512_mask_blend_pd(m, __m512d(tmax), __m512d(t)));
-  _mm512_storeu_pd(tie_io + off, _mm512_mask_blend_pd(m, __m512d(tie), zero));
+  _mm512_storeu_pd(tie_io + off, _mm512_mask_blend_pd(m, __m512d(tie), _mm512_setzero_pd()));
   return std::uint32_t(m) << off;
 }
 
