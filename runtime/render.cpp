@@ -146,7 +146,6 @@ RenderResult render(const ir::Scene& scene, const RenderOptions& options) {
   ctx.measure_cost = options.measure_cost;
   std::uint32_t tiles_y = (img.height + kTile - 1) / kTile;
   std::uint32_t ntiles = ctx.tiles_x * tiles_y;
-  std::atomic<std::uint32_t> done{0};
   std::atomic<std::uint64_t> work_done{0};
   std::atomic<std::uint32_t> work_permille{0};
   ctx.work_done = &work_done, ctx.work_permille = &work_permille;
@@ -184,7 +183,6 @@ RenderResult render(const ir::Scene& scene, const RenderOptions& options) {
       skipped.store(true, std::memory_order_relaxed);
       return;
     }
-    ++done;
     // The tile's pixel-samples not yet reported from inside it.
     Worker& wk = workers.local();
     const std::uint32_t tx = (tile % ctx.tiles_x) * kTile, ty = (tile / ctx.tiles_x) * kTile;
