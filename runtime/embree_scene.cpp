@@ -930,10 +930,6 @@ void EmbreeScene::occluded(std::span<const Ray> rays, std::span<std::uint8_t> bl
 
 std::uint32_t EmbreeScene::occluded(const ShadowLanes16& in, std::uint32_t live) const {
   const Impl& im = *impl_;
-  auto ray_of = [&](unsigned k) {
-    return Ray{
-        {in.ox[k], in.oy[k], in.oz[k]}, {in.dx[k], in.dy[k], in.dz[k]}, kAreaShadowEnd, in.time[k]};
-  };
   std::uint32_t blocked = 0;
   if (im.any_unbounded)  // the planes first, in double, as the one-ray query does
     std::apply([&](const auto&... set) { ((blocked |= set.occluded_lanes(in, live)), ...); },
@@ -942,7 +938,7 @@ std::uint32_t EmbreeScene::occluded(const ShadowLanes16& in, std::uint32_t live)
   if (live == 0) return blocked;
   if ((live & (live - 1)) == 0) {  // a lone ray is traced alone
     const unsigned k = unsigned(std::countr_zero(live));
-    return occluded(ray_of(k)) ? blocked | live : blocked;
+    return occluded(in.ray(k)) ? blocked | live : blocked;
   }
   alignas(64) RTCRay16 r;
   alignas(64) int valid[kPacket];

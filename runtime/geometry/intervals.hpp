@@ -92,90 +92,99 @@ inline Spans solid_intervals(const ir::Plane& p, Vec3 o, Vec3 d, double lo, doub
   return out;
 }
 
-// Every crossing of a closed local surface along the ray, in order. A root found
-// again just past itself (the solvers are good to ulps, not exactly) would enter a
-// span twice: each search starts 64 ulps past the last crossing, and a crossing
-// that does not alternate with the last one is taken for that same root. Spans
-// thinner than that are lost (64 ulps of t, ~1e-14 relative).
+// A closed surface's crossings along the ray, taken in order into the spans they
+// bound. A root found again just past itself (the solvers are good to ulps, not
+// exactly) would enter a span twice: a crossing is taken only 64 ulps past the
+// last, and one that does not alternate with the last is taken for that same root.
+// Spans thinner than that are lost (64 ulps of t, ~1e-14 relative).
+class Crossings {
+ public:
+  Crossings(double lo, double hi) : lo_(lo), hi_(hi), next_(lo), start_(lo) {}
+  // Where the next crossing may be, past the last taken.
+  double next() const { return next_; }
+  bool any() const { return !first_; }
+  // A crossing at t (< hi, > next()), entering or leaving, with its outward normal.
+  void take(double t, bool entering, Vec3 n) {
+    if (first_ && !entering) inside_ = true, start_ = lo_;  // the ray starts inside
+    first_ = false;
+    if (entering && !inside_) {
+      start_ = t, n_start_ = n;
+      inside_ = true;
+    } else if (!entering && inside_) {
+      out_.add(start_, t, lo_, hi_, n_start_, n);
+      inside_ = false;
+    }
+    const double ulp = std::nextafter(std::fabs(t), INFINITY) - std::fabs(t);
+    next_ = t + 64 * ulp;
+  }
+  // The spans. `inside_all`: with no crossing taken, whether the ray is inside the
+  // whole way (the first crossing past hi leaves: a closed bounded surface is left
+  // before infinity).
+  Spans finish(bool inside_all) {
+    if (first_) inside_ = inside_all;
+    if (inside_) out_.add(start_, hi_, lo_, hi_, n_start_);
+    return out_;
+  }
+
+ private:
+  double lo_, hi_, next_, start_;
+  Vec3 n_start_;
+  bool inside_ = false, first_ = true;
+  Spans out_;
+};
+
+// Every crossing of a closed local surface along the ray, in order, each found by
+// a solve of its own from just past the last.
 template <class L>
 Spans walk_surface(const L& l, Vec3 o, Vec3 d, double lo, double hi) {
-  Spans out;
   ir::Mat4 local_from_object = l.object_from_local.inv;
   Vec3 ol = xform_point(local_from_object, o), dl = xform_vector(local_from_object, d);
-  double t = lo, start = lo;
-  Vec3 n_start;
-  bool inside = false, first = true;
   // Normals to the kind's object space: the inverse transpose of object_from_local.
   auto to_object = [&](Vec3 n) { return xform_normal_by_inverse(local_from_object, n); };
+  Crossings c(lo, hi);
   for (int i = 0; i < 4 * Spans::kMax; ++i) {
     double th;
     Vec3 n;
-    if (!l.intersect(ol, dl, t, hi, th, n)) break;
-    bool entering = ir::dot(n, dl) < 0;
-    if (first && !entering) inside = true, start = lo;  // the ray starts inside
-    first = false;
-    if (entering && !inside) {
-      start = th, n_start = to_object(n);
-      inside = true;
-    } else if (!entering && inside) {
-      out.add(start, th, lo, hi, n_start, to_object(n));
-      inside = false;
-    }
-    double ulp = std::nextafter(std::fabs(th), INFINITY) - std::fabs(th);
-    t = th + 64 * ulp;
+    if (!l.intersect(ol, dl, c.next(), hi, th, n)) break;
+    c.take(th, ir::dot(n, dl) < 0, to_object(n));
   }
-  if (first) {
-    // No crossing within [lo, hi]: all inside or all outside; the next crossing
-    // beyond hi tells (a closed bounded surface is left before infinity).
+  bool inside_all = false;
+  if (!c.any()) {
     double th;
     Vec3 n;
-    if (l.intersect(ol, dl, hi, INFINITY, th, n) && !(ir::dot(n, dl) < 0)) inside = true;
+    inside_all = l.intersect(ol, dl, hi, INFINITY, th, n) && !(ir::dot(n, dl) < 0);
   }
-  if (inside) out.add(start, hi, lo, hi, n_start);
-  return out;
+  return c.finish(inside_all);
 }
 
 // A closed cone's spans from one solve of its quadric and slab (solid_spans), where
 // walking its surface solved once per crossing and once more past the last: three
 // solves for a ray through it, two fifths of a glass of water's render. Its
-// crossings are then taken as walk_surface takes the ones it finds: past the last
-// by 64 ulps, a crossing that does not alternate taken for the same one. So a
-// piece thinner than that merges with its neighbour, as the two nappes do at a
-// pointed cone's tip: the span enters there through the cap's normal, not through
-// the side's, which vanishes at the tip.
+// crossings are taken as walk_surface's are (Crossings), so a piece thinner than
+// 64 ulps merges with its neighbour, as the two nappes do at a pointed cone's tip:
+// the span enters there through the cap's normal, not through the side's, which
+// vanishes at the tip.
 inline Spans cone_spans(const TruncatedCone& l, Vec3 o, Vec3 d, double lo, double hi) {
-  Spans out;
   const ir::Mat4 local_from_object = l.object_from_local.inv;
   const Vec3 ol = xform_point(local_from_object, o), dl = xform_vector(local_from_object, d);
   TruncatedCone::Piece p[2];
   const int n = l.solid_spans(ol, dl, lo, hi, p);
-  auto to_object = [&](Vec3 v) { return xform_normal_by_inverse(local_from_object, v); };
-  double cur = lo, start = lo;
-  Vec3 n_start;
-  bool inside = false, first = true;
+  Crossings c(lo, hi);
   for (int k = 0; k < 2 * n; ++k) {
     const bool entering = k % 2 == 0;
     const double t = entering ? p[k / 2].e : p[k / 2].x;
-    if (!(t > cur && t < hi)) continue;
-    if (first && !entering) inside = true, start = lo;  // the ray starts inside
-    first = false;
-    if (entering && !inside) {
-      start = t, n_start = to_object(p[k / 2].n_e);
-      inside = true;
-    } else if (!entering && inside) {
-      out.add(start, t, lo, hi, n_start, to_object(p[k / 2].n_x));
-      inside = false;
-    }
-    cur = t + 64 * (std::nextafter(std::fabs(t), INFINITY) - std::fabs(t));
+    if (t > c.next() && t < hi)
+      c.take(t, entering,
+             xform_normal_by_inverse(local_from_object, entering ? p[k / 2].n_e : p[k / 2].n_x));
   }
-  if (first)  // no crossing within (lo, hi): inside when the first one past hi leaves
+  bool inside_all = false;
+  if (!c.any())  // the first crossing past hi leaves
     for (int k = 0; k < 2 * n; ++k)
       if ((k % 2 == 0 ? p[k / 2].e : p[k / 2].x) > hi) {
-        inside = k % 2 == 1;
+        inside_all = k % 2 == 1;
         break;
       }
-  if (inside) out.add(start, hi, lo, hi, n_start);
-  return out;
+  return c.finish(inside_all);
 }
 inline Spans solid_intervals(const ir::Cylinder& c, Vec3 o, Vec3 d, double lo, double hi) {
   if (c.open) return {};

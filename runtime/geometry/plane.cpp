@@ -83,7 +83,7 @@ bool PlaneSet::intersect_planes(const Ray& r, double& tmax, double tie, Hit& hit
 
 bool PlaneSet::intersect_lanes(const PlaneRayLanes& rays, std::uint32_t live, double* tmax,
                                double* tie, std::uint32_t* which, std::uint32_t& hit_lanes) const {
-  static const PlaneHitLanesFn lanes = plane_hit_lanes();
+  const PlaneHitLanesFn lanes = plane_hit_lanes();
   hit_lanes = 0;
   if (!lanes || any_moving_) return false;
   for (std::uint32_t i = 0; i < planes_.size(); ++i) {
@@ -112,8 +112,7 @@ bool PlaneSet::occluded_planes(const Ray& r) const {
 }
 
 std::uint32_t PlaneSet::occluded_lanes(const ShadowLanes16& in, std::uint32_t live) const {
-  static const PlaneLanesFn best = plane_lanes();
-  return occluded_lanes(in, live, best);
+  return occluded_lanes(in, live, plane_lanes());
 }
 
 std::uint32_t PlaneSet::occluded_lanes(const ShadowLanes16& in, std::uint32_t live,
@@ -128,10 +127,7 @@ std::uint32_t PlaneSet::occluded_lanes(const ShadowLanes16& in, std::uint32_t li
     }
     for (std::uint32_t bits = todo; bits; bits &= bits - 1) {
       const unsigned k = unsigned(__builtin_ctz(bits));
-      const Ray r{{in.ox[k], in.oy[k], in.oz[k]},
-                  {in.dx[k], in.dy[k], in.dz[k]},
-                  kAreaShadowEnd,
-                  in.time[k]};
+      const Ray r = in.ray(k);
       double t;
       Vec3 n;
       if (hit_plane(p, r, r.tmax, 0, t, n, nullptr)) blocked |= 1u << k;

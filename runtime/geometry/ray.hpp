@@ -25,10 +25,6 @@ struct Ray {
 // tnear 0, tmax kAreaShadowEnd, as an area light sample's): what the direct light
 // of a packet's lit nodes makes (shading/area_lanes.hpp) and the scene query and
 // the plane test take as they are.
-struct ShadowLanes16 {
-  const float *ox, *oy, *oz, *dx, *dy, *dz, *time;
-};
-
 // Where an area light's shadow ray ends: short of its target (the light sample moved
 // off the light by offset_ray_origin) by 16 ulps of t. The target's offset is ulps
 // of the sample's coordinates, which near the camera (the origin of Embree's
@@ -36,6 +32,14 @@ struct ShadowLanes16 {
 // 0.003 from the camera shadowed every ray to itself, and the image was black.
 // Occluders within 2e-6 of the ray's length of the light cast no shadow.
 inline constexpr float kAreaShadowEnd = 1.0f - 0x1p-19f;  // 16 ulps of 1
+
+struct ShadowLanes16 {
+  const float *ox, *oy, *oz, *dx, *dy, *dz, *time;
+  // Lane k as a ray of its own (the one-ray queries').
+  Ray ray(unsigned k) const {
+    return {{ox[k], oy[k], oz[k]}, {dx[k], dy[k], dz[k]}, kAreaShadowEnd, time[k]};
+  }
+};
 
 struct Hit {
   float t = INFINITY;
