@@ -108,8 +108,9 @@ Value Evaluator::eval_name(const Expr& e, const std::shared_ptr<Env>& env) {
     if (s->failed_import) return Value::error();  // reported at the import
   // A broken statement may have defined it: its syntax error is the report.
   if (unsure_names_.count(e.text)) return Value::error();
+  const std::string message = "'" + e.text + "' is not defined";
   if (!undefined_at_.insert(std::uint64_t(e.span.file) << 32 | e.span.begin).second) {
-    error(DiagKind::UndefinedName, e.span, "'" + e.text + "' is not defined");
+    error(DiagKind::UndefinedName, e.span, message);
     return Value::error();
   }
   // A guess compares the name with every visible one: past kGuessWork names in
@@ -126,7 +127,7 @@ Value Evaluator::eval_name(const Expr& e, const std::shared_ptr<Env>& env) {
     guess_work_ += visible.size();
     guess = lang::closest_match(e.text, visible);
   }
-  auto d = error(DiagKind::UndefinedName, e.span, "'" + e.text + "' is not defined");
+  auto d = error(DiagKind::UndefinedName, e.span, message);
   if (const char* pov = povray_note(PovrayWordKind::Name, e.text))
     d.note(pov);
   else if (lang::is_constructor_name(e.text))
