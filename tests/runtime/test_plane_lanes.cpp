@@ -104,7 +104,10 @@ TEST_CASE("a packet's nearest plane hits are the one-ray query's, lane by lane",
   // camera and from on a plane, with tnear 0 or past a plane (an index-matched
   // continuation), tmax from a nearer BVH hit or none, and a tie window: the plane
   // each lane ends on, its t and the Hit written are those of intersect().
-  if (!plane_hit_lanes()) SUCCEED("no SIMD plane path on this CPU: packets test lane by lane");
+  if (!plane_hit_lanes()) {
+    SUCCEED("no SIMD plane path on this CPU: packets test lane by lane");
+    return;
+  }
   std::mt19937 rng(29);
   std::uniform_real_distribution<double> u01(0, 1);
   std::normal_distribution<double> g;
