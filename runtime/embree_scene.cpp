@@ -942,13 +942,17 @@ std::uint32_t EmbreeScene::occluded(const ShadowLanes16& in, std::uint32_t live)
   }
   alignas(64) RTCRay16 r;
   alignas(64) int valid[kPacket];
-  std::memcpy(r.org_x, in.ox, sizeof r.org_x);
-  std::memcpy(r.org_y, in.oy, sizeof r.org_y);
-  std::memcpy(r.org_z, in.oz, sizeof r.org_z);
-  std::memcpy(r.dir_x, in.dx, sizeof r.dir_x);
-  std::memcpy(r.dir_y, in.dy, sizeof r.dir_y);
-  std::memcpy(r.dir_z, in.dz, sizeof r.dir_z);
-  std::memcpy(r.time, in.time, sizeof r.time);
+  // Lanes off `live` hold what their producer left there (unlit lanes of
+  // area_lanes may be unwritten); they take the first live lane's ray, since
+  // Embree's debug checks (on in Debian's build) look at lanes it was told to skip
+  // on some CPUs: the AVX2 kernels asserted on a garbage direction past 2^60.
+  const std::size_t first = std::size_t(std::countr_zero(live));
+  for (std::size_t k = 0; k < kPacket; ++k) {
+    const std::size_t s = (live >> k) & 1 ? k : first;
+    r.org_x[k] = in.ox[s], r.org_y[k] = in.oy[s], r.org_z[k] = in.oz[s];
+    r.dir_x[k] = in.dx[s], r.dir_y[k] = in.dy[s], r.dir_z[k] = in.dz[s];
+    r.time[k] = in.time[s];
+  }
   for (std::size_t k = 0; k < kPacket; ++k) {
     r.tnear[k] = 0, r.tfar[k] = kAreaShadowEnd;
     r.mask[k] = ~0u, r.id[k] = 0, r.flags[k] = 0;

@@ -115,12 +115,97 @@ bool avx512_supported() {
   return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl");
 }
 
+// AVX2: the same operations on four doubles at a time, masks as bits (movemask).
+#pragma GCC push_options
+#pragma GCC target("avx2,fma")
+
+using F64x4 = double __attribute__((vector_size(32)));
+using I64x4 = std::int64_t __attribute__((vector_size(32)));
+using F32x4 = float __attribute__((vector_size(16)));
+using I32x4 = std::int32_t __attribute__((vector_size(16)));
+inline F64x4 widen4(const float* p) {
+  return F64x4(_mm256_cvtps_pd(_mm_loadu_ps(p)));
+}
+inline std::uint32_t bits4(I64x4 m) {
+  return std::uint32_t(_mm256_movemask_pd(__m256d(m)));
+}
+inline std::uint32_t bits4(I32x4 m) {
+  return std::uint32_t(_mm_movemask_ps(__m128(m)));
+}
+inline F64x4 abs4(F64x4 x) {  // the sign bit cleared, as _mm512_abs_pd
+  return F64x4(I64x4(x) & 0x7fffffffffffffffll);
+}
+inline F64x4 max4(F64x4 a, F64x4 b) {
+  return F64x4(_mm256_max_pd(__m256d(a), __m256d(b)));
+}
+
+// meets() on four lanes, m and the result as bits.
+template <bool kTie>
+std::uint32_t meets4(ir::Vec3 n, double pd, F64x4 ox, F64x4 oy, F64x4 oz, F64x4 dx, F64x4 dy,
+                     F64x4 dz, F64x4 tnear, F64x4 tmax, F64x4 tie, std::uint32_t m, F64x4& t) {
+  const F64x4 denom = n.x * dx + n.y * dy + n.z * dz;
+  const F64x4 num = pd - (n.x * ox + n.y * oy + n.z * oz);
+  const I64x4 leaves =
+      (tnear >= 0) & ((num == 0) | ((num > 0) & (denom < 0)) | ((num < 0) & (denom > 0)));
+  m &= ~bits4(leaves | (denom == 0));
+  if (!m) return 0;
+  t = num / denom;
+  F64x4 limit = tmax;
+  if constexpr (kTie) limit = tmax + tie / abs4(denom);
+  m &= bits4((t > tnear) & (t < limit));
+  const F32x4 tf = __builtin_convertvector(t, F32x4);
+  m &= bits4(tf > 0.0f);
+  if (!m) return 0;
+  const F64x4 qx = ox + dx * t, qy = oy + dy * t, qz = oz + dz * t;
+  const F64x4 far = max4(abs4(qx), max4(abs4(qy), abs4(qz)));
+  return m & bits4(far <= kMaxPlaneHit);
+}
+
+std::uint32_t plane_lanes_avx2(ir::Vec3 n, double d, const ShadowLanes16& r, std::uint32_t live) {
+  std::uint32_t hits = 0;
+  for (std::uint32_t off = 0; off < 16; off += 4) {
+    const std::uint32_t m = (live >> off) & 15;
+    if (!m) continue;
+    F64x4 t;
+    hits |= meets4<false>(n, d, widen4(r.ox + off), widen4(r.oy + off), widen4(r.oz + off),
+                          widen4(r.dx + off), widen4(r.dy + off), widen4(r.dz + off), F64x4{},
+                          F64x4{} + double(kAreaShadowEnd), F64x4{}, m, t)
+            << off;
+  }
+  return hits;
+}
+
+std::uint32_t plane_hit_lanes_avx2(ir::Vec3 n, double d, const PlaneRayLanes& r, std::uint32_t live,
+                                   double* tmax_io, double* tie_io) {
+  std::uint32_t hits = 0;
+  for (std::uint32_t off = 0; off < 16; off += 4) {
+    const std::uint32_t live4 = (live >> off) & 15;
+    if (!live4) continue;
+    F64x4 tmax, tie, t;
+    __builtin_memcpy(&tmax, tmax_io + off, sizeof tmax);
+    __builtin_memcpy(&tie, tie_io + off, sizeof tie);
+    const std::uint32_t m = meets4<true>(
+        n, d, widen4(r.ox + off), widen4(r.oy + off), widen4(r.oz + off), widen4(r.dx + off),
+        widen4(r.dy + off), widen4(r.dz + off), widen4(r.tnear + off), tmax, tie, live4, t);
+    if (!m) continue;
+    const I64x4 hit = (I64x4{1, 2, 4, 8} & std::int64_t(m)) != 0;
+    tmax = hit ? t : tmax;
+    tie = hit ? F64x4{} : tie;
+    __builtin_memcpy(tmax_io + off, &tmax, sizeof tmax);
+    __builtin_memcpy(tie_io + off, &tie, sizeof tie);
+    hits |= m << off;
+  }
+  return hits;
+}
+
+#pragma GCC pop_options
+
 #endif  // SNELL_HAVE_AVX512_PATH
 
 const SimdPaths<PlaneLanesFn>& available() {
 #ifdef SNELL_HAVE_AVX512_PATH
-  static const auto paths =
-      simd_paths<PlaneLanesFn>(avx512_supported(), plane_lanes_avx512, nullptr);
+  static const auto paths = simd_paths<PlaneLanesFn>(avx512_supported(), plane_lanes_avx512,
+                                                     cpu_has_avx2(), plane_lanes_avx2, nullptr);
 #else
   static const auto paths = simd_paths<PlaneLanesFn>(false, nullptr, nullptr);
 #endif
@@ -129,8 +214,8 @@ const SimdPaths<PlaneLanesFn>& available() {
 
 const SimdPaths<PlaneHitLanesFn>& hit_available() {
 #ifdef SNELL_HAVE_AVX512_PATH
-  static const auto paths =
-      simd_paths<PlaneHitLanesFn>(avx512_supported(), plane_hit_lanes_avx512, nullptr);
+  static const auto paths = simd_paths<PlaneHitLanesFn>(
+      avx512_supported(), plane_hit_lanes_avx512, cpu_has_avx2(), plane_hit_lanes_avx2, nullptr);
 #else
   static const auto paths = simd_paths<PlaneHitLanesFn>(false, nullptr, nullptr);
 #endif

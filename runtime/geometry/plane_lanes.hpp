@@ -9,6 +9,7 @@
 // was a fifth of a thin-lens render over a floor.
 //
 // - avx512: AVX-512 F + VL, eight doubles at a time.
+// - avx2: AVX2 (x86-64-v3), four doubles at a time.
 // - none: the caller tests lane by lane (SNELL_SIMD=generic forces it).
 #pragma once
 

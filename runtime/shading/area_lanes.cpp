@@ -100,11 +100,94 @@ bool avx512_supported() {
   return __builtin_cpu_supports("avx512f");
 }
 
+// AVX2: the same operations on eight floats at a time, masks as bits (movemask).
+#pragma GCC push_options
+#pragma GCC target("avx2,fma")
+
+using F32x8 = float __attribute__((vector_size(32)));
+using I32x8 = std::int32_t __attribute__((vector_size(32)));
+inline F32x8 load8(const float* p) {
+  F32x8 x;
+  __builtin_memcpy(&x, p, sizeof x);
+  return x;
+}
+inline void store8(float* p, F32x8 x) {
+  __builtin_memcpy(p, &x, sizeof x);
+}
+inline F32x8 splat8(float x) {  // a broadcast: keeps -0, which 0 + x would not
+  return F32x8(_mm256_set1_ps(x));
+}
+inline std::uint32_t bits8(I32x8 m) {
+  return std::uint32_t(_mm256_movemask_ps(__m256(m)));
+}
+inline F32x8 abs8(F32x8 x) {  // the sign bit cleared, as _mm512_abs_ps
+  return F32x8(I32x8(x) & 0x7fffffff);
+}
+inline F32x8 dot3(F32x8 ax, F32x8 ay, F32x8 az, F32x8 bx, F32x8 by, F32x8 bz) {
+  return (ax * bx + ay * by) + az * bz;
+}
+inline F32x8 dot3(Vec3f a, F32x8 bx, F32x8 by, F32x8 bz) {
+  return (a.x * bx + a.y * by) + a.z * bz;
+}
+inline F32x8 offset_coord8(F32x8 p, F32x8 n, float scale) {
+  const float origin = scale * (1.0f / 32.0f);
+  const float float_scale = scale * (1.0f / 65536.0f);
+  const F32x8 near = p + float_scale * n;
+  // cvttps2dq, as the scalar conversion (out of range: INT32_MIN, never reached).
+  const I32x8 of = I32x8(_mm256_cvttps_epi32(__m256(256.0f * n)));
+  const I32x8 step = p < F32x8{} ? -of : of;
+  const F32x8 far = F32x8(I32x8(p) + step);
+  return abs8(p) < origin ? near : far;
+}
+
+std::uint32_t area_lanes_avx2(const AreaCell& cell, const PointLanes& P, const float* ju,
+                              const float* jv, std::uint32_t lanes, ShadowLanes& out) {
+  const AreaLightF& l = *cell.light;
+  const float scale = near_scale(cell.scale, l.reach);
+  const float inv_n = 1.0f / float(l.nu * l.nv);
+  std::uint32_t lit = 0;
+  for (std::uint32_t h = 0; h < 16; h += 8) {
+    std::uint32_t m = (lanes >> h) & 255;
+    if (!m) continue;
+    const F32x8 u = (float(cell.iu) + load8(ju + h)) / float(l.nu);
+    const F32x8 v = (float(cell.iv) + load8(jv + h)) / float(l.nv);
+    const F32x8 qx = (l.corner.x + l.e1.x * u) + l.e2.x * v;
+    const F32x8 qy = (l.corner.y + l.e1.y * u) + l.e2.y * v;
+    const F32x8 qz = (l.corner.z + l.e1.z * u) + l.e2.z * v;
+    const F32x8 tx = qx - load8(P.px + h), ty = qy - load8(P.py + h), tz = qz - load8(P.pz + h);
+    const F32x8 nx = load8(P.nx + h), ny = load8(P.ny + h), nz = load8(P.nz + h);
+    const F32x8 d2 = dot3(tx, ty, tz, tx, ty, tz);
+    const F32x8 cos_s = dot3(nx, ny, nz, tx, ty, tz);
+    const F32x8 cos_l = F32x8(I32x8(dot3(l.n, tx, ty, tz)) ^ INT32_MIN);  // exact negation
+    const F32x8 ox = load8(P.ox + h), oy = load8(P.oy + h), oz = load8(P.oz + h);
+    const F32x8 zero{};
+    m &= bits8((cos_s > zero) & (d2 > zero) & (dot3(nx, ny, nz, qx - ox, qy - oy, qz - oz) > zero));
+    const I32x8 front = cos_l > zero;
+    if (!l.two_sided) m &= bits8(front);
+    if (!m) continue;
+    const F32x8 sx = front ? splat8(l.n.x) : splat8(-l.n.x);
+    const F32x8 sy = front ? splat8(l.n.y) : splat8(-l.n.y);
+    const F32x8 sz = front ? splat8(l.n.z) : splat8(-l.n.z);
+    store8(out.dx + h, offset_coord8(qx, sx, scale) - ox);
+    store8(out.dy + h, offset_coord8(qy, sy, scale) - oy);
+    store8(out.dz + h, offset_coord8(qz, sz, scale) - oz);
+    store8(out.g + h, ((cos_s * abs8(cos_l)) / (d2 * d2)) * l.area * inv_n);
+    store8(out.tx + h, tx);
+    store8(out.ty + h, ty);
+    store8(out.tz + h, tz);
+    lit |= m << h;
+  }
+  return lit;
+}
+
+#pragma GCC pop_options
+
 #endif  // SNELL_HAVE_AVX512_PATH
 
 const SimdPaths<AreaLanesFn>& available() {
 #ifdef SNELL_HAVE_AVX512_PATH
-  static const auto paths = simd_paths<AreaLanesFn>(avx512_supported(), area_lanes_avx512, nullptr);
+  static const auto paths = simd_paths<AreaLanesFn>(avx512_supported(), area_lanes_avx512,
+                                                    cpu_has_avx2(), area_lanes_avx2, nullptr);
 #else
   static const auto paths = simd_paths<AreaLanesFn>(false, nullptr, nullptr);
 #endif

@@ -7,6 +7,7 @@
 // tests/runtime/test_area_lanes.cpp checks each path the CPU offers against it.
 //
 // - avx512: AVX-512 F, sixteen floats at a time.
+// - avx2: AVX2 (x86-64-v3), eight floats at a time.
 // - none: the caller samples lane by lane (SNELL_SIMD=generic forces it).
 // Solid-angle sampling (light_sampling "solid_angle" / "adaptive") has no vector
 // path: such lights go lane by lane.
