@@ -55,12 +55,18 @@ struct Divisor32 {
   bool pow2 = true;
   std::uint32_t shift = 0;  // log2(d) when pow2
   double inv = 1;           // 1 / d when pow2 (exact), else 0
+  // 1 / d rounded, when d < 2^26: then a quotient x / d of an x < d with 24
+  // fraction bits (a jitter placed in its cell) rounds to the same float through
+  // Markstein's correction, q = x·recip, q + (x − q·d)·recip in two FMAs, as through
+  // the division (the SIMD paths; test_sampler.cpp). Else 0.
+  double recip = 0;
   Divisor32() = default;
   explicit Divisor32(std::uint32_t divisor) : d(divisor ? divisor : 1) {
     magic = d == 1 ? 0 : ~std::uint64_t(0) / d + 1;
     pow2 = (d & (d - 1)) == 0;
     shift = pow2 ? std::uint32_t(__builtin_ctz(d)) : 0;
     inv = pow2 ? 1.0 / d : 0;
+    recip = d < (1u << 26) ? 1.0 / d : 0;
   }
   // x / d in double, correctly rounded: a product when 1/d is exact (a product by
   // a power of two is exact, as is the quotient, so both give the same bits).

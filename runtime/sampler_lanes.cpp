@@ -13,6 +13,7 @@
 // cell_keys_lanes: a light cell's sampler keys of sixteen lanes at once (three
 // hash_combines each), in 64-bit lane products where the CPU has AVX-512 DQ.
 //
+// - avx2 (stratified draws): AVX2 with FMA, sampler_lanes_avx2.cpp.
 // - generic: GCC/clang vector types, four lanes at a time (SSE2 on x86-64, NEON
 //   on ARM), with scalar lookups of the byte tables.
 #include <cstring>
@@ -20,6 +21,7 @@
 #include <vector>
 
 #include "runtime/sampler.hpp"
+#include "runtime/sampler_lanes_isa.hpp"
 #include "runtime/simd_paths.hpp"
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
@@ -401,7 +403,8 @@ using StrataFn = StratifiedLanesFn;
 const SimdPaths<StrataFn>& strata_available() {
 #ifdef SNELL_HAVE_AVX512_PATH
   static const auto paths =
-      simd_paths<StrataFn>(avx512dq_supported(), stratified_lanes_avx512, stratified_lanes_generic);
+      simd_paths<StrataFn>(avx512dq_supported(), stratified_lanes_avx512, cpu_has_avx2(),
+                           lanes::stratified_lanes_avx2, stratified_lanes_generic);
 #else
   static const auto paths = simd_paths<StrataFn>(false, nullptr, stratified_lanes_generic);
 #endif
@@ -445,6 +448,12 @@ const SimdPaths<LanesFn>& available() {
 const LanesFn g_sobol2_lanes = best_path(available());
 
 }  // namespace
+
+void lanes::stratified_lanes_scalar(const SamplerSpec& spec, const StrataLanes* const* k,
+                                    std::uint32_t count, std::uint32_t n, std::uint32_t index,
+                                    float* const* u, float* const* v) {
+  stratified_lanes_generic(spec, k, count, n, index, u, v);
+}
 
 void sobol2_lanes(const SobolLanes& k, std::uint32_t n, std::uint32_t index, float* u, float* v) {
   g_sobol2_lanes(k, n, index, u, v);

@@ -1,6 +1,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstring>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -282,6 +283,48 @@ TEST_CASE("sobol draws in lanes give the one-by-one numbers, on every SIMD path"
   CHECK_FALSE(sobol2_lanes_with("no such path", lanes, 1, 0, u, v));
 }
 
+TEST_CASE("a jitter placed in its cell by a product and two FMAs is the division's float",
+          "[sampler]") {
+  // Divisor32::recip's claim: for d < 2^26 and x = c + j / 2^24 (c < d, j < 2^24),
+  // q = x·r, q + (x − q·d)·r (r = 1/d rounded, FMAs) rounds to the float of x / d.
+  // Counts even and odd, small and near 2^26; cells at the ends and at random.
+  std::mt19937 rng(61);
+  std::vector<std::uint32_t> ds = {2,
+                                   3,
+                                   5,
+                                   6,
+                                   7,
+                                   9,
+                                   10,
+                                   12,
+                                   24,
+                                   100,
+                                   1000,
+                                   65537,
+                                   (1u << 20) + 1,
+                                   (1u << 26) - 1,
+                                   (1u << 26) - 5};
+  for (int i = 0; i < 40; ++i) ds.push_back(2 + rng() % ((1u << 26) - 2));
+  std::uint64_t checked = 0, mismatches = 0;
+  for (std::uint32_t d : ds) {
+    const Divisor32 div(d);
+    REQUIRE(div.recip == 1.0 / d);
+    for (int i = 0; i < 20000; ++i) {
+      const std::uint32_t c = i == 0 ? 0 : i == 1 ? d - 1 : std::uint32_t(rng() % d);
+      const std::uint32_t j = i < 4 ? (i % 2 ? (1u << 24) - 1 : 0) : rng() >> 8;
+      const double x = c + double(j) * 0x1p-24;
+      const double q = x * div.recip;
+      const double fast = std::fma(std::fma(-q, double(d), x), div.recip, q);
+      mismatches += float(x / d) != float(fast);
+      ++checked;
+    }
+  }
+  INFO(checked << " quotients");
+  CHECK(mismatches == 0);
+  CHECK(Divisor32(1u << 26).recip == 0);
+  CHECK(Divisor32((1u << 26) + 3).recip == 0);
+}
+
 TEST_CASE("stratified draws in lanes give the one-by-one numbers, on every SIMD path",
           "[sampler]") {
   // 2-D and 1-D draws; sample counts whose grids are square, oblong, prime, a
@@ -294,7 +337,10 @@ TEST_CASE("stratified draws in lanes give the one-by-one numbers, on every SIMD 
   for (const std::string& path : paths) {
     INFO("path " << path);
     std::uint64_t mismatches = 0, draws = 0;
-    for (std::uint32_t spp : {1u, 2u, 3u, 4u, 5u, 7u, 16u, 50u, 100u, 1000u, 65537u, 1u << 20}) {
+    // (1-D draws over 2^26 - 5 and 2^26 + 3 strata: the last quotients with and the
+    // first without Divisor32::recip.)
+    for (std::uint32_t spp : {1u, 2u, 3u, 4u, 5u, 7u, 16u, 50u, 100u, 1000u, 65537u, 1u << 20,
+                              (1u << 26) - 5, (1u << 26) + 3}) {
       SamplerSpec spec{ir::SamplerKind::Stratified, 0x77 + spp, spp};
       for (std::uint32_t n : {16u, 13u, 1u})
         for (std::uint32_t dim : {std::uint32_t(kDimPixel), std::uint32_t(kDimTime), 0x9e3779b9u})
