@@ -13,7 +13,8 @@
 // cell_keys_lanes: a light cell's sampler keys of sixteen lanes at once (three
 // hash_combines each), in 64-bit lane products where the CPU has AVX-512 DQ.
 //
-// - avx2 (stratified draws): AVX2 with FMA, sampler_lanes_avx2.cpp.
+// - avx2: AVX2 with FMA, eight lanes at once (sampler_lanes_avx2.cpp): nibble
+//   lookups reverse the bits, and Sobol' dimension 1 gathers from the byte tables.
 // - generic: GCC/clang vector types, four lanes at a time (SSE2 on x86-64, NEON
 //   on ARM), with scalar lookups of the byte tables.
 #include <cstring>
@@ -439,7 +440,8 @@ using LanesFn = Sobol2LanesFn;
 const SimdPaths<LanesFn>& available() {
 #ifdef SNELL_HAVE_AVX512_PATH
   static const auto paths =
-      simd_paths<LanesFn>(avx512_supported(), sobol2_lanes_avx512, sobol2_lanes_generic);
+      simd_paths<LanesFn>(avx512_supported(), sobol2_lanes_avx512, cpu_has_avx2(),
+                          lanes::sobol2_lanes_avx2, sobol2_lanes_generic);
 #else
   static const auto paths = simd_paths<LanesFn>(false, nullptr, sobol2_lanes_generic);
 #endif

@@ -185,7 +185,57 @@ void stratified_n(const SamplerSpec& spec, const StrataLanes* const* k, std::uin
     }
 }
 
+// Bit reversal of eight 32-bit lanes: each byte's bits by two 16-entry nibble
+// lookups (vpshufb), then the bytes of each lane.
+inline U32x8 reverse8(U32x8 x) {
+  const __m256i rev4 = _mm256_setr_epi8(0, 8, 4, 12, 2, 10, 6, 14, 1, 9, 5, 13, 3, 11, 7, 15, 0, 8,
+                                        4, 12, 2, 10, 6, 14, 1, 9, 5, 13, 3, 11, 7, 15);
+  const __m256i low = _mm256_set1_epi8(0x0f);
+  const __m256i bytes = _mm256_setr_epi8(3, 2, 1, 0, 7, 6, 5, 4, 11, 10, 9, 8, 15, 14, 13, 12, 3, 2,
+                                         1, 0, 7, 6, 5, 4, 11, 10, 9, 8, 15, 14, 13, 12);
+  const __m256i lo = _mm256_and_si256(__m256i(x), low);
+  const __m256i hi = _mm256_and_si256(_mm256_srli_epi16(__m256i(x), 4), low);
+  const __m256i r = _mm256_or_si256(_mm256_slli_epi16(_mm256_shuffle_epi8(rev4, lo), 4),
+                                    _mm256_shuffle_epi8(rev4, hi));
+  return U32x8(_mm256_shuffle_epi8(r, bytes));
+}
+inline U32x8 lk8(U32x8 x, U32x8 seed) {
+  x += seed;
+  for (std::uint32_t c : detail::kLkMultipliers) x ^= x * c;
+  return x;
+}
+inline __m256 unit8(U32x8 bits) {
+  return _mm256_mul_ps(_mm256_cvtepi32_ps(__m256i(bits >> 8)), _mm256_set1_ps(1.0f / 16777216.0f));
+}
+// detail::reversed_sobol1 of eight lanes: its four byte tables, gathered.
+inline U32x8 reversed_sobol1_8(U32x8 i) {
+  __m256i s = _mm256_setzero_si256();
+  for (int b = 0; b < 4; ++b) {
+    const __m256i byte = __m256i((i >> (8 * b)) & 255u);
+    const int* table = reinterpret_cast<const int*>(detail::kSobol1.t[b]);
+    s = _mm256_xor_si256(s, _mm256_i32gather_epi32(table, byte, 4));
+  }
+  return U32x8(s);
+}
+
 }  // namespace
+
+void sobol2_lanes_avx2(const SobolLanes& k, std::uint32_t n, std::uint32_t index, float* u,
+                       float* v) {
+  static_assert(SobolLanes::kLanes == 16);
+  (void)n;  // all 16 lanes are drawn and stored: the caller has room for them
+  const U32x8 idx = reverse8(U32x8{} + index);
+  for (int h = 0; h < 16; h += 8) {
+    U32x8 seed0, su, sv;
+    std::memcpy(&seed0, k.index_seed + h, 32);
+    std::memcpy(&su, k.seed_u + h, 32);
+    std::memcpy(&sv, k.seed_v + h, 32);
+    // owen_scramble(index, seed0); dimension 0 is reverse(i), dimension 1 the table's.
+    const U32x8 i = reverse8(lk8(idx, seed0));
+    _mm256_storeu_ps(u + h, unit8(reverse8(lk8(i, su))));
+    _mm256_storeu_ps(v + h, unit8(reverse8(lk8(reversed_sobol1_8(i), sv))));
+  }
+}
 
 void stratified_lanes_avx2(const SamplerSpec& spec, const StrataLanes* const* k,
                            std::uint32_t count, std::uint32_t n, std::uint32_t index,

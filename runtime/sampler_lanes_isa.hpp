@@ -21,6 +21,8 @@ void stratified_lanes_scalar(const SamplerSpec& spec, const StrataLanes* const* 
                              float* const* u, float* const* v);
 
 #if SNELL_HAVE_AVX2_PATH
+void sobol2_lanes_avx2(const SobolLanes& k, std::uint32_t n, std::uint32_t index, float* u,
+                       float* v);
 void stratified_lanes_avx2(const SamplerSpec& spec, const StrataLanes* const* k,
                            std::uint32_t count, std::uint32_t n, std::uint32_t index,
                            float* const* u, float* const* v);
