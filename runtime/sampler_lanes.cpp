@@ -14,7 +14,9 @@
 // hash_combines each), in 64-bit lane products where the CPU has AVX-512 DQ.
 //
 // - avx2: AVX2 with FMA, eight lanes at once (sampler_lanes_avx2.cpp): nibble
-//   lookups reverse the bits, and Sobol' dimension 1 gathers from the byte tables.
+//   lookups reverse the bits, and Sobol' dimension 1 gathers from the byte tables;
+//   the 64-bit hashes of the stratified draws and cell_keys_lanes in 32x32-bit
+//   products, four lanes at once.
 // - generic: GCC/clang vector types, four lanes at a time (SSE2 on x86-64, NEON
 //   on ARM), with scalar lookups of the byte tables.
 #include <cstring>
@@ -428,7 +430,8 @@ using CellKeysFn = void (*)(const std::uint64_t*, std::uint64_t, const std::uint
 const SimdPaths<CellKeysFn>& cell_keys_available() {
 #ifdef SNELL_HAVE_AVX512_PATH
   static const auto paths =
-      simd_paths<CellKeysFn>(avx512dq_supported(), cell_keys_lanes_avx512, cell_keys_lanes_generic);
+      simd_paths<CellKeysFn>(avx512dq_supported(), cell_keys_lanes_avx512, cpu_has_avx2(),
+                             lanes::cell_keys_lanes_avx2, cell_keys_lanes_generic);
 #else
   static const auto paths = simd_paths<CellKeysFn>(false, nullptr, cell_keys_lanes_generic);
 #endif

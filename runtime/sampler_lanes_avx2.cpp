@@ -43,6 +43,10 @@ inline U64x4 hash64_4(U64x4 x) {
   x = mul64(x ^ (x >> 27), 0x94d049bb133111ebull);
   return x ^ (x >> 31);
 }
+// hash_combine(x, y) with y's hash64 given.
+inline U64x4 combine4(U64x4 x, U64x4 hashed_y) {
+  return hash64_4(x ^ (hashed_y + 0x9e3779b97f4a7c15ull + (x << 6) + (x >> 2)));
+}
 // Divisor32::rem and ::quot of lanes below 2^32 (a mask and a shift for a power
 // of two), with the 64x32-bit products split in halves.
 inline U64x4 rem4(U64x4 a, const Divisor32& l) {
@@ -234,6 +238,26 @@ void sobol2_lanes_avx2(const SobolLanes& k, std::uint32_t n, std::uint32_t index
     const U32x8 i = reverse8(lk8(idx, seed0));
     _mm256_storeu_ps(u + h, unit8(reverse8(lk8(i, su))));
     _mm256_storeu_ps(v + h, unit8(reverse8(lk8(reversed_sobol1_8(i), sv))));
+  }
+}
+
+void cell_keys_lanes_avx2(const std::uint64_t* node_keys, std::uint64_t cell,
+                          const std::uint64_t* pixels, const std::uint64_t* indices,
+                          std::uint64_t* out) {
+  static_assert(kHashLanes == 16);
+  const U64x4 hashed_cell = U64x4{} + hash64(cell);
+  for (int q = 0; q < 16; q += 4) {
+    U64x4 x, p;
+    std::memcpy(&x, node_keys + q, 32);
+    std::memcpy(&p, pixels + q, 32);
+    const U64x4 dim = (combine4(x, hashed_cell) & 0x7fffffffull) + std::uint64_t(kDimFirstFree);
+    U64x4 key = combine4(p, hash64_4(dim));
+    if (indices) {
+      U64x4 i;
+      std::memcpy(&i, indices + q, 32);
+      key = combine4(key, hash64_4(i));
+    }
+    std::memcpy(out + q, &key, 32);
   }
 }
 

@@ -21,6 +21,9 @@ void stratified_lanes_scalar(const SamplerSpec& spec, const StrataLanes* const* 
                              float* const* u, float* const* v);
 
 #if SNELL_HAVE_AVX2_PATH
+void cell_keys_lanes_avx2(const std::uint64_t* node_keys, std::uint64_t cell,
+                          const std::uint64_t* pixels, const std::uint64_t* indices,
+                          std::uint64_t* out);
 void sobol2_lanes_avx2(const SobolLanes& k, std::uint32_t n, std::uint32_t index, float* u,
                        float* v);
 void stratified_lanes_avx2(const SamplerSpec& spec, const StrataLanes* const* k,
