@@ -91,12 +91,14 @@ bool packet_hits(const Set& set, unsigned prim, RTCRayN* ray, unsigned n, const 
   if constexpr (std::is_same_v<Set, SphereSet>) {
     Vec3 c;
     double r;
-    if (n != 16 || !g_sphere_lanes || !set.similar(prim, c, r)) return false;
+    // Embree hands the callback its own packet width: 16 rays on AVX-512, 8 on
+    // AVX2 (both go through the lanes; 4 and single rays go one by one).
+    if ((n != 16 && n != 8) || !g_sphere_lanes || !set.similar(prim, c, r)) return false;
     // The raised tfars in a copy of their own (one vector operation; the ray's are
     // not touched).
     using U16 = std::uint32_t __attribute__((vector_size(64)));
-    U16 bits;
-    std::memcpy(&bits, &RTCRayN_tfar(ray, n, 0), sizeof bits);
+    U16 bits{};
+    std::memcpy(&bits, &RTCRayN_tfar(ray, n, 0), n * sizeof(float));
     if (ties) bits += U16(bits < 0x7f800000u) & 1u;  // positive and finite; the rest kept
     alignas(64) float tfar[16];
     std::memcpy(tfar, &bits, sizeof tfar);

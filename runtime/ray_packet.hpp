@@ -1,7 +1,11 @@
 // A batch of rays into Embree's 16-wide packet layout (RTCRay16): the transposition
-// of the span queries (embree_scene.cpp), in AVX-512 gathers where the CPU has
-// them, chosen once at start-up, else field by field. Both write the same floats
-// (a copy, no arithmetic); tests/runtime/test_ray_packet.cpp checks each path.
+// of the span queries (embree_scene.cpp), in the widest SIMD the CPU has, chosen
+// once at start-up. Every path writes the same floats (a copy, no arithmetic);
+// tests/runtime/test_ray_packet.cpp checks each path.
+//
+// - avx512: AVX-512 F, gathers.
+// - avx2: AVX2 (x86-64-v3), loads and an 8x8 transposition.
+// - generic: field by field (SNELL_SIMD=generic forces it).
 #pragma once
 
 #include <embree3/rtcore.h>

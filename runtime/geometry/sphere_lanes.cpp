@@ -112,12 +112,125 @@ bool avx512_supported() {
   return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl");
 }
 
+// AVX2: eight() as two halves of four doubles in step, masks as bits (movemask).
+// The halves share eight()'s early returns and its stores (all eight lanes of t and
+// n once any of them hits), so both paths leave the same HitLanes.
+#pragma GCC push_options
+#pragma GCC target("avx2,fma")
+
+using F64x4 = double __attribute__((vector_size(32)));
+using I64x4 = std::int64_t __attribute__((vector_size(32)));
+using F32x4 = float __attribute__((vector_size(16)));
+using I32x4 = std::int32_t __attribute__((vector_size(16)));
+inline F64x4 widen4(const float* p) {
+  return F64x4(_mm256_cvtps_pd(_mm_loadu_ps(p)));
+}
+inline F32x4 narrow4(F64x4 d) {
+  return F32x4(_mm256_cvtpd_ps(__m256d(d)));
+}
+inline F64x4 splat4(double x) {  // a broadcast: keeps -0, which 0 + x would not
+  return F64x4(_mm256_set1_pd(x));
+}
+inline std::uint32_t bits4(I64x4 m) {
+  return std::uint32_t(_mm256_movemask_pd(__m256d(m)));
+}
+inline std::uint32_t bits4(I32x4 m) {
+  return std::uint32_t(_mm_movemask_ps(__m128(m)));
+}
+inline F64x4 dot3(F64x4 ax, F64x4 ay, F64x4 az, F64x4 bx, F64x4 by, F64x4 bz) {
+  return (ax * bx + ay * by) + az * bz;
+}
+
+// Eight lanes starting at `off`, as eight(): the same operations in the same order,
+// each half's mask in its own four bits of m.
+std::uint32_t eight_avx2(ir::Vec3 c, double r, double scale, const RayLanes& R, std::uint32_t off,
+                         HitLanes* out, std::uint32_t& undecided) {
+  std::uint32_t m = 0;
+  for (int h = 0; h < 2; ++h) {
+    I32x4 valid;
+    __builtin_memcpy(&valid, R.valid + off + 4 * h, sizeof valid);
+    m |= bits4(valid != 0) << 4 * h;
+  }
+  if (!m) return 0;
+  const F64x4 cx = splat4(c.x), cy = splat4(c.y), cz = splat4(c.z), rv = splat4(r);
+  F64x4 ox[2], oy[2], oz[2], dx[2], dy[2], dz[2], fx[2], fy[2], fz[2], a[2], b[2], disc[2];
+  for (int h = 0; h < 2; ++h) {
+    const std::uint32_t at = off + 4 * h;
+    ox[h] = widen4(R.ox + at), oy[h] = widen4(R.oy + at), oz[h] = widen4(R.oz + at);
+    dx[h] = widen4(R.dx + at), dy[h] = widen4(R.dy + at), dz[h] = widen4(R.dz + at);
+    // sphere_roots(o, d, c, r)
+    fx[h] = ox[h] - cx, fy[h] = oy[h] - cy, fz[h] = oz[h] - cz;
+    a[h] = dot3(dx[h], dy[h], dz[h], dx[h], dy[h], dz[h]);
+    b[h] = dot3(fx[h], fy[h], fz[h], dx[h], dy[h], dz[h]);
+    const F64x4 ba = b[h] / a[h];
+    const F64x4 vx = fx[h] - dx[h] * ba, vy = fy[h] - dy[h] * ba, vz = fz[h] - dz[h] * ba;
+    const F64x4 lv = F64x4(_mm256_sqrt_pd(__m256d(dot3(vx, vy, vz, vx, vy, vz))));
+    disc[h] = (rv + lv) * (rv - lv);
+    m &= ~(bits4(!(disc[h] >= 0)) << 4 * h);
+  }
+  if (!m) return 0;
+  const F64x4 rr = splat4(r * r);
+  constexpr std::int64_t kSign = std::int64_t(0x8000000000000000ull);
+  F64x4 t[2];
+  F32x4 tf[2];
+  for (int h = 0; h < 2; ++h) {
+    const std::uint32_t at = off + 4 * h;
+    const F64x4 cc = dot3(fx[h], fy[h], fz[h], fx[h], fy[h], fz[h]) - rr;
+    const F64x4 s = F64x4(_mm256_sqrt_pd(__m256d(a[h] * disc[h])));
+    // copysign(s, b) and -b: sign-bit operations, exact as the scalar ones.
+    const F64x4 s_b = F64x4((I64x4(s) & ~kSign) | (I64x4(b[h]) & kSign));
+    const F64x4 neg_b = F64x4(I64x4(b[h]) ^ kSign);
+    const F64x4 q = neg_b - s_b;
+    const std::uint32_t q0 = (m >> 4 * h) & 15 & bits4(q == 0);
+    undecided |= q0 << at;
+    m &= ~(q0 << 4 * h);
+    const F64x4 t0 = cc / q, t1 = q / a[h];
+    const I64x4 swap = t0 > t1;
+    const F64x4 lo = swap ? t1 : t0, hi = swap ? t0 : t1;
+    // hit_similar_sphere: the nearer root past tnear, inside (tnear, tfar) in double
+    // and again after rounding to float.
+    const F64x4 tnear = widen4(R.tnear + at), tfar = widen4(R.tfar + at);
+    t[h] = lo > tnear ? lo : hi;
+    m &= ~(bits4(!((t[h] > tnear) & (t[h] < tfar))) << 4 * h);
+    F32x4 tnear_f, tfar_f;
+    __builtin_memcpy(&tnear_f, R.tnear + at, sizeof tnear_f);
+    __builtin_memcpy(&tfar_f, R.tfar + at, sizeof tfar_f);
+    tf[h] = narrow4(t[h]);
+    m &= ~(bits4(!((tf[h] > tnear_f) & (tf[h] < tfar_f))) << 4 * h);
+  }
+  if (!m || !out) return m << off;
+  // n = (o + d·t - c) · normal_scale(r), not unit (hit_similar_sphere)
+  const F64x4 sc = splat4(scale);
+  for (int h = 0; h < 2; ++h) {
+    const std::uint32_t at = off + 4 * h;
+    const F32x4 nx = narrow4((ox[h] + dx[h] * t[h] - cx) * sc);
+    const F32x4 ny = narrow4((oy[h] + dy[h] * t[h] - cy) * sc);
+    const F32x4 nz = narrow4((oz[h] + dz[h] * t[h] - cz) * sc);
+    __builtin_memcpy(out->t + at, &tf[h], sizeof tf[h]);
+    __builtin_memcpy(out->nx + at, &nx, sizeof nx);
+    __builtin_memcpy(out->ny + at, &ny, sizeof ny);
+    __builtin_memcpy(out->nz + at, &nz, sizeof nz);
+  }
+  return m << off;
+}
+
+std::uint32_t sphere_lanes_avx2(ir::Vec3 c, double r, const RayLanes& rays, HitLanes* out,
+                                std::uint32_t& undecided) {
+  std::uint32_t hits = 0;
+  const double scale = out ? normal_scale(r) : 0;
+  for (std::uint32_t off = 0; off < rays.n && off < 16; off += 8)
+    hits |= eight_avx2(c, r, scale, rays, off, out, undecided);
+  return hits;
+}
+
+#pragma GCC pop_options
+
 #endif  // SNELL_HAVE_AVX512_PATH
 
 const SimdPaths<SphereLanesFn>& available() {
 #ifdef SNELL_HAVE_AVX512_PATH
-  static const auto paths =
-      simd_paths<SphereLanesFn>(avx512_supported(), sphere_lanes_avx512, nullptr);
+  static const auto paths = simd_paths<SphereLanesFn>(avx512_supported(), sphere_lanes_avx512,
+                                                      cpu_has_avx2(), sphere_lanes_avx2, nullptr);
 #else
   static const auto paths = simd_paths<SphereLanesFn>(false, nullptr, nullptr);
 #endif

@@ -3,10 +3,11 @@
 // once at start-up. The same IEEE operations in the same order as the one-ray test
 // (sphere.hpp: sphere_roots, hit_similar_sphere), lane by lane, with no FMA
 // contraction (the file is compiled with -ffp-contract=off), so every lane's t and
-// normal are the one-ray test's bit for bit: tests/runtime/test_shapes.cpp checks
-// each path the CPU offers against the one-ray test.
+// normal are the one-ray test's bit for bit: tests/runtime/test_sphere_lanes.cpp
+// checks each path the CPU offers against the one-ray test.
 //
 // - avx512: AVX-512 F + VL, eight doubles at a time.
+// - avx2: AVX2 (x86-64-v3), four doubles at a time.
 // - none: the caller tests lane by lane (SNELL_SIMD=generic forces it).
 #pragma once
 
@@ -25,7 +26,7 @@ struct RayLanes {
   std::uint32_t n;   // a multiple of 8
 };
 // What a lane's hit is: t and the outward normal (not unit: hit_similar_sphere),
-// written only for hit lanes.
+// meaningful only for hit lanes (the paths store whole groups of eight lanes).
 struct HitLanes {
   float t[16], nx[16], ny[16], nz[16];
 };

@@ -3,6 +3,7 @@
 // spheres from 1e-3 to 1e4 units at up to 1e5 from the camera, rays aimed at the
 // sphere, past it and grazing its silhouette, with tnear/tfar windows that cut the
 // roots, and random valid masks.
+#include <bit>
 #include <catch2/catch.hpp>
 #include <cstring>
 #include <random>
@@ -57,6 +58,22 @@ TEST_CASE("a packet's sphere test is the one-ray test, bit for bit", "[shapes][s
       std::uint32_t undecided_only = 0;
       CHECK(fn(c, radius, rays, nullptr, undecided_only) == got);
       CHECK(undecided_only == undecided);
+      // Eight rays (Embree's packets on AVX2 CPUs) are the first eight lanes of
+      // sixteen.
+      RayLanes rays8 = rays;
+      rays8.n = 8;
+      HitLanes out8;
+      std::uint32_t undecided8 = 0;
+      const std::uint32_t got8 = fn(c, radius, rays8, &out8, undecided8);
+      REQUIRE(got8 == (got & 0xff));
+      REQUIRE(undecided8 == (undecided & 0xff));
+      for (std::uint32_t b = got8; b; b &= b - 1) {
+        const int i = std::countr_zero(b);
+        REQUIRE(same_bits(out8.t[i], out.t[i]));
+        REQUIRE(same_bits(out8.nx[i], out.nx[i]));
+        REQUIRE(same_bits(out8.ny[i], out.ny[i]));
+        REQUIRE(same_bits(out8.nz[i], out.nz[i]));
+      }
       for (int i = 0; i < 16; ++i) {
         bool on = valid[i] != 0;
         if (!on) {
