@@ -1,7 +1,12 @@
 // RenderStats::to_string: the text of `snell render --stats`.
 #include <fmt/format.h>
 
+#include "runtime/geometry/plane_lanes.hpp"
+#include "runtime/geometry/sphere_lanes.hpp"
+#include "runtime/ray_packet.hpp"
 #include "runtime/render.hpp"
+#include "runtime/sampler.hpp"
+#include "runtime/shading/area_lanes.hpp"
 
 namespace snell::rt {
 
@@ -27,6 +32,15 @@ void RenderStats::merge(const RenderStats& b) {
 }
 
 namespace {
+// The path a packet kernel runs (simd_paths.hpp: the first it offers), or what
+// its caller does without one.
+std::string best(const std::vector<std::string>& paths) {
+  return paths.empty() ? "one by one" : paths.front();
+}
+template <class Fn>
+std::string best(const std::vector<std::pair<std::string, Fn>>& paths) {
+  return paths.empty() ? "one by one" : paths.front().first;
+}
 std::string seconds_line(const char* name, double s, double total) {
   double pct = total > 0 ? 100.0 * s / total : 0;
   return fmt::format("  {:<11} {:9.3f} s  {:5.1f} %\n", name, s, pct);
@@ -47,6 +61,14 @@ std::string RenderStats::to_string() const {
       kernel.empty() ? "?" : kernel, total, camera_rays, shadow_rays, reflection_rays,
       refraction_rays, glossy_rays, lens_samples, time_samples, pruned_by_depth, pruned_by_weight,
       tir_events, nonfinite_samples, build_seconds, render_seconds, mrays);
+  // Which SIMD path each packet kernel took on this CPU (SNELL_SIMD caps them):
+  // the speed depends on it, never the image.
+  s += fmt::format(
+      "simd: stratified {}, sobol {}, light keys {}, light samples {}, spheres {}, planes {}, "
+      "ray store {}\n",
+      best(stratified_lanes_paths()), best(sobol2_lanes_paths()), best(cell_keys_lanes_paths()),
+      best(area_lanes_paths()), best(geom::sphere_lanes_paths()), best(geom::plane_lanes_paths()),
+      best(store_rays16_paths()));
   if (interior_passes + interior_overflows + interior_lost > 0)
     s += fmt::format(
         "interiors: {} surfaces passed through, {} entries forgotten (full), {} branches "

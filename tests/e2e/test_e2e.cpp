@@ -892,17 +892,19 @@ TEST_CASE("a render estimated to need more memory than the limit fails before it
   CHECK(err.find("the render needs about 4") != std::string::npos);
 }
 
-TEST_CASE("sobol renders the same pixels on every SIMD path", "[e2e]") {
+TEST_CASE("sobol and stratified draws render the same pixels on every SIMD path", "[e2e]") {
   // The packet's sobol draws (film, lens, area-light cells), its light samples and
   // its static spheres' tests in the CPU's widest paths (AVX-512 with GFNI where it
-  // has them) and with SNELL_SIMD=generic (four lanes; light samples and spheres
-  // lane by lane): the same image bit for
-  // bit. On a CPU without AVX-512 both runs take the generic paths and the case
-  // still checks determinism.
+  // has them), capped at AVX2 and with SNELL_SIMD=generic (four lanes; light
+  // samples and spheres lane by lane): the same image bit for bit. On a CPU with
+  // fewer paths the runs share some and the case still checks determinism.
+  const std::string sampler = GENERATE(std::string("sobol"), std::string("stratified"));
+  INFO("sampler " << sampler);
   Scratch tmp;
   std::string err;
   std::ofstream(tmp / "s.scn")
-      << "settings { resolution <40, 24> samples 8 sampler \"sobol\" max_depth 0 }\n"
+      << "settings { resolution <40, 24> samples 8 sampler \"" << sampler
+      << "\" max_depth 0 }\n"
          "camera { location <0, 1, -4> look_at <0, 0.5, 0> aperture 0.2 shutter <0, 1> }\n"
          "area_light { corner <-1, 3, -1> edge1 <2, 0, 0> edge2 <0, 0, 2> radiance 5 "
          "samples <2, 2> }\n"
@@ -910,17 +912,26 @@ TEST_CASE("sobol renders the same pixels on every SIMD path", "[e2e]") {
          "sphere { center <-1, 0.3, 0.5> radius 0.3 }\n"
          "sphere { center <0.7, 0.2, -0.3> radius 0.15 scale 1.5 rotate <0, 30, 0> }\n"
          "plane { normal <0, 1, 0> }\n";
-  for (const char* simd : {"", "generic"}) {
+  for (const char* simd : {"", "avx2", "generic"}) {
     if (*simd) ::setenv("SNELL_SIMD", simd, 1);
-    int code = run_capture("render " + (tmp / "s.scn") + " --quiet --threads 2 -o " +
+    int code = run_capture("render " + (tmp / "s.scn") + " --quiet --stats --threads 2 -o " +
                                (tmp / (std::string("p") + simd + ".exr")),
                            err, tmp);
     ::unsetenv("SNELL_SIMD");
     INFO(err);
     REQUIRE(code == 0);
+    // --stats names each kernel's path; a cap leaves nothing wider.
+    const auto at = err.find("simd: stratified ");
+    REQUIRE(at != std::string::npos);
+    const std::string line = err.substr(at, err.find('\n', at) - at);
+    if (std::string(simd) != "") CHECK(line.find("avx512") == std::string::npos);
+    if (std::string(simd) == "generic") CHECK(line.find("avx2") == std::string::npos);
+    CHECK(line.find("sobol ") != std::string::npos);
   }
   int w = 0, h = 0, w0 = 0, h0 = 0;
   std::vector<float> a = read_rgb(tmp / "p.exr", w, h), b = read_rgb(tmp / "pgeneric.exr", w0, h0);
+  int w2 = 0, h2 = 0;
+  CHECK(read_rgb(tmp / "pavx2.exr", w2, h2) == a);
   CHECK(w == 40);
   CHECK(w0 == 40);
   CHECK(a == b);
