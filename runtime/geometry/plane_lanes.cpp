@@ -119,25 +119,7 @@ bool avx512_supported() {
 #pragma GCC push_options
 #pragma GCC target("avx2,fma")
 
-using F64x4 = double __attribute__((vector_size(32)));
-using I64x4 = std::int64_t __attribute__((vector_size(32)));
-using F32x4 = float __attribute__((vector_size(16)));
-using I32x4 = std::int32_t __attribute__((vector_size(16)));
-inline F64x4 widen4(const float* p) {
-  return F64x4(_mm256_cvtps_pd(_mm_loadu_ps(p)));
-}
-inline std::uint32_t bits4(I64x4 m) {
-  return std::uint32_t(_mm256_movemask_pd(__m256d(m)));
-}
-inline std::uint32_t bits4(I32x4 m) {
-  return std::uint32_t(_mm_movemask_ps(__m128(m)));
-}
-inline F64x4 abs4(F64x4 x) {  // the sign bit cleared, as _mm512_abs_pd
-  return F64x4(I64x4(x) & 0x7fffffffffffffffll);
-}
-inline F64x4 max4(F64x4 a, F64x4 b) {
-  return F64x4(_mm256_max_pd(__m256d(a), __m256d(b)));
-}
+#include "runtime/geometry/lanes_avx2.hpp"  // inside the region: takes its target
 
 // meets() on four lanes, m and the result as bits.
 template <bool kTie>

@@ -118,25 +118,8 @@ bool avx512_supported() {
 #pragma GCC push_options
 #pragma GCC target("avx2,fma")
 
-using F64x4 = double __attribute__((vector_size(32)));
-using I64x4 = std::int64_t __attribute__((vector_size(32)));
-using F32x4 = float __attribute__((vector_size(16)));
-using I32x4 = std::int32_t __attribute__((vector_size(16)));
-inline F64x4 widen4(const float* p) {
-  return F64x4(_mm256_cvtps_pd(_mm_loadu_ps(p)));
-}
-inline F32x4 narrow4(F64x4 d) {
-  return F32x4(_mm256_cvtpd_ps(__m256d(d)));
-}
-inline F64x4 splat4(double x) {  // a broadcast: keeps -0, which 0 + x would not
-  return F64x4(_mm256_set1_pd(x));
-}
-inline std::uint32_t bits4(I64x4 m) {
-  return std::uint32_t(_mm256_movemask_pd(__m256d(m)));
-}
-inline std::uint32_t bits4(I32x4 m) {
-  return std::uint32_t(_mm_movemask_ps(__m128(m)));
-}
+#include "runtime/geometry/lanes_avx2.hpp"  // inside the region: takes its target
+
 inline F64x4 dot3(F64x4 ax, F64x4 ay, F64x4 az, F64x4 bx, F64x4 by, F64x4 bz) {
   return (ax * bx + ay * by) + az * bz;
 }
