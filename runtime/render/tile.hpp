@@ -21,6 +21,7 @@
 #include "runtime/integrators/integrator.hpp"
 #include "runtime/integrators/probe.hpp"
 #include "runtime/render.hpp"
+#include "runtime/render/kernel.hpp"
 #include "runtime/sampler.hpp"
 #include "runtime/uninit.hpp"
 
@@ -184,6 +185,10 @@ struct CameraLanes {
   }
 };
 
+// The kernel axes camera_rays reads: the render loops call it with only these
+// bits of their kernel, so it is compiled once per camera (4), not per kernel (80).
+inline constexpr unsigned kCameraAxes = (1u << kAxis_lens) | (1u << kAxis_time);
+
 // Camera sample s of n pixels (px[i], py[i]): the rays, their lens and time samples
 // drawn. The draws go lane by lane (independent) or as SIMD lanes (sobol,
 // stratified: the same numbers), the rays as one block (Camera::generate_block):
@@ -289,7 +294,7 @@ void render_tile_packets(const TileContext& c, std::uint32_t x0, std::uint32_t y
           tile_work(c, wk, std::uint64_t(n) * 16);
           if (cancelled(c)) return;
         }
-        camera_rays<K>(c, n, keys, lanes, px, py, s, rays, stats);
+        camera_rays<Kernel<K::bits & kCameraAxes>>(c, n, keys, lanes, px, py, s, rays, stats);
         c.embree->intersect(std::span<const Ray>(rays, n), std::span<Hit>(hits, n),
                             std::span<std::uint8_t>(found, n));
         Uninit<Color, kN> cols;  // every lane's colour is set below before it is read
