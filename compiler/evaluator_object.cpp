@@ -144,19 +144,27 @@ void Evaluator::check_rest(const BlockInfo& block, Span kw, const lang::Block& b
   if (aborted_) return;
   // Failed: written but refused (a default may stand in), or required and absent,
   // or misspelt (`locaton`: its did-you-mean names it; the default in its place
-  // is not what was meant, so no check across properties judges it).
+  // is not what was meant, so no check across properties judges it). An unknown
+  // property that is near none (`camera { position … }`) may have been meant as
+  // any property left out, so then every default is unjudged: "the camera's 'up'
+  // is parallel to its view direction" of the default location was an error
+  // about nothing the user wrote.
   std::bitset<kPropCount> failed;
   const auto names = prop_names(block);
   std::vector<std::string> guessed;
+  bool unplaced = false;
   for (const lang::Property& p : body.properties)
-    if (!find_prop(block, p.name)) guessed.push_back(lang::closest_match(p.name, names));
+    if (!find_prop(block, p.name)) {
+      guessed.push_back(lang::closest_match(p.name, names));
+      unplaced |= guessed.back().empty();
+    }
   for (const PropInfo* info : block.props) {
     bool written = false, attempted = false;
     for (const EvaluatedProp& ep : props)
       written |= ep.info == info && ep.name_span.begin != kw.begin;
     for (const lang::Property& p : body.properties) attempted |= p.name == info->name;
     for (const std::string& g : guessed) attempted |= g == info->name;
-    if (!written && (attempted || info->required())) failed.set(std::size_t(info->id));
+    if (!written && (attempted || unplaced || info->required())) failed.set(std::size_t(info->id));
   }
   if (block.shape_kind >= 0)
     check_shape_rest(block, builder_, kw, props, failed, diags_);

@@ -542,6 +542,26 @@ TEST_CASE("two swapped letters are one slip, and a misspelt required property is
   CHECK(m->diags.diagnostics()[0].kind == lang::DiagKind::MissingProperty);
 }
 
+TEST_CASE("an unknown property near no name leaves the defaults unjudged", "[compiler]") {
+  // `position` is no camera property and near none, so the location it may have
+  // meant is missing: the default location's view is not judged ("the camera's
+  // 'up' is parallel to its view direction" was an error about nothing written).
+  auto c = run("camera { position <0, 1, -5> look_at <0, 0.5, 0> }\n");
+  const auto& d = c->diags.diagnostics();
+  REQUIRE(d.size() == 1);
+  CHECK(d[0].kind == lang::DiagKind::UnknownProperty);
+  // What was written is still judged beside such a property.
+  auto w = run("camera { location <0, 1, 0> look_at <0, 1, 0> zoom 2 }\n");
+  const auto& e = w->diags.diagnostics();
+  REQUIRE(e.size() == 2);
+  CHECK(e[0].kind == lang::DiagKind::UnknownProperty);
+  CHECK(e[1].message == "the camera's 'look_at' equals its 'location': no view direction");
+  // Without the unknown property, the same default view is an error.
+  auto v = run("camera { look_at <0, 0.5, 0> }\n");
+  REQUIRE(v->diags.diagnostics().size() == 1);
+  CHECK(v->diags.diagnostics()[0].message == "the camera's 'up' is parallel to its view direction");
+}
+
 TEST_CASE("a bump's part that is wrong is named as the bump's", "[compiler]") {
   // "'pattern' takes a pattern" alone did not say which pattern; three parts were
   // "a vector's components must be numbers".
