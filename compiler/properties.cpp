@@ -5,8 +5,12 @@
 #include <cmath>
 #include <deque>
 #include <memory>
+#include <span>
+#include <string_view>
+#include <vector>
 
 #include "compiler/ir_binding.hpp"
+#include "language/diagnostics.hpp"
 #include "runtime/pattern/noise.hpp"
 
 namespace snell::compile {
@@ -288,6 +292,17 @@ std::string describe(const PropInfo& p) {
   return "?";
 }
 
+// "'sampler' takes "independent", "stratified" or "sobol", not "sobel"; did you
+// mean "sobol"?": a string setting's refusal, with its near miss where it has one.
+static std::string enum_refused(const PropInfo& p, const std::string& got,
+                                std::span<const std::string_view> spellings) {
+  std::string msg = "'" + std::string(p.name) + "' takes " + describe(p) + ", not \"" + got + "\"";
+  const std::string guess =
+      lang::closest_match(got, std::vector<std::string_view>(spellings.begin(), spellings.end()));
+  if (!guess.empty()) msg += "; did you mean \"" + guess + "\"?";
+  return msg;
+}
+
 std::string check_value(const PropInfo& p, Value& v, bool* integral) {
   if (integral) *integral = false;
   auto wrong = [&]() {
@@ -365,8 +380,7 @@ std::string check_value(const PropInfo& p, Value& v, bool* integral) {
   case PropType::Enum: {                                                                         \
     ir::Enum e;                                                                                  \
     if (v.type != Type::String) return wrong();                                                  \
-    if (!ir::parse_enum(v.str(), e))                                                             \
-      return "'" + std::string(p.name) + "' takes " + describe(p) + ", not \"" + v.str() + "\""; \
+    if (!ir::parse_enum(v.str(), e)) return enum_refused(p, v.str(), ir::spellings<ir::Enum>()); \
     return {};                                                                                   \
   }
 #include "runtime/ir/kinds.def"

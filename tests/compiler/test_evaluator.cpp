@@ -562,6 +562,17 @@ TEST_CASE("an unknown property near no name leaves the defaults unjudged", "[com
   CHECK(v->diags.diagnostics()[0].message == "the camera's 'up' is parallel to its view direction");
 }
 
+TEST_CASE("a misspelt setting's string gets its near miss", "[compiler]") {
+  auto c = run("settings { sampler \"sobel\" fresnel \"random\" }\n");
+  const auto& d = c->diags.diagnostics();
+  REQUIRE(d.size() == 2);
+  CHECK(d[0].message ==
+        "'sampler' takes \"independent\", \"stratified\" or \"sobol\", not \"sobel\"; did you "
+        "mean \"sobol\"?");
+  // Near none: the choices alone.
+  CHECK(d[1].message == "'fresnel' takes \"exact\" or \"schlick\", not \"random\"");
+}
+
 TEST_CASE("a bump's part that is wrong is named as the bump's", "[compiler]") {
   // "'pattern' takes a pattern" alone did not say which pattern; three parts were
   // "a vector's components must be numbers".
