@@ -150,6 +150,7 @@ RenderResult render(const ir::Scene& scene, const RenderOptions& options) {
   std::atomic<std::uint32_t> work_permille{0};
   ctx.work_done = &work_done, ctx.work_permille = &work_permille;
   ctx.work_total = std::uint64_t(img.width) * img.height * (s1 - s0);
+  ctx.kernel_bits = kernel.bits;
   TileFn run = integrator->tile_kernel(kernel.bits);
   double overhead = options.measure_cost ? clock_overhead_ns() : 0;
   tbb::enumerable_thread_specific<Worker> workers([&] {

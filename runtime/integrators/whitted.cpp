@@ -715,7 +715,8 @@ Color WhittedIntegrator::li(const Ray& camera_ray, const SampleContext& sc, Scra
 namespace {
 template <class K>
 struct WhittedTile {
-  static constexpr TileFn value = &render_tile<K, WhittedIntegrator>;
+  // The loops read the camera's axes at run time (render/tile.hpp).
+  static constexpr TileFn value = &render_tile<Kernel<K::bits & ~kCameraAxes>, WhittedIntegrator>;
 };
 }  // namespace
 

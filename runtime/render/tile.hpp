@@ -1,10 +1,14 @@
-// The pixel loop of one tile, as a template on the render kernel (kernel.hpp) and
-// the integrator that gives the radiance of a camera ray. Each integrator
-// instantiates it once per kernel (its tile_kernel table), so the radiance call
-// inlines into the loop. Lens: a lens sample (dimension kDimLens) for every camera
-// ray; Time: a shutter fraction (kDimTime), the ray time when motion is on. The
-// dimensions do not depend on the kernel, so every kernel gives every decision the
-// same number.
+// The pixel loop of one tile, as a template on the render kernel's shading axes
+// (kernel.hpp) and the integrator that gives the radiance of a camera ray. Each
+// integrator instantiates it once per such kernel (its tile_kernel table), so the
+// radiance call inlines into the loop. The camera's axes are read at run time
+// (TileContext::kernel_bits) except in camera_rays, the packets' ray generation,
+// which is compiled once per camera: in the loops they are a branch per sample,
+// and as template arguments they had made 4 copies of every loop (80 instead of
+// 20, a quarter of the integrator's code). Lens: a lens sample
+// (dimension kDimLens) for every camera ray; Time: a shutter fraction (kDimTime),
+// the ray time when motion is on. The dimensions do not depend on the kernel, so
+// every kernel gives every decision the same number.
 #pragma once
 
 #include <fmt/format.h>
@@ -42,7 +46,8 @@ struct TileContext {
   // window of the full image whose top-left is (img->x0, img->y0). Tiles are laid
   // over the window, but every sample is keyed by full-image coordinates.
   std::uint32_t sample_begin = 0, sample_end = 1;
-  bool motion_on = false;  // some object has motion geometry: ray times matter
+  bool motion_on = false;    // some object has motion geometry: ray times matter
+  unsigned kernel_bits = 0;  // the render kernel's axes (Kernel<B>::bits), the camera's read here
   std::uint32_t tiles_x = 1;
   const RenderOptions* options = nullptr;
   std::string* trace = nullptr;
@@ -242,6 +247,24 @@ void camera_rays(const TileContext& c, std::uint32_t n, const CameraKeys* keys,
   }
 }
 
+// camera_rays of the camera axes of kernel `bits`.
+using CameraRaysFn = void (*)(const TileContext&, std::uint32_t, const CameraKeys*,
+                              const CameraLanes&, const std::uint32_t*, const std::uint32_t*,
+                              std::uint32_t, Ray*, RenderStats&);
+inline CameraRaysFn camera_rays_for(unsigned bits) {
+  constexpr unsigned kLens = 1u << kAxis_lens, kTime = 1u << kAxis_time;
+  switch (bits & kCameraAxes) {
+    case 0:
+      return &camera_rays<Kernel<0>>;
+    case kLens:
+      return &camera_rays<Kernel<kLens>>;
+    case kTime:
+      return &camera_rays<Kernel<kTime>>;
+    default:
+      return &camera_rays<Kernel<kLens | kTime>>;
+  }
+}
+
 template <class K, class I>
 Color sample_alone(const TileContext& c, std::uint32_t x, std::uint32_t y, std::uint32_t s,
                    std::uint64_t pixel, const CameraKeys& keys, DimCache& dims, Worker& wk,
@@ -277,6 +300,7 @@ void render_tile_packets(const TileContext& c, std::uint32_t x0, std::uint32_t y
   DimCache dims[kN];
   double sum[kN][3];
   std::uint32_t kept[kN], px[kN], py[kN];
+  const CameraRaysFn make_rays = camera_rays_for(c.kernel_bits);
   for (std::uint32_t by = y0; by < y1; by += kBlock)
     for (std::uint32_t bx = x0; bx < x1; bx += kBlock) {
       std::uint32_t n = 0;
@@ -294,7 +318,7 @@ void render_tile_packets(const TileContext& c, std::uint32_t x0, std::uint32_t y
           tile_work(c, wk, std::uint64_t(n) * 16);
           if (cancelled(c)) return;
         }
-        camera_rays<Kernel<K::bits & kCameraAxes>>(c, n, keys, lanes, px, py, s, rays, stats);
+        make_rays(c, n, keys, lanes, px, py, s, rays, stats);
         c.embree->intersect(std::span<const Ray>(rays, n), std::span<Hit>(hits, n),
                             std::span<std::uint8_t>(found, n));
         Uninit<Color, kN> cols;  // every lane's colour is set below before it is read
@@ -347,7 +371,7 @@ Color sample_alone(const TileContext& c, std::uint32_t x, std::uint32_t y, std::
   SampleContext sc{spec, x, y, s, pixel, &dims};
   Sample2 j = sample2(spec, keys.film, s);
   Ray ray;
-  if constexpr (K::lens) {
+  if ((c.kernel_bits >> kAxis_lens) & 1) {
     double t0 = timed ? CostClock::now_ns() : 0;
     Sample2 l = sample2(spec, keys.lens, s);
     ray = c.camera->generate(x + double(j.u), y + double(j.v), l.u, l.v);
@@ -360,7 +384,7 @@ Color sample_alone(const TileContext& c, std::uint32_t x, std::uint32_t y, std::
   } else {
     ray = c.camera->generate(x + double(j.u), y + double(j.v));
   }
-  if constexpr (K::time) {
+  if ((c.kernel_bits >> kAxis_time) & 1) {
     double t0 = timed ? CostClock::now_ns() : 0;
     float u = sample1(spec, keys.time, s);
     // Shutter fraction in [0, 1): exactly what Embree's ray time means.
