@@ -14,18 +14,14 @@
 #include <sstream>
 
 #include "compiler/compile.hpp"
+#include "tests/compiler/compile_util.hpp"
 
 namespace fs = std::filesystem;
 using namespace snell;
 
 namespace {
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using test::slurp;
 
 std::vector<fs::path> compile_cases() {
   std::vector<fs::path> out;

@@ -13,8 +13,6 @@ using namespace snell;
 
 namespace {
 
-const auto run = test::compile_text;
-
 using test::messages;
 
 }  // namespace
@@ -34,7 +32,8 @@ TEST_CASE("specular >= 0 and shininess > 0, with messages that say so", "[compil
   };
   for (const char* kind : {"diffuse", "glazed"})
     for (const Case& k : cases) {
-      auto c = run(std::string("sphere { material ") + kind + " { " + k.props + " } }\n");
+      auto c =
+          test::compile_text(std::string("sphere { material ") + kind + " { " + k.props + " } }\n");
       std::string m = messages(*c);
       INFO(kind << " " << k.props << "\n" << m);
       CHECK(c->status != compile::CompileStatus::Ok);
@@ -43,10 +42,10 @@ TEST_CASE("specular >= 0 and shininess > 0, with messages that say so", "[compil
 }
 
 TEST_CASE("specular and shininess reach the IR and are not positional", "[compiler][highlights]") {
-  auto c =
-      run("sphere { material diffuse { color 0.5 specular 0.25 shininess 120 } }\n"
-          "sphere { material diffuse 0.5 }\n"
-          "sphere { material glazed { color 0 specular 1 } }\n");
+  auto c = test::compile_text(
+      "sphere { material diffuse { color 0.5 specular 0.25 shininess 120 } }\n"
+      "sphere { material diffuse 0.5 }\n"
+      "sphere { material glazed { color 0 specular 1 } }\n");
   INFO(messages(*c));
   REQUIRE(c->status == compile::CompileStatus::Ok);
   REQUIRE(c->scene.shapes.size() == 3);
@@ -76,7 +75,7 @@ TEST_CASE("specular and shininess reach the IR and are not positional", "[compil
   CHECK(ir::to_string(features).find("highlights: specular 0.25 shininess 120") !=
         std::string::npos);
   // specular 0 is no highlight, whatever the shininess.
-  auto none = run("sphere { material diffuse { shininess 3 } }\n");
+  auto none = test::compile_text("sphere { material diffuse { shininess 3 } }\n");
   REQUIRE(none->status == compile::CompileStatus::Ok);
   CHECK(!ir::analyze_features(none->scene).highlights);
 }

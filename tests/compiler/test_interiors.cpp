@@ -13,8 +13,6 @@ using namespace snell;
 
 namespace {
 
-const auto run = test::compile_text;
-
 using test::messages;
 
 }  // namespace
@@ -33,7 +31,8 @@ TEST_CASE("priority: an integer >= 1, with messages that say so", "[compiler][in
       {"1e10", "InvalidValue", "'priority' must be at most 4294967295, not 1e+10"},
   };
   for (const Case& k : cases) {
-    auto c = run(std::string("sphere { material dielectric { priority ") + k.value + " } }\n");
+    auto c = test::compile_text(std::string("sphere { material dielectric { priority ") + k.value +
+                                " } }\n");
     std::string m = messages(*c);
     INFO("priority " << k.value << "\n" << m);
     CHECK(c->status != compile::CompileStatus::Ok);
@@ -42,10 +41,10 @@ TEST_CASE("priority: an integer >= 1, with messages that say so", "[compiler][in
 }
 
 TEST_CASE("priority reaches the IR, is not positional, and 0 means none", "[compiler][interiors]") {
-  auto c =
-      run("sphere { material dielectric { ior 1.33 priority 2 } }\n"
-          "sphere { material dielectric <1.33, 0> }\n"
-          "sphere { material dielectric { ior 1.33 priority 4294967295 } }\n");
+  auto c = test::compile_text(
+      "sphere { material dielectric { ior 1.33 priority 2 } }\n"
+      "sphere { material dielectric <1.33, 0> }\n"
+      "sphere { material dielectric { ior 1.33 priority 4294967295 } }\n");
   INFO(messages(*c));
   REQUIRE(c->status == compile::CompileStatus::Ok);
   REQUIRE(c->scene.shapes.size() == 3);
@@ -71,10 +70,10 @@ TEST_CASE("priority reaches the IR, is not positional, and 0 means none", "[comp
 }
 
 TEST_CASE("a prioritised dielectric needs a solid", "[compiler][interiors]") {
-  auto c =
-      run("let water = dielectric { priority 1 };\n"
-          "disc { center <0, 0, 0> normal <0, 1, 0> radius 1 material water }\n"
-          "box { min <0, 0, 0> max <1, 1, 1> material water }\n");
+  auto c = test::compile_text(
+      "let water = dielectric { priority 1 };\n"
+      "disc { center <0, 0, 0> normal <0, 1, 0> radius 1 material water }\n"
+      "box { min <0, 0, 0> max <1, 1, 1> material water }\n");
   std::string m = messages(*c);
   INFO(m);
   CHECK(c->status != compile::CompileStatus::Ok);
@@ -83,14 +82,14 @@ TEST_CASE("a prioritised dielectric needs a solid", "[compiler][interiors]") {
         "no inside\n");
   // Through an instance: the value's parts must all be solids (an instance of a
   // triangle was accepted, and its one surface entered the water for good).
-  auto i =
-      run("let water = dielectric { priority 1 };\n"
-          "let t = triangle { a <0, 0, 0> b <1, 0, 0> c <0, 1, 0> };\n"
-          "let cup = union { sphere { } cylinder { base 0 cap <0, 1, 0> radius 0.5 open true } };\n"
-          "let ok = union { sphere { } box { min 0 max 1 } };\n"
-          "object { t material water }\n"
-          "object { cup material water }\n"
-          "object { ok material water }\n");
+  auto i = test::compile_text(
+      "let water = dielectric { priority 1 };\n"
+      "let t = triangle { a <0, 0, 0> b <1, 0, 0> c <0, 1, 0> };\n"
+      "let cup = union { sphere { } cylinder { base 0 cap <0, 1, 0> radius 0.5 open true } };\n"
+      "let ok = union { sphere { } box { min 0 max 1 } };\n"
+      "object { t material water }\n"
+      "object { cup material water }\n"
+      "object { ok material water }\n");
   m = messages(*i);
   INFO(m);
   CHECK(i->status != compile::CompileStatus::Ok);
@@ -101,19 +100,19 @@ TEST_CASE("a prioritised dielectric needs a solid", "[compiler][interiors]") {
         "holds an open cylinder, which has no inside\n");
   // §13: the instance's material reaches only the parts that have none; a part
   // with its own material (or the union's) is no part of the prioritised solid.
-  auto own =
-      run("let disc_v = disc { center 0 normal <0, 0, 1> radius 1 material diffuse 0.5 };\n"
-          "let mixed = union { disc { center 0 normal <0, 1, 0> radius 2 material diffuse 0.5 } "
-          "sphere { } "
-          "};\n"
-          "let all_own = union { disc { center 0 normal <0, 1, 0> radius 2 } sphere { } material "
-          "diffuse "
-          "0.5 };\n"
-          "let tri = triangle { a <0, 0, 0> b <1, 0, 0> c <0, 1, 0> material dielectric 1.5 };\n"
-          "object { disc_v material dielectric { priority 1 } }\n"
-          "object { mixed material dielectric { priority 1 } }\n"
-          "object { all_own material dielectric { priority 1 } }\n"
-          "object { tri material dielectric { priority 1 } }\n");
+  auto own = test::compile_text(
+      "let disc_v = disc { center 0 normal <0, 0, 1> radius 1 material diffuse 0.5 };\n"
+      "let mixed = union { disc { center 0 normal <0, 1, 0> radius 2 material diffuse 0.5 } "
+      "sphere { } "
+      "};\n"
+      "let all_own = union { disc { center 0 normal <0, 1, 0> radius 2 } sphere { } material "
+      "diffuse "
+      "0.5 };\n"
+      "let tri = triangle { a <0, 0, 0> b <1, 0, 0> c <0, 1, 0> material dielectric 1.5 };\n"
+      "object { disc_v material dielectric { priority 1 } }\n"
+      "object { mixed material dielectric { priority 1 } }\n"
+      "object { all_own material dielectric { priority 1 } }\n"
+      "object { tri material dielectric { priority 1 } }\n");
   INFO(messages(*own));
   CHECK(own->status == compile::CompileStatus::Ok);
 }

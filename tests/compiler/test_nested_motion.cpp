@@ -18,22 +18,17 @@ using namespace snell;
 
 namespace {
 
-// A number as the language reads it back exactly.
-std::string num(double v) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
-  return buf;
-}
+using test::num;
 std::string vec(double x, double y, double z) {
   return "<" + num(x) + ", " + num(y) + ", " + num(z) + ">";
 }
 
-const std::string kHead =
+const std::string kMotionHead =
     "camera { location <0, 2, -9> look_at <0, 1, 0> shutter <0, 1> }\n"
     "point_light { position <3, 6, -4> intensity 60 }\n";
 
-ir::Scene compiled(const std::string& body) {
-  auto c = test::compile_text(kHead + body);
+ir::Scene motion_scene(const std::string& body) {
+  auto c = test::compile_text(kMotionHead + body);
   INFO(body << "\n" << test::messages(*c));
   REQUIRE(c->status == compile::CompileStatus::Ok);
   REQUIRE(c->diags.diagnostics().empty());
@@ -57,7 +52,7 @@ rt::RenderResult rendered(const std::string& src) {
 // they agree to rounding; moving triangles follow Embree's time steps, whose
 // chords are within 1e-4 of the shape's size of the exact path (motion.hpp).
 int same_hits(const std::string& moving, const std::string& still, double u, double tol = 1e-5) {
-  ir::Scene a = compiled(moving), b = compiled(still);
+  ir::Scene a = motion_scene(moving), b = motion_scene(still);
   rt::EmbreeScene ea(a, {0, 0, 0}), eb(b, {0, 0, 0});
   CHECK(ea.has_motion());
   CHECK_FALSE(eb.has_motion());

@@ -14,8 +14,6 @@ using namespace snell;
 
 namespace {
 
-const auto run = test::compile_text;
-
 const ir::Texture& color_of(const ir::Scene& s, std::size_t shape) {
   return std::get<ir::Diffuse>(s.materials[s.shapes[shape].material].model).color;
 }
@@ -45,7 +43,7 @@ TEST_CASE("a shading function equal to the built-in pattern it mimics", "[compil
         k.builtin +
         " } }\n"
         "sphere { center <3, 0, 0> material diffuse { color pattern { function f } } }\n";
-    auto c = run(src);
+    auto c = test::compile_text(src);
     INFO(k.builtin << " vs " << k.fn);
     REQUIRE(c->status == compile::CompileStatus::Ok);
     const ir::Scene& s = c->scene;
@@ -67,9 +65,9 @@ TEST_CASE("a shading function equal to the built-in pattern it mimics", "[compil
 }
 
 TEST_CASE("noise builtins at scene-build time are the patterns' values", "[compiler][patterns]") {
-  auto c =
-      run("let p = <0.37, 1.21, -2.5>;\n"
-          "sphere { radius 1 + noise(p) + fbm(p, 5) + turbulence(p, 3) + cells(p) }\n");
+  auto c = test::compile_text(
+      "let p = <0.37, 1.21, -2.5>;\n"
+      "sphere { radius 1 + noise(p) + fbm(p, 5) + turbulence(p, 3) + cells(p) }\n");
   REQUIRE(c->status == compile::CompileStatus::Ok);
   ir::Vec3 p{0.37, 1.21, -2.5};
   double want =
@@ -88,12 +86,13 @@ TEST_CASE("a pattern's lengths are not colours: only colours are held to 1e30",
   for (const char* item : {"sphere { material diffuse gradient { direction <1e31, 0, 0> } }\n",
                            "sphere { material diffuse brick { size <1e31, 1, 1> } }\n",
                            "background gradient { direction <0, 1e31, 0> }\nsphere { }\n"}) {
-    auto c = run(head + item);
+    auto c = test::compile_text(head + item);
     INFO(item << test::messages(*c));
     CHECK(c->status == compile::CompileStatus::Ok);
   }
   // A colour past it is still refused, where it is written.
-  auto c = run(head + "sphere { material diffuse checker { color1 <1e31, 0, 0> } }\n");
+  auto c =
+      test::compile_text(head + "sphere { material diffuse checker { color1 <1e31, 0, 0> } }\n");
   CHECK(c->status != compile::CompileStatus::Ok);
   CHECK(test::messages(*c).find("1e30") != std::string::npos);
 }

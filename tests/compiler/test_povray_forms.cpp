@@ -13,11 +13,9 @@ using namespace snell;
 
 namespace {
 
-const auto run = test::compile_text;
-
 // "Kind@line:col message | note" for each diagnostic.
 std::string diags(const std::string& src) {
-  auto c = run(src);
+  auto c = test::compile_text(src);
   std::string out;
   for (const auto& d : c->diags.diagnostics()) {
     lang::LineCol lc = c->sources.file(d.span.file).line_col(d.span.begin);

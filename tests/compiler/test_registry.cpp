@@ -58,12 +58,7 @@ const std::vector<PropRow> kProps = {
 #include "compiler/properties.def"
 };
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using test::slurp;
 
 // A value the property accepts, to build a constructor with: its default, else
 // a plain value of its type (none when the type has no plain value).
@@ -388,6 +383,7 @@ TEST_CASE("registry: groups.def's CSG blocks, instance block and object properti
   std::set<std::string> items, item_rows = {"object"};
 #define SNELL_ITEM(name) items.insert(#name);
 #include "language/groups.def"
+#include "tests/compiler/compile_util.hpp"
   for (std::string_view b : block_names(BlockKind::Item)) item_rows.insert(std::string(b));
   CHECK(items == item_rows);
   for (const std::string& i : items) CHECK(lang::is_item_name(i));

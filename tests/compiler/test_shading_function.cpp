@@ -18,6 +18,7 @@
 #include "runtime/pattern/noise.hpp"
 #include "runtime/pattern/program_eval.hpp"
 #include "runtime/shading/textures.hpp"
+#include "tests/compiler/compile_util.hpp"
 
 using namespace snell;
 
@@ -77,11 +78,7 @@ struct Harness {
   }
 };
 
-std::string num(double x) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.17g", x);
-  return buf;
-}
+using test::num;
 std::string vec(ir::Vec3 v) {
   return "<" + num(v.x) + ", " + num(v.y) + ", " + num(v.z) + ">";
 }

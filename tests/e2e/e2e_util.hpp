@@ -17,6 +17,7 @@ namespace fs = std::filesystem;
 
 inline const std::string kSnell = SNELL_EXE;
 inline const std::string kSrc = SNELL_SOURCE_DIR;
+inline const std::string kShowcase = kSrc + "/examples/showcase.scn";
 
 // A folder of its own (by process: one Scratch of a prefix at a time), removed
 // with everything in it at the end of the test.

@@ -17,12 +17,15 @@
 #include <fstream>
 #include <thread>
 
+#include "tests/e2e/e2e_util.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
 
-const std::string kSnell = SNELL_EXE;
-const std::string kShowcase = std::string(SNELL_SOURCE_DIR) + "/examples/showcase.scn";
+using snell::e2e::kShowcase;
+using snell::e2e::kSnell;
+using snell::e2e::slurp;
 
 // The stand-in. FAKE_FAIL_TASK=i makes task i exit 1 without running snell.
 const char* kFakeSbatch = R"(#!/bin/bash
@@ -53,15 +56,15 @@ fi
 echo "$n;cluster"
 )";
 
-struct Scratch {
+struct FarmScratch {
   fs::path dir;
-  Scratch() {
+  FarmScratch() {
     dir = fs::temp_directory_path() / ("snell_farm_" + std::to_string(::getpid()));
     fs::create_directories(dir / "bin");
     std::ofstream(dir / "bin/sbatch") << kFakeSbatch;
     fs::permissions(dir / "bin/sbatch", fs::perms::owner_all);
   }
-  ~Scratch() { fs::remove_all(dir); }
+  ~FarmScratch() { fs::remove_all(dir); }
   std::string operator/(const std::string& name) const { return (dir / name).string(); }
   // snell with the stand-in first on PATH.
   int farm(const std::string& args, const std::string& env = "") const {
@@ -73,12 +76,7 @@ struct Scratch {
   }
 };
 
-std::string slurp(const std::string& path) {
-  std::ifstream in(path);
-  return std::string((std::istreambuf_iterator<char>(in)), {});
-}
-
-std::vector<float> read_exr(const std::string& path) {
+std::vector<float> read_pixels(const std::string& path) {
   auto in = OIIO::ImageInput::open(path);
   REQUIRE(in);
   std::vector<float> px(std::size_t(in->spec().width) * in->spec().height * 3);
@@ -97,7 +95,7 @@ const std::string kOpts = " --res 48x27 --spp 6 --set sampler=stratified";
 
 TEST_CASE("farm --tiles: the array's crops merge into the one-process image, bit for bit",
           "[e2e][farm]") {
-  Scratch tmp;
+  FarmScratch tmp;
   REQUIRE(render(kShowcase + kOpts + " --quiet -o " + (tmp / "one.exr")) == 0);
   REQUIRE(tmp.farm(kShowcase + kOpts + " --tiles 4 --dir " + (tmp / "shared") +
                    " -o out.exr --sbatch=--partition=debug") == 0);
@@ -107,18 +105,18 @@ TEST_CASE("farm --tiles: the array's crops merge into the one-process image, bit
   CHECK(said.find("squeue -j 101,102") != std::string::npos);
   CHECK(calls.find("--partition=debug --dependency=afterany:101 ") != std::string::npos);
   CHECK(slurp(tmp / "merge_exit") == "0\n");
-  std::vector<float> one = read_exr(tmp / "one.exr"), farm = read_exr(tmp / "shared/out.exr");
+  std::vector<float> one = read_pixels(tmp / "one.exr"), farm = read_pixels(tmp / "shared/out.exr");
   REQUIRE(one.size() == farm.size());
   CHECK(std::memcmp(one.data(), farm.data(), one.size() * sizeof(float)) == 0);
 }
 
 TEST_CASE("farm --passes: the array's sample ranges merge within 1e-6", "[e2e][farm]") {
-  Scratch tmp;
+  FarmScratch tmp;
   REQUIRE(render(kShowcase + kOpts + " --quiet -o " + (tmp / "one.exr")) == 0);
   REQUIRE(tmp.farm(kShowcase + kOpts + " --passes 4 --dir " + (tmp / "shared") + " -o out.exr") ==
           0);
   INFO(slurp(tmp / "shared/logs/merge.out"));
-  std::vector<float> one = read_exr(tmp / "one.exr"), farm = read_exr(tmp / "shared/out.exr");
+  std::vector<float> one = read_pixels(tmp / "one.exr"), farm = read_pixels(tmp / "shared/out.exr");
   REQUIRE(one.size() == farm.size());
   double worst = 0;
   for (std::size_t i = 0; i < one.size(); ++i)
@@ -128,20 +126,20 @@ TEST_CASE("farm --passes: the array's sample ranges merge within 1e-6", "[e2e][f
 }
 
 TEST_CASE("farm --frames: one task a frame, each with the sequence's clock", "[e2e][farm]") {
-  Scratch tmp;
+  FarmScratch tmp;
   std::ofstream(tmp / "a.scn") << "settings { resolution <4, 2> }\nbackground <clock, 0, 0>\n";
   REQUIRE(tmp.farm((tmp / "a.scn") + " --frames 0..4 --dir " + (tmp / "shared") + " -o f_##.exr") ==
           0);
   INFO(slurp(tmp / "shared/logs/merge.out"));
   CHECK(slurp(tmp / "merge_exit") == "0\n");
   for (int f = 0; f < 4; ++f) {
-    std::vector<float> px = read_exr(tmp / ("shared/f_0" + std::to_string(f) + ".exr"));
+    std::vector<float> px = read_pixels(tmp / ("shared/f_0" + std::to_string(f) + ".exr"));
     CHECK(px[0] == float(f / 4.0));
   }
 }
 
 TEST_CASE("farm: a failed task fails the merge job, naming it, nothing is merged", "[e2e][farm]") {
-  Scratch tmp;
+  FarmScratch tmp;
   // An earlier run's image is gone at submission, not left where this run's is due.
   fs::create_directories(tmp / "shared");
   std::ofstream(tmp / "shared/out.exr") << "stale";
@@ -160,7 +158,7 @@ TEST_CASE(
     "farm: never replaces what the scene reads, checks its outputs first, and a failed "
     "submission leaves every file as it was",
     "[e2e][farm]") {
-  Scratch tmp;
+  FarmScratch tmp;
   fs::create_directories(tmp / "s");
   const std::string scene = tmp / "s/a.scn";
   std::ofstream(scene) << "settings { resolution <16, 12> }\n"
@@ -217,7 +215,7 @@ TEST_CASE("farm: the merge job prints a folder named like a command, never runs 
           "[e2e][farm]") {
   // The merge script's messages name the shared folder; in double quotes a name
   // with $(...) in it ran as a command.
-  Scratch tmp;
+  FarmScratch tmp;
   const std::string dir = tmp / "shared$(echo INJECTED)";
   REQUIRE(tmp.farm(kShowcase + kOpts + " --tiles 2 --dir '" + dir + "' -o out.exr",
                    "FAKE_FAIL_TASK=1") == 0);
@@ -229,7 +227,7 @@ TEST_CASE("farm: the merge job prints a folder named like a command, never runs 
 }
 
 TEST_CASE("farm: --dry-run prints and submits nothing, usage errors exit 2", "[e2e][farm]") {
-  Scratch tmp;
+  FarmScratch tmp;
   REQUIRE(tmp.farm(kShowcase + kOpts + " --tiles 2 --dry-run --dir " + (tmp / "shared")) == 0);
   std::string out = slurp(tmp / "farm.out");
   CHECK(out.find("#SBATCH --array=0-1") != std::string::npos);
@@ -311,23 +309,23 @@ double farm_on_slurm(const std::string& args, const std::string& dir) {
 // cluster and sets SLURM_CONF; hidden from the plain test_e2e run.
 TEST_CASE("farm on a real Slurm: 4 tiles bit for bit, 4 passes within 1e-6", "[.][slurm]") {
   REQUIRE(std::getenv("SLURM_CONF"));
-  Scratch tmp;
+  FarmScratch tmp;
   const std::string opts = " --res 160x90 --spp 8";
   double t0 = now();
   REQUIRE(render(kShowcase + opts + " --quiet -o " + (tmp / "one.exr")) == 0);
   double one_seconds = now() - t0;
-  std::vector<float> one = read_exr(tmp / "one.exr");
+  std::vector<float> one = read_pixels(tmp / "one.exr");
 
   double tiles_seconds = farm_on_slurm(kShowcase + opts + " --tiles 4 -o out.exr", tmp / "tiles");
   INFO(slurp(tmp / "tiles/logs/merge.out"));
   CHECK(slurp(tmp / "tiles/logs/merge.out").find("snell farm: done") != std::string::npos);
-  std::vector<float> tiles = read_exr(tmp / "tiles/out.exr");
+  std::vector<float> tiles = read_pixels(tmp / "tiles/out.exr");
   REQUIRE(tiles.size() == one.size());
   CHECK(std::memcmp(tiles.data(), one.data(), one.size() * sizeof(float)) == 0);
 
   double passes_seconds =
       farm_on_slurm(kShowcase + opts + " --passes 4 -o out.exr", tmp / "passes");
-  std::vector<float> passes = read_exr(tmp / "passes/out.exr");
+  std::vector<float> passes = read_pixels(tmp / "passes/out.exr");
   REQUIRE(passes.size() == one.size());
   double worst = 0;
   for (std::size_t i = 0; i < one.size(); ++i)

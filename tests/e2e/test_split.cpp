@@ -16,6 +16,7 @@
 #include "tests/e2e/e2e_util.hpp"
 
 namespace fs = std::filesystem;
+using snell::e2e::kShowcase;
 using snell::e2e::kSnell;
 using snell::e2e::kSrc;
 using snell::e2e::run;
@@ -23,11 +24,9 @@ using snell::e2e::slurp;
 
 namespace {
 
-const std::string kShowcase = kSrc + "/examples/showcase.scn";
-
 // Each test's own folder.
-struct Scratch : snell::e2e::Scratch {
-  Scratch() : snell::e2e::Scratch("snell_split_") {}
+struct SplitScratch : snell::e2e::Scratch {
+  SplitScratch() : snell::e2e::Scratch("snell_split_") {}
 };
 
 struct Exr {
@@ -89,7 +88,7 @@ std::size_t crop_differs(const std::string& scene, const char* crop, const Exr& 
 }  // namespace
 
 TEST_CASE("a crop holds the full render's pixels, bit for bit, at their place", "[e2e][split]") {
-  Scratch tmp;
+  SplitScratch tmp;
   for (const char* sampler : {"independent", "stratified", "sobol"}) {
     INFO("sampler " << sampler);
     REQUIRE(run(showcase(sampler, 6) + " -o " + (tmp / "full.exr")) == 0);
@@ -128,7 +127,7 @@ TEST_CASE("coincident surfaces: a crop still holds the full render's pixels", "[
   // whichever the traversal met first, which depends on the packet a ray rides in,
   // so crops off the 4-pixel packet grid differed from the full render in up to
   // 191 of 4032 pixels (red against blue), and the unions were striped.
-  Scratch tmp;
+  SplitScratch tmp;
   {
     std::ofstream f(tmp / "twice.scn");
     f << "settings { resolution <120, 90> samples 1 }\n"
@@ -167,7 +166,7 @@ TEST_CASE("moving instances: a crop still holds the full render's pixels", "[e2e
   // grid differed from the full render where mirrors saw each other (a pixel in a
   // few thousand, ~1e-5 relative). The hit is now found again in Snell's own
   // transform: CSG (torus, box, sphere) and triangles (boxes).
-  Scratch tmp;
+  SplitScratch tmp;
   {
     std::ofstream f(tmp / "wheels.scn");
     f << "settings { resolution <96, 72> samples 4 }\n"
@@ -202,7 +201,7 @@ TEST_CASE("moving instances: a crop still holds the full render's pixels", "[e2e
 }
 
 TEST_CASE("sample ranges merge to the one-run image within 1e-6 relative", "[e2e][split]") {
-  Scratch tmp;
+  SplitScratch tmp;
   for (const char* sampler : {"independent", "stratified", "sobol"}) {
     INFO("sampler " << sampler);
     REQUIRE(run(showcase(sampler, 7) + " -o " + (tmp / "full.exr")) == 0);
@@ -227,7 +226,7 @@ TEST_CASE("sample ranges merge to the one-run image within 1e-6 relative", "[e2e
 }
 
 TEST_CASE("crops and sample-split crops merge into the full render", "[e2e][split]") {
-  Scratch tmp;
+  SplitScratch tmp;
   const std::string r = showcase("stratified", 4);
   REQUIRE(run(r + " -o " + (tmp / "full.exr")) == 0);
   REQUIRE(run(r + " --crop 0,0,20,27 -o " + (tmp / "left.exr")) == 0);
@@ -278,7 +277,7 @@ TEST_CASE("crops and sample-split crops merge into the full render", "[e2e][spli
 // A farm that ran a first pass over the whole image and then split the rest of
 // the samples by tiles: crops share pixels, never a (pixel, sample).
 TEST_CASE("a full pass and passes split by crops merge to the one-run image", "[e2e][split]") {
-  Scratch tmp;
+  SplitScratch tmp;
   for (const char* sampler : {"independent", "stratified", "sobol"}) {
     INFO("sampler " << sampler);
     const std::string r = showcase(sampler, 4);
@@ -313,7 +312,7 @@ TEST_CASE("a full pass and passes split by crops merge to the one-run image", "[
 }
 
 TEST_CASE("merge refuses pieces that do not make one image, and writes nothing", "[e2e][split]") {
-  Scratch tmp;
+  SplitScratch tmp;
   std::ofstream(tmp / "s.scn") << "settings { resolution <12, 8> samples 4 }\n"
                                   "point_light { position <0, 5, -5> intensity 30 }\n"
                                   "sphere { center <0, 0, 0> radius 1 }\n";
@@ -409,7 +408,7 @@ TEST_CASE("animation: a frame's new scene warning is printed once, with its fram
           "[e2e][animation]") {
   // The sphere grows with the frame: the camera is inside it from frame 4 on. Only
   // the first frame's warnings were printed (none here); now each new one is, once.
-  Scratch tmp;
+  SplitScratch tmp;
   std::ofstream(tmp / "grow.scn") << "settings { resolution <4, 3> samples 1 }\n"
                                      "camera { location <0, 0, -5> }\n"
                                      "point_light { position <0, 5, -5> intensity 10 }\n"
@@ -427,7 +426,7 @@ TEST_CASE("animation: a frame's new scene warning is printed once, with its fram
 
 TEST_CASE("animation: --frames renders each frame with its clock and names it",
           "[e2e][animation]") {
-  Scratch tmp;
+  SplitScratch tmp;
   // No objects: every pixel is the background, <clock, frame / 10, 0.5>.
   std::ofstream(tmp / "a.scn") << "settings { resolution <4, 2> }\n"
                                   "background <clock, frame / 10, 0.5>\n";
@@ -490,7 +489,7 @@ TEST_CASE("animation: --frames renders each frame with its clock and names it",
 // --dump-ir under --frames shows every frame's scene, each under its frame and
 // clock (it showed frame A's alone, without saying so).
 TEST_CASE("animation: --dump-ir shows each frame's scene", "[e2e][animation]") {
-  Scratch tmp;
+  SplitScratch tmp;
   std::ofstream(tmp / "c.scn") << "settings { resolution <8, 6> }\nsphere { radius 1 + clock }\n";
   REQUIRE(run("render " + (tmp / "c.scn") + " --dump-ir --frames 0..3", tmp / "ir.txt") == 0);
   const std::string ir = slurp(tmp / "ir.txt");
@@ -502,7 +501,7 @@ TEST_CASE("animation: --dump-ir shows each frame's scene", "[e2e][animation]") {
 
 TEST_CASE("animation and split options: usage errors exit 2 and write nothing",
           "[e2e][animation][split]") {
-  Scratch tmp;
+  SplitScratch tmp;
   std::ofstream(tmp / "ok.scn") << "settings { resolution <8, 6> samples 4 }\nsphere { }\n";
   const std::string r = "render " + (tmp / "ok.scn") + " --quiet -o " + (tmp / "x.exr");
   for (const char* bad : {"--frames 5..3",

@@ -16,7 +16,7 @@
 
 namespace snell::hc {
 
-inline constexpr double kPi = 3.14159265358979323846;
+using test::kPi;
 // A uniformly distributed unit vector.
 inline ir::Vec3 unit(std::mt19937_64& rng) {
   std::uniform_real_distribution<double> u(0, 1);

@@ -19,13 +19,14 @@
 #include "runtime/sampler.hpp"
 #include "runtime/shading/fresnel.hpp"
 #include "runtime/vec.hpp"
+#include "tests/runtime/scene_util.hpp"
 
 using namespace snell;
 using namespace snell::rt;
 using ir::FresnelMode;
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
+using test::kPi;
 double deg(double d) {
   return d * kPi / 180.0;
 }

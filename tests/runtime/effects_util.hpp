@@ -4,10 +4,28 @@
 #include <cmath>
 #include <cstdint>
 
+#include "runtime/camera.hpp"
 #include "runtime/render.hpp"
+#include "runtime/sampler.hpp"
 #include "tests/runtime/scene_util.hpp"
 
 namespace snell::test {
+
+// The mean of every channel of every pixel.
+inline double mean(const rt::Image& im) {
+  double sum = 0;
+  for (float v : im.rgb) sum += v;
+  return sum / double(im.rgb.size());
+}
+
+// The camera ray of pixel (0, 0), sample 0, as the renderer makes it.
+inline ir::Vec3 camera_dir(const ir::Scene& s) {
+  rt::PinholeCamera cam(s.camera, s.settings.width, s.settings.height);
+  rt::SamplerSpec spec{s.settings.sampler, s.settings.seed, s.settings.samples};
+  rt::Sample2 j = rt::sample2(spec, 0, 0, 0, rt::kDimPixel);
+  rt::Ray ray = cam.generate(double(j.u), double(j.v));
+  return ir::normalize(ir::Vec3(ray.dir.x, ray.dir.y, ray.dir.z));
+}
 
 inline ir::Material glossy(ir::Vec3 c, double blur) {
   return ir::Glossy{c, blur};

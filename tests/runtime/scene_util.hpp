@@ -8,6 +8,8 @@
 
 namespace snell::test {
 
+inline constexpr double kPi = 3.14159265358979323846;
+
 inline ir::Scene base_scene(std::uint32_t w, std::uint32_t h, std::uint32_t spp = 1) {
   ir::Scene s;
   s.files.push_back("test");

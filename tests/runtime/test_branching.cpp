@@ -5,17 +5,13 @@
 #include <cmath>
 
 #include "runtime/render.hpp"
-#include "scene_util.hpp"
+#include "tests/runtime/effects_util.hpp"
 
 using namespace snell;
 
 namespace {
 
-double mean(const rt::Image& img) {
-  double s = 0;
-  for (float v : img.rgb) s += v;
-  return s / img.rgb.size();
-}
+using test::mean;
 
 // An absorbing glass sphere filling most of the view against a white background:
 // every pixel's value is a sum over a deep tree of Fresnel-weighted paths.

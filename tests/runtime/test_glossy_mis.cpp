@@ -82,11 +82,6 @@ ir::Scene glossy_floor(ir::GlossySampling mode, std::uint32_t spp, std::uint64_t
   look(s, {0, 1, -2}, {0, 0, 1}, 60);
   return s;
 }
-double mean(const rt::Image& im) {
-  double sum = 0;
-  for (float v : im.rgb) sum += v;
-  return sum / double(im.rgb.size());
-}
 double rmse(const rt::Image& a, const rt::Image& b) {
   double sum = 0;
   for (std::size_t i = 0; i < a.rgb.size(); ++i) {

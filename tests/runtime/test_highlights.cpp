@@ -22,7 +22,6 @@ using namespace snell::test;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kTol = 5e-5;
 
 ir::Material shiny(ir::Vec3 c, double specular, double shininess) {
@@ -42,15 +41,6 @@ ir::Scene one_pixel(ir::Vec3 from, ir::Vec3 at) {
   ir::Scene s = base_scene(1, 1, 1);
   look(s, from, at, 1e-3);
   return s;
-}
-
-// The camera ray of pixel (0, 0), sample 0, as the renderer makes it.
-ir::Vec3 camera_dir(const ir::Scene& s) {
-  rt::PinholeCamera cam(s.camera, s.settings.width, s.settings.height);
-  rt::SamplerSpec spec{s.settings.sampler, s.settings.seed, s.settings.samples};
-  rt::Sample2 j = rt::sample2(spec, 0, 0, 0, rt::kDimPixel);
-  rt::Ray ray = cam.generate(double(j.u), double(j.v));
-  return ir::normalize(ir::Vec3(ray.dir.x, ray.dir.y, ray.dir.z));
 }
 
 // Where a ray from `o` along `d` meets the floor y = 0.

@@ -22,7 +22,7 @@
 #include "runtime/sampler.hpp"
 #include "runtime/shading/fresnel.hpp"
 #include "runtime/shading/interior.hpp"
-#include "scene_util.hpp"
+#include "tests/runtime/effects_util.hpp"
 
 using namespace snell;
 using namespace snell::test;
@@ -88,15 +88,6 @@ ir::Scene stack_scene(double angle_deg) {
   look(s, from, from + ir::Vec3{std::sin(a), 0, std::cos(a)}, 1e-3);
   s.area_lights.push_back(area_light({-500, -500, 20}, {0, 1000, 0}, {1000, 0, 0}, {1, 1, 1}));
   return s;
-}
-
-// The camera ray of pixel (0, 0), sample 0, as the renderer makes it.
-ir::Vec3 camera_dir(const ir::Scene& s) {
-  rt::PinholeCamera cam(s.camera, s.settings.width, s.settings.height);
-  rt::SamplerSpec spec{s.settings.sampler, s.settings.seed, s.settings.samples};
-  rt::Sample2 j = rt::sample2(spec, 0, 0, 0, rt::kDimPixel);
-  rt::Ray ray = cam.generate(double(j.u), double(j.v));
-  return ir::normalize(ir::Vec3(ray.dir.x, ray.dir.y, ray.dir.z));
 }
 
 // The pixel and the analytic tree for the given layers, per channel.

@@ -16,7 +16,6 @@ using namespace snell::test;
 using K = ir::TransformOp::Kind;
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 
 // One row of 61 pixels spanning x in [-2, 2] at depth 10, black object on white.
 ir::Scene streak_scene(ir::Shape s) {

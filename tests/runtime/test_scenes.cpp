@@ -15,7 +15,6 @@ using namespace snell;
 using namespace snell::test;
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 
 // Mean of a block of pixels around (cx, cy), per channel.
 ir::Vec3 block_mean(const rt::Image& im, int cx, int cy, int r) {
