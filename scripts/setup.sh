@@ -78,7 +78,7 @@ case "$mode" in
     #    the 1-byte interface type (inside libOpenImageIO, not fixable here).
     cmake --preset asan-ubsan >/dev/null
     cmake --build --preset asan-ubsan -j "$jobs" \
-      --target test_language test_compiler test_runtime test_hardcases test_lsp
+      --target test_language test_compiler test_runtime test_runtime_images test_hardcases test_lsp
     # (-LE: conformance cases carry layer tags too, and need the CLI.)
     ctest --preset asan-ubsan -j "$jobs" -L '^(language|compiler|runtime|hardcases|lsp)$' \
       -LE '^(conformance|e2e|cli)$' --timeout 600
