@@ -5,10 +5,10 @@
 // (TileContext::kernel_bits) except in camera_rays, the packets' ray generation,
 // which is compiled once per camera: in the loops they are a branch per sample,
 // and as template arguments they had made 4 copies of every loop (80 instead of
-// 20, a quarter of the integrator's code). Lens: a lens sample
-// (dimension kDimLens) for every camera ray; Time: a shutter fraction (kDimTime),
-// the ray time when motion is on. The dimensions do not depend on the kernel, so
-// every kernel gives every decision the same number.
+// 20, a quarter of the integrator's code). Lens: a lens sample (dimension
+// kDimLens) for every camera ray; Time: a shutter fraction (kDimTime), the ray
+// time when motion is on. The dimensions do not depend on the kernel, so every
+// kernel gives every decision the same number.
 #pragma once
 
 #include <fmt/format.h>
@@ -190,8 +190,8 @@ struct CameraLanes {
   }
 };
 
-// The kernel axes camera_rays reads: the render loops call it with only these
-// bits of their kernel, so it is compiled once per camera (4), not per kernel (80).
+// The kernel axes camera_rays reads: camera_rays_for picks it by these bits of
+// the kernel, so it is compiled once per camera (4), not per kernel (80).
 inline constexpr unsigned kCameraAxes = (1u << kAxis_lens) | (1u << kAxis_time);
 
 // Camera sample s of n pixels (px[i], py[i]): the rays, their lens and time samples

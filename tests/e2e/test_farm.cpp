@@ -56,16 +56,13 @@ fi
 echo "$n;cluster"
 )";
 
-struct FarmScratch {
-  fs::path dir;
-  FarmScratch() {
-    dir = fs::temp_directory_path() / ("snell_farm_" + std::to_string(::getpid()));
+// Each test's own folder, with the stand-in in its bin/.
+struct FarmScratch : snell::e2e::Scratch {
+  FarmScratch() : snell::e2e::Scratch("snell_farm_") {
     fs::create_directories(dir / "bin");
     std::ofstream(dir / "bin/sbatch") << kFakeSbatch;
     fs::permissions(dir / "bin/sbatch", fs::perms::owner_all);
   }
-  ~FarmScratch() { fs::remove_all(dir); }
-  std::string operator/(const std::string& name) const { return (dir / name).string(); }
   // snell with the stand-in first on PATH.
   int farm(const std::string& args, const std::string& env = "") const {
     std::string cmd = "PATH=" + (*this / "bin") + ":$PATH FAKE_LOG=" + (*this / "calls.txt") +
@@ -85,8 +82,7 @@ std::vector<float> read_pixels(const std::string& path) {
 }
 
 int render(const std::string& args) {
-  int status = std::system((kSnell + " render " + args + " > /dev/null 2>&1").c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return snell::e2e::run("render " + args);
 }
 
 const std::string kOpts = " --res 48x27 --spp 6 --set sampler=stratified";
